@@ -1,0 +1,146 @@
+"""On-disk cache of meshes: a mesh is a pure function of its parameters.
+
+Key: SHA-256 of the canonical JSON of the *resolved* parameters, the mesh
+format version and the gmsh major.minor version (a different mesher may place
+nodes differently). File: ``<cache_dir>/axisym-<key[:24]>.npz`` holding the
+vertex and triangle arrays and the named boundary facets of each body, plus a
+JSON header with the parameters and a SHA-256 digest of the arrays. It is
+written atomically (temporary file + rename) and verified on read (header
+parameters equal the request, digest matches); a file that fails the check is
+rebuilt and replaced, never used.
+
+Cache directory: argument ``cache_dir``, else the environment variable
+``FRETTING_MESH_CACHE``, else ``~/.cache/fretting-meshes``.
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from mdr.io import write_bytes_atomic
+
+from .axisym import BODIES, MESH_FORMAT_VERSION, AxisymMesh, AxisymMeshParams, build_mesh
+
+
+def default_cache_dir() -> Path:
+    env = os.environ.get("FRETTING_MESH_CACHE")
+    return Path(env) if env else Path.home() / ".cache" / "fretting-meshes"
+
+
+def _gmsh_version() -> str:
+    try:
+        import gmsh
+
+        return ".".join(gmsh.__version__.split(".")[:2])
+    except Exception:  # pragma: no cover
+        return "unknown"
+
+
+def mesh_key(params: AxisymMeshParams) -> str:
+    """Hash of the resolved parameters (hex SHA-256)."""
+    p = params.resolved()
+    blob = json.dumps({"params": p.as_dict(), "format": MESH_FORMAT_VERSION, "gmsh": _gmsh_version()},
+                      sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _arrays(amesh: AxisymMesh) -> dict:
+    arrs = {}
+    for b in BODIES:
+        m = amesh.bodies[b]
+        arrs[f"{b}/p"] = np.ascontiguousarray(m.p, dtype=np.float64)
+        arrs[f"{b}/t"] = np.ascontiguousarray(m.t, dtype=np.int32)
+        for name, facets in sorted((m.boundaries or {}).items()):
+            arrs[f"{b}/boundary/{name}"] = np.ascontiguousarray(np.asarray(facets), dtype=np.int32)
+    return arrs
+
+
+def _digest(arrs: dict) -> str:
+    h = hashlib.sha256()
+    for k in sorted(arrs):
+        a = arrs[k]
+        h.update(k.encode())
+        h.update(str(a.dtype).encode())
+        h.update(str(a.shape).encode())
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+
+def save_mesh(amesh: AxisymMesh, path) -> Path:
+    """Write ``amesh`` atomically to ``path`` (.npz with a verified header)."""
+    arrs = _arrays(amesh)
+    header = {"params": amesh.params.as_dict(), "key": amesh.key, "format": MESH_FORMAT_VERSION,
+              "digest": _digest(arrs), "info": amesh.info}
+    buf = io.BytesIO()
+    np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8),
+             **arrs)
+    return write_bytes_atomic(path, buf.getvalue())
+
+
+class CacheError(RuntimeError):
+    """A cached mesh file failed verification."""
+
+
+def load_mesh(path, expected: AxisymMeshParams | None = None) -> AxisymMesh:
+    """Read and verify a mesh file; raise :class:`CacheError` if anything is off."""
+    from skfem import MeshTri1
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            header = json.loads(bytes(z["__header__"]).decode())
+            arrs = {k: z[k] for k in z.files if k != "__header__"}
+    except CacheError:
+        raise
+    except Exception as exc:
+        raise CacheError(f"unreadable mesh cache file {path}: {exc}") from exc
+    if header.get("format") != MESH_FORMAT_VERSION:
+        raise CacheError(f"{path}: format {header.get('format')} != {MESH_FORMAT_VERSION}")
+    if _digest(arrs) != header.get("digest"):
+        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
+    params = AxisymMeshParams(**header["params"])
+    if expected is not None and params.as_dict() != expected.resolved().as_dict():
+        raise CacheError(f"{path}: stored parameters differ from the request")
+    bodies = {}
+    for b in BODIES:
+        m = MeshTri1(arrs[f"{b}/p"], arrs[f"{b}/t"])
+        bnd = {k.split("/", 2)[2]: v for k, v in arrs.items() if k.startswith(f"{b}/boundary/")}
+        bodies[b] = m.with_boundaries(bnd)
+    return AxisymMesh(params=params, bodies=bodies, key=header.get("key", ""), info=header.get("info", {}))
+
+
+def cached_mesh(params: AxisymMeshParams, cache_dir=None, *, refresh: bool = False) -> AxisymMesh:
+    """The mesh for ``params``: from the cache if present and valid, else built and stored.
+
+    ``info["cache"]`` tells what happened: ``"hit"``, ``"miss"`` or ``"rebuilt"``
+    (a stored file failed verification).
+    """
+    import time
+
+    p = params.resolved()
+    key = mesh_key(p)
+    d = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    path = d / f"axisym-{key[:24]}.npz"
+    status = "miss"
+    if path.exists() and not refresh:
+        try:
+            amesh = load_mesh(path, expected=p)
+            if amesh.key == key:
+                amesh.info = dict(amesh.info, cache="hit", path=str(path))
+                return amesh
+            status = "rebuilt"
+        except CacheError as exc:
+            warnings.warn(f"rebuilding mesh: {exc}", RuntimeWarning, stacklevel=2)
+            status = "rebuilt"
+    t0 = time.perf_counter()
+    amesh = build_mesh(p)
+    amesh.key = key
+    amesh.info = {"build_s": time.perf_counter() - t0}
+    save_mesh(amesh, path)
+    amesh.info = dict(amesh.info, cache=status, path=str(path))
+    return amesh
