@@ -1,0 +1,88 @@
+"""Command line: ``python -m fem normal ...`` (axisymmetric FE normal contact, SI units)."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from mdr.errors import ConvergenceError, InputError
+from mdr.io import write_json
+
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from .run import H_CONTACT_RANGE
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors and exit code 2."""
+
+    def error(self, message):
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        raise SystemExit(2)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="python -m fem", description=(
+        "Finite-element contact of two finite elastic bodies (gmsh + scikit-fem). "
+        "All quantities in SI units (m, N, Pa)."))
+    sub = p.add_subparsers(dest="command", parser_class=_Parser, required=True)
+    n = sub.add_parser("normal", formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+                       help="axisymmetric frictionless normal contact under a force F",
+                       description=(
+                           "Axisymmetric FE normal contact (Fourier mode 0, P2 triangles) of an elastic "
+                           "indenter (sphere cap, truncated sphere, or flat punch) on an elastic cylindrical "
+                           "block. The stiffness is factorised once and condensed to the contact interface; "
+                           "penalty contact with augmented-Lagrangian iterations. Writes contact_radius, "
+                           "indentation (half-space comparable: finite-body bulk compliance removed with "
+                           "probes at depth 20 a and the Boussinesq solution), approach (raw FE), "
+                           "normal_force, pressure {r, p}, dofs, mesh, runtime_s {mesh, setup, solve, total}."))
+    n.add_argument("--profile", choices=("sphere", "truncated", "flat"), required=True,
+                   help="indenter profile")
+    n.add_argument("--R", type=float, default=None, help="sphere radius (m); sphere and truncated")
+    n.add_argument("--b", type=float, default=0.0, help="flat-face / punch radius (m); truncated and flat")
+    n.add_argument("--F", type=float, required=True, help="normal force (N), > 0")
+    n.add_argument("--E1", type=float, default=200e9, help="indenter Young's modulus (Pa)")
+    n.add_argument("--nu1", type=float, default=0.29, help="indenter Poisson ratio")
+    n.add_argument("--E2", type=float, default=200e9, help="block Young's modulus (Pa)")
+    n.add_argument("--nu2", type=float, default=0.29, help="block Poisson ratio")
+    n.add_argument("--h-contact", type=float, default=0.0125,
+                   help=f"element size in the contact zone as a fraction of the contact radius a "
+                        f"(range [{H_CONTACT_RANGE[0]:g}, {H_CONTACT_RANGE[1]:g}]; 0.0125 = a/80)")
+    n.add_argument("--contact-extent", type=float, default=1.25,
+                   help="radius of the finely meshed contact segment / a (> 1)")
+    n.add_argument("--block-size", type=float, default=None,
+                   help="block radius and height (m); default 200 a (also bounds the indenter cap height)")
+    n.add_argument("--penalty", type=float, default=DEFAULT_PENALTY,
+                   help="penalty factor alpha (> 0): stiffness alpha * E* / h per unit area")
+    n.add_argument("--al-tol", type=float, default=DEFAULT_AL_TOL,
+                   help="augmented-Lagrangian stop: largest penetration / approach; 0 = pure penalty")
+    n.add_argument("--solver", choices=("auto", "cholmod", "pardiso", "superlu"), default="auto",
+                   help="sparse factorisation backend")
+    n.add_argument("--cache-dir", default=None,
+                   help="mesh cache directory (default $FRETTING_MESH_CACHE or ~/.cache/fretting-meshes)")
+    n.add_argument("--vtu", default=None, help="also write displacements and stresses to this .vtu file")
+    n.add_argument("--json", required=True, help="output JSON path ('-' for stdout)")
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        from mdr.materials import Materials
+
+        from .run import run_normal
+
+        mats = Materials(args.E1, args.nu1, args.E2, args.nu2)
+        out, model, res = run_normal(
+            args.profile, R=args.R, b=args.b, F=args.F, materials=mats, h_contact=args.h_contact,
+            block_size=args.block_size, contact_extent=args.contact_extent, penalty=args.penalty,
+            al_tol=args.al_tol, cache_dir=args.cache_dir,
+            backend=None if args.solver == "auto" else args.solver, return_model=True)
+        if args.vtu:
+            from .output import write_vtu
+
+            write_vtu(model, res, args.vtu)
+    except (InputError, ConvergenceError) as exc:
+        sys.stderr.write(f"python -m fem: error: {exc}\n")
+        return 2
+    write_json(args.json, out)
+    return 0
