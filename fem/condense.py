@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solvers import factorize
+from .solvers import blas_threads, factorize
 
 
 class Condensation:
@@ -39,12 +39,13 @@ class Condensation:
             raise ValueError("an interface DOF is fixed by a Dirichlet condition")
         ploc = loc[self.probe_dofs]
         Kff = K[self.free][:, self.free].tocsc()
-        self.factor = factorize(Kff, backend)
-        self.backend = self.factor.backend
         m = self.interface_dofs.size
         rhs = np.zeros((self.free.size, m))
         rhs[self._iloc, np.arange(m)] = 1.0
-        X = self.factor.solve(rhs)
+        with blas_threads(1):  # SuperLU's triangular solves fight numpy's BLAS pool otherwise
+            self.factor = factorize(Kff, backend)
+            X = self.factor.solve(rhs)
+        self.backend = self.factor.backend
         C = X[self._iloc]
         self.C = 0.5 * (C + C.T)
         # a fixed probe DOF reads zero
