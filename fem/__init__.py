@@ -1,0 +1,9 @@
+"""Finite-element contact of two finite elastic bodies (scikit-fem), axisymmetric so far.
+
+One file per assumption: ``axisym`` (mode-0 weak forms), ``interface`` (small-
+sliding contact pairs), ``condense`` (interface flexibility), ``solvers``
+(sparse factorisation backends, BLAS threads), ``model`` (boundary conditions,
+set-up once per mesh), ``normal`` (penalty / augmented-Lagrangian contact and
+the half-space-comparable indentation), ``output`` (fields, VTU), ``run`` and
+``cli`` (``python -m fem normal``).
+"""

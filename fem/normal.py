@@ -55,8 +55,8 @@ contact edge p^2 is linear in r^2 (exact for Hertz), so a straight line through
 (r^2, p^2) of the last three loaded nodes is extrapolated to p = 0 (clipped to
 the bracketing nodes). For a fixed edge (flat punch) it is the punch radius.
 The pressure on the axis (where the pair area is zero) is extrapolated from
-the first three pairs in the same way (p^2 quadratic in r^2 is not assumed:
-a straight line in r^2 through p itself, exact to O(r^4)).
+the first three pairs: p interpolated as a quadratic in r^2 (p is even in r),
+exact to O(r^6).
 """
 from __future__ import annotations
 
