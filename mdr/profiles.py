@@ -112,6 +112,11 @@ class Profile:
         return 0.5 * (lo + hi)
 
     @property
+    def batch_shape(self) -> tuple:
+        """Shape of the batch of scenes described by array parameters (() for one)."""
+        return np.broadcast_shapes(*[np.shape(getattr(self, k)) for k in ("R", "b") if hasattr(self, k)])
+
+    @property
     def x_limit(self):
         """Largest radius at which g is defined (contact radius must stay below)."""
         return np.inf
@@ -310,10 +315,14 @@ class GeneralProfile(Profile):
         self._kinks = tuple(float(k) for k in np.atleast_1d(kinks) if float(k) > 0)
         slopes = np.diff(ff) / np.diff(rr)
         x = rr[1:]
-        with np.errstate(invalid="ignore"):
-            lo = np.minimum(rr[None, :-1], x[:, None]) / x[:, None]
-            hi = np.minimum(rr[None, 1:], x[:, None]) / x[:, None]
-            gtab = x * np.sum(slopes[None, :] * (np.arcsin(hi) - np.arcsin(lo)), axis=1)
+        gtab = np.empty(x.size)
+        chunk = max(1, 2_000_000 // rr.size)  # bound the memory of the O(n^2) transform
+        for i in range(0, x.size, chunk):
+            xc = x[i:i + chunk, None]
+            m = min(rr.size - 1, i + chunk)  # segments beyond the largest x of the chunk add nothing
+            lo = np.minimum(rr[None, :m], xc) / xc
+            hi = np.minimum(rr[None, 1:m + 1], xc) / xc
+            gtab[i:i + chunk] = xc[:, 0] * np.sum(slopes[None, :m] * (np.arcsin(hi) - np.arcsin(lo)), axis=1)
         gtab = np.concatenate([[0.0], gtab])
         if np.any(np.diff(gtab) < -1e-12 * max(gtab.max(), 1e-300)):
             raise InputError("the profile's MDR transform g(x) is not monotone: the contact would not be "

@@ -122,6 +122,15 @@ def cattaneo_mindlin_stick_radius(Fx, FN, mu, a):
     return a * (1.0 - q) ** (1.0 / 3.0)
 
 
+def cattaneo_mindlin_traction(r, Fx, FN, mu, a):
+    """Tangential traction of the sphere under monotonic loading F_x (Cattaneo-Mindlin):
+    tau = (3 mu F_N / (2 pi a^3)) [sqrt(a^2 - r^2) - sqrt(c^2 - r^2) for r < c]."""
+    r = np.asarray(r, dtype=float)
+    c = cattaneo_mindlin_stick_radius(Fx, FN, mu, a)
+    pre = 3.0 * mu * FN / (2.0 * np.pi * a**3) * np.sign(Fx)
+    return pre * (np.sqrt(np.maximum(a**2 - r**2, 0.0)) - np.sqrt(np.maximum(c**2 - r**2, 0.0)))
+
+
 def mindlin_deresiewicz_loop(u, u_A, FN, mu, u_star, branch):
     """Stationary loop at constant F_N (Masing rule): force on the branch through u.
 

@@ -1,0 +1,141 @@
+"""Command line of the MDR contact law: ``python -m mdr {normal,contact} ...``.
+
+Flags are shared with ``python -m fem`` through ``add_profile_args``,
+``add_material_args`` and ``add_contact_args``. Bad input exits with code 2
+and one line on stderr; a solver that does not converge exits with code 3.
+All values SI.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+import numpy as np
+
+from .errors import ConvergenceError, InputError
+from .io import write_json
+from .materials import STEEL_E, STEEL_NU, Materials
+from .profiles import make_profile
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse parser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message):
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        sys.exit(2)
+
+
+def add_profile_args(p):
+    g = p.add_argument_group("indenter profile (SI units)")
+    g.add_argument("--profile", choices=["sphere", "truncated", "flat"], required=True,
+                   help="sphere (parabolic), truncated sphere (flat face of radius b), flat punch (radius b)")
+    g.add_argument("--R", type=float, default=None, help="sphere radius R in m (sphere, truncated)")
+    g.add_argument("--b", type=float, default=None, help="flat-face / punch radius b in m (truncated, flat)")
+    g.add_argument("--exact-cap", action="store_true",
+                   help="exact spherical cap instead of the parabolic approximation (sphere, truncated)")
+
+
+def add_material_args(p):
+    g = p.add_argument_group("materials: indenter 1, block 2 (Pa)")
+    g.add_argument("--E1", type=float, default=STEEL_E, help="Young's modulus of the indenter (default 200e9)")
+    g.add_argument("--nu1", type=float, default=STEEL_NU, help="Poisson ratio of the indenter (default 0.29)")
+    g.add_argument("--E2", type=float, default=STEEL_E, help="Young's modulus of the block (default 200e9)")
+    g.add_argument("--nu2", type=float, default=STEEL_NU, help="Poisson ratio of the block (default 0.29)")
+
+
+def add_contact_args(p):
+    g = p.add_argument_group("fretting load: F_N = F0 + dF sin(2 pi t + alpha); u = ua sin(2 pi t) or F_x = fa sin(2 pi t)")
+    g.add_argument("--mu", type=float, required=True, help="coefficient of friction (>= 0)")
+    g.add_argument("--F0", type=float, required=True, help="mean normal force in N (> 0)")
+    g.add_argument("--dF", type=float, default=0.0, help="normal force amplitude in N (0 <= dF <= F0)")
+    g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
+    drive = g.add_mutually_exclusive_group(required=True)
+    drive.add_argument("--ua", type=float, help="tangential displacement amplitude in m (displacement control)")
+    drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
+    g.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
+    g.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
+
+
+def add_output_args(p):
+    p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
+
+
+def profile_from_args(args):
+    return make_profile(args.profile, R=args.R, b=args.b, exact=getattr(args, "exact_cap", False))
+
+
+def materials_from_args(args):
+    return Materials(args.E1, args.nu1, args.E2, args.nu2)
+
+
+def _cmd_normal(args):
+    from .normal import approach_from_force, contact_radius, pressure
+    from .errors import positive
+
+    t0 = time.perf_counter()
+    prof = profile_from_args(args)
+    mat = materials_from_args(args)
+    F = positive("F", args.F)
+    d = float(approach_from_force(prof, mat, F))
+    a = float(contact_radius(prof, d))
+    n = max(int(args.points), 8)
+    # radii avoid r = a (and r = b) where the pressure may be singular
+    r = (np.arange(n) + 0.5) / n * a
+    p = pressure(prof, mat, d, r)
+    return {"contact_radius": a, "indentation": d, "normal_force": F,
+            "pressure": {"r": r.tolist(), "p": p.tolist()},
+            "runtime_s": time.perf_counter() - t0,
+            "inputs": {**prof.describe(), **mat.as_dict(), "F": F}}
+
+
+def _cmd_contact(args):
+    from .drive import run_contact
+
+    prof = profile_from_args(args)
+    mat = materials_from_args(args)
+    return run_contact(prof, mat, args.mu, args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa,
+                       cycles=args.cycles, steps=args.steps, n=args.cells)
+
+
+def build_parser():
+    parser = OneLineParser(prog="python -m mdr", description=(
+        "MDR (method of dimensionality reduction) contact law for axisymmetric profiles: "
+        "normal contact and frictional fretting loads. SI units throughout."))
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
+
+    pn = sub.add_parser("normal", help="normal contact: approach, contact radius, pressure p(r) at force F",
+                        description="Frictionless normal contact at normal force F (half-space, MDR).")
+    add_profile_args(pn)
+    add_material_args(pn)
+    pn.add_argument("--F", type=float, required=True, help="normal force in N (> 0)")
+    pn.add_argument("--points", type=int, default=200, help="radial points of the pressure profile")
+    add_output_args(pn)
+    pn.set_defaults(func=_cmd_normal)
+
+    pc = sub.add_parser("contact", help="fretting cycles with the contact driven directly",
+                        description="Drive the contact with harmonic normal force and tangential displacement "
+                                    "(or force); report the stationary last cycle.")
+    add_profile_args(pc)
+    add_material_args(pc)
+    add_contact_args(pc)
+    pc.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (default 400)")
+    add_output_args(pc)
+    pc.set_defaults(func=_cmd_contact)
+    return parser
+
+
+def main(argv=None, parser=None):
+    parser = parser or build_parser()
+    args = parser.parse_args(argv)
+    try:
+        result = args.func(args)
+        write_json(args.json, result)
+    except InputError as exc:
+        sys.stderr.write(f"{parser.prog}: error: {exc}\n")
+        return 2
+    except ConvergenceError as exc:
+        sys.stderr.write(f"{parser.prog}: solver failed: {exc}\n")
+        return 3
+    return 0

@@ -1,0 +1,107 @@
+"""Drive a contact law directly with harmonic fretting loads.
+
+Loading (time in cycles, t = k/steps):
+
+    F_N(t) = F0 + dF sin(2 pi t + alpha)
+    u(t)   = u_A sin(2 pi t)      (displacement control, ``ua``)  or
+    F_x(t) = f_A sin(2 pi t)      (force control, ``fa``)
+
+starting from rest (normal load applied at u = 0 in the first step). The
+result is a plain dict with the project's JSON keys (SI units); only the last
+cycle is reported as the loop, and it is checked for stationarity.
+Under force control the slip index uses the measured displacement amplitude
+u_A = (max du - min du)/2 of the last cycle.
+"""
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+from .errors import InputError, finite, nonnegative, positive, positive_int
+from .grid import DEFAULT_CELLS
+from .law import MDRContact
+from .loops import analyse_cycles, slip_index
+from .materials import Materials
+from .normal import approach_from_force
+from .profiles import Profile
+
+
+def harmonic_history(F0, dF, alpha, cycles, steps):
+    """Sample times t (in cycles) and normal forces F_N(t)."""
+    t = np.arange(cycles * steps + 1) / steps
+    return t, F0 + dF * np.sin(2.0 * np.pi * t + alpha)
+
+
+def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
+    """Validate the harmonic loading parameters; returns them normalised."""
+    F0 = positive("F0", F0)
+    dF = nonnegative("dF", dF)
+    if dF > F0:
+        raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}, F0={F0!r}")
+    alpha = finite("alpha", alpha)
+    mu = nonnegative("mu", mu)
+    if (ua is None) == (fa is None):
+        raise InputError("give exactly one of ua (displacement amplitude) or fa (force amplitude)")
+    if ua is not None:
+        ua = positive("ua", ua)
+    if fa is not None:
+        fa = positive("fa", fa)
+    cycles = positive_int("cycles", cycles, minimum=2)
+    steps = positive_int("steps", steps, minimum=8)
+    if steps % 4:
+        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
+    if fa is not None:
+        t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
+        need = np.abs(fa * np.sin(2.0 * np.pi * t))
+        if np.any(need >= mu * FN * (1 - 1e-9)):
+            ratio = np.max(need / np.maximum(mu * FN, 1e-300))
+            raise InputError(f"fa must stay below the friction limit mu*F_N(t) at every instant "
+                             f"(force control has no equilibrium in gross sliding); fa={fa:g} N is "
+                             f"{ratio:.3g} times the limit, so use fa < {fa / ratio:.4g} N")
+    return F0, dF, alpha, mu, ua, fa, cycles, steps
+
+
+def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
+                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None) -> dict:
+    """Drive the MDR contact law directly; returns the result dict (JSON keys)."""
+    F0, dF, alpha, mu, ua, fa, cycles, steps = check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)
+    t_start = time.perf_counter()
+    if law is None:
+        law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
+    t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
+    s = np.sin(2.0 * np.pi * t)
+    if ua is not None:
+        H = law.run(u=ua * s, F_N=FN)
+    else:
+        H = law.run(Fx=fa * s, F_N=FN)
+    cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0)
+    last = slice(cycles * steps - steps, cycles * steps + 1)
+    dW = float(cyc.dissipation[-1])
+    u_amp = ua if ua is not None else 0.5 * float(np.ptp(H.u[last]))
+    d0 = float(approach_from_force(profile, materials, F0))
+    stationary = bool(cyc.last_is_stationary) or mu == 0
+    if not stationary:
+        warnings.warn(f"the last of {cycles} cycles is not stationary (loop change "
+                      f"{float(cyc.loop_change[-1]):.2e} of mu F0); run more --cycles", RuntimeWarning)
+    delta = float(slip_index(dW, mu, u_amp, F0))
+    runtime = time.perf_counter() - t_start
+    return {
+        "contact_radius": float(profile.g_inv(d0)),
+        "indentation": d0,
+        "normal_force": F0,
+        "stick_radius": float(np.min(H.c[last])),
+        "dissipation": dW,
+        "friction_work": float(np.sum(H.work[last][1:])),
+        "slip_index": None if not np.isfinite(delta) else delta,
+        "displacement_amplitude": u_amp,
+        "tangential_force_amplitude": 0.5 * float(np.ptp(H.Fx[last])),
+        "dissipation_per_cycle": cyc.dissipation.tolist(),
+        "stationary": stationary,
+        "first_stationary_cycle": int(cyc.first_stationary),
+        "runtime_s": runtime,
+        "loop": {"t": t[last].tolist(), "du": H.u[last].tolist(), "Fx": H.Fx[last].tolist(), "FN": H.FN[last].tolist()},
+        "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
+                   "ua": ua, "fa": fa, "cycles": cycles, "steps": steps, "cells": law.grid.n},
+    }

@@ -1,0 +1,402 @@
+"""The MDR frictional contact law: a pure step function over an explicit state.
+
+Model (Popov & Hess, *Method of Dimensionality Reduction in Contact Mechanics
+and Friction*, Springer 2015, ch. 5; the incremental form for arbitrary
+normal and tangential histories): the 3D axisymmetric contact is replaced by a
+row of independent springs on x in [-a, a], normal stiffness E* dx and
+tangential stiffness G* dx, indented by d - g(x). A spring of normal force
+dN carries a tangential force of at most mu dN (local Coulomb friction with
+a constant coefficient, Mindlin's assumption that the traction is along x).
+Each time step:
+
+1. normal update: the new approach d fixes a, the in-contact length and the
+   normal force of every cell (exact integrals, ``mdr.grid``). Springs that
+   leave contact lose their tangential displacement; springs that enter start
+   with none (a partly covered cell keeps its tangential force and spreads it
+   over the new length). A smaller slip limit makes springs slip.
+2. tangential update: every spring in contact is displaced by the increment
+   du of the tangential relative displacement and clipped to the slip limit
+   |v| <= mu E* (d - g) / G*.
+
+This is exact for the axisymmetric half-space problem with Coulomb friction
+under the Hertz-Mindlin assumptions (no normal-tangential coupling: equal
+materials or incompressible, or coupling neglected). Rate independent: the
+time steps only need to resolve the load path (include its turning points).
+
+State (``LawState``) is immutable: ``step`` returns a new state and leaves
+the old one untouched, so a caller can try a step and discard it. Everything
+is vectorised over a batch of scenes (profile parameters and mu may be
+arrays of one shape ``batch``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import InputError, nonnegative, positive
+from .grid import DEFAULT_CELLS, SpringGrid, make_grid
+from .materials import Materials
+from .normal import approach_from_force
+from .profiles import FlatPunch, Profile, _bcast
+from .solve import solve_increasing
+
+
+@dataclass(frozen=True)
+class LawState:
+    """History of the contact: per-cell elastic tangential displacement ``v``,
+    in-contact cell length ``ell`` (both batch + (n,)), total tangential relative
+    displacement ``u`` and approach ``d`` (batch)."""
+
+    v: np.ndarray
+    ell: np.ndarray
+    u: np.ndarray
+    d: np.ndarray
+
+
+@dataclass(frozen=True)
+class NormalPhase:
+    """Normal contact at approach d: contact radius a, per-cell in-contact
+    length ell, normal force N (one side, N >= 0) and tangential slip limit vmax."""
+
+    d: np.ndarray
+    a: np.ndarray
+    ell: np.ndarray
+    N: np.ndarray
+    vmax: np.ndarray
+    FN: np.ndarray
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """Outputs of one step (SI): forces, approach, contact and stick radii, the
+    tangential relative displacement and the friction work done in the step."""
+
+    Fx: np.ndarray
+    FN: np.ndarray
+    d: np.ndarray
+    a: np.ndarray
+    c: np.ndarray
+    u: np.ndarray
+    work: np.ndarray
+
+
+@dataclass
+class History:
+    """Time series of a run (arrays batch + (T,)) and the final state."""
+
+    u: np.ndarray
+    Fx: np.ndarray
+    FN: np.ndarray
+    d: np.ndarray
+    a: np.ndarray
+    c: np.ndarray
+    work: np.ndarray
+    state: LawState = field(repr=False)
+
+
+class MDRContact:
+    """MDR contact law of one profile (or a batch of profiles) and two materials.
+
+    Parameters
+    ----------
+    profile : Profile (parameters may be batch arrays)
+    materials : Materials
+    mu : coefficient of friction (>= 0; scalar or batch array)
+    F_max : largest normal force the law will see (sizes the spring grid), or
+    a_max : largest contact radius directly. One of the two is required unless
+            ``grid`` is given. The flat punch needs neither.
+    n : number of spring cells (default gives 1e-4 relative dissipation error).
+    F_min : optional smallest normal force of the history; adds a grid node at
+            the smallest contact radius.
+    """
+
+    def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *,
+                 F_max=None, a_max=None, n: int = DEFAULT_CELLS, F_min=None, grid: SpringGrid | None = None,
+                 refine: float = 0.0):
+        if not isinstance(profile, Profile):
+            raise InputError(f"profile must be a Profile (Sphere, TruncatedSphere, FlatPunch, GeneralProfile), got {profile!r}")
+        self.profile = profile
+        self.materials = materials if materials is not None else Materials()
+        self.mu = nonnegative("mu", mu)
+        self.E_star = self.materials.E_star
+        self.G_star = self.materials.G_star
+        if grid is None:
+            if isinstance(profile, FlatPunch):
+                a_max = profile.b
+            elif a_max is None:
+                if F_max is None:
+                    raise InputError("MDRContact needs F_max (> 0, the largest normal force) or a_max to size its spring grid")
+                F_max = positive("F_max", F_max)
+                a_max = profile.g_inv(approach_from_force(profile, self.materials, F_max))
+            a_min = None
+            if F_min is not None and not isinstance(profile, FlatPunch) and np.all(np.asarray(F_min) > 0):
+                a_min = profile.g_inv(approach_from_force(profile, self.materials, F_min))
+            grid = make_grid(profile, a_max, n=n, a_min=a_min, refine=refine)
+        self.grid = grid
+        self.batch = grid.width.shape[:-1]
+
+    # ------------------------------------------------------------------ state
+    def rest_state(self) -> LawState:
+        """Bodies apart, no tangential displacement."""
+        z = np.zeros(self.grid.width.shape)
+        zb = np.zeros(self.batch)
+        return LawState(v=z, ell=z.copy(), u=zb, d=zb.copy())
+
+    def approach(self, F_N):
+        """Approach d for normal force F_N >= 0 (0 means contact lost)."""
+        F_N = nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N)
+        return approach_from_force(self.profile, self.materials, F_N)
+
+    # --------------------------------------------------------------- normal
+    def normal_phase(self, d) -> NormalPhase:
+        """Normal contact for approach ``d`` of shape batch or batch + (T,)."""
+        d = np.asarray(d, dtype=float)
+        nb = len(self.batch)
+        extra = d.ndim - nb
+        if extra not in (0, 1) or d.shape[:nb] != self.batch:
+            raise InputError(f"approach d must have shape {self.batch} or {self.batch} + (T,), got {d.shape}")
+        g = self.grid
+
+        def cells(arr):  # batch + (n,) -> batch + (1,)*extra + (n,)
+            return arr.reshape(self.batch + (1,) * extra + (arr.shape[-1],))
+
+        lo, width, int_g = cells(g.lo), cells(g.width), cells(g.int_g)
+        dp = np.maximum(d, 0.0)
+        touching = d > 0
+        a = np.where(touching, self.profile.g_inv(dp), 0.0)
+        x_max = g.x_max.reshape(self.batch + (1,) * extra)
+        if np.any(a > x_max * (1 + 1e-9)):
+            raise InputError("the contact radius exceeds the spring grid: build the law with a larger F_max (or a_max)")
+        a = np.minimum(a, x_max)
+        ell = np.clip(a[..., None] - lo, 0.0, width)
+        full = ell >= width
+        ig = np.where(full, int_g, 0.0)
+        # the one partly covered cell: exact integral of g over [lo_k, a]
+        k = np.sum(full, axis=-1, keepdims=True)
+        has_partial = (k < width.shape[-1]) & (a[..., None] > 0)
+        kk = np.minimum(k, width.shape[-1] - 1)
+        lo_k = np.take_along_axis(np.broadcast_to(lo, ell.shape), kk, axis=-1)[..., 0]
+        part = np.where(has_partial[..., 0] & (a > lo_k), self.profile.cell_integral(lo_k, np.maximum(a, lo_k)), 0.0)
+        np.put_along_axis(ig, kk, np.where(has_partial, part[..., None], np.take_along_axis(ig, kk, axis=-1)), axis=-1)
+        N = self.E_star * np.maximum(dp[..., None] * ell - ig, 0.0)
+        mu = np.asarray(self.mu, dtype=float).reshape(self.batch + (1,) * (extra + 1)) if np.ndim(self.mu) else self.mu
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vmax = np.where(ell > 0, mu * N / (self.G_star * ell), 0.0)
+        return NormalPhase(d=dp, a=a, ell=ell, N=N, vmax=vmax, FN=2.0 * np.sum(N, axis=-1))
+
+    # ----------------------------------------------------------- tangential
+    @staticmethod
+    def _carry(v, ell_old, ell_new):
+        """Tangential displacement after the contact length of each cell changed."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(ell_new > 0, np.minimum(1.0, ell_old / ell_new), 0.0)
+        return v * ratio
+
+    def _tangential_force(self, ell, v):
+        return 2.0 * self.G_star * np.sum(ell * v, axis=-1)
+
+    def stick_radius(self, phase: NormalPhase, trial):
+        """Stick radius c: outer edge of the central zone of cells that did not slip.
+
+        Cells slip where the trial displacement reaches the slip limit. The
+        zero of the slack vmax - |trial| is extrapolated linearly from the last
+        two sticking cells (second-order accurate); c = a when nothing slips
+        and c = 0 when the centre slips (gross slip).
+        """
+        slack = phase.vmax - np.abs(trial)
+        incontact = phase.ell > 0
+        slipping = (slack <= 0) & incontact
+        n = slack.shape[-1]
+        any_slip = np.any(slipping, axis=-1)
+        k0 = np.argmax(slipping, axis=-1)
+        mid = np.broadcast_to(self.grid.mid.reshape(self.batch + (1,) * (slack.ndim - 1 - len(self.batch)) + (n,)), slack.shape)
+        take = lambda arr, idx: np.take_along_axis(arr, np.clip(idx, 0, n - 1)[..., None], axis=-1)[..., 0]
+        x1, s1 = take(mid, k0 - 1), take(slack, k0 - 1)
+        x2, s2 = take(mid, k0 - 2), take(slack, k0 - 2)
+        xs = take(mid, k0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            root = x1 + s1 * (x1 - x2) / (s2 - s1)
+        root = np.where((k0 >= 2) & np.isfinite(root), root, 0.5 * (x1 + xs))
+        c = np.clip(root, x1, xs)
+        c = np.where(k0 == 0, 0.0, c)
+        return np.where(any_slip, np.minimum(c, phase.a), phase.a)
+
+    def step(self, state: LawState, u=None, *, d=None, F_N=None, Fx=None):
+        """Advance the contact by one step; pure (``state`` is not modified).
+
+        Give the normal load as approach ``d`` or force ``F_N`` (>= 0; zero means
+        the contact is lost and all tangential history is released), and the
+        tangential load as total relative displacement ``u`` or force ``Fx``
+        (|Fx| < mu F_N). Returns (StepResult, new LawState).
+        """
+        if (d is None) == (F_N is None):
+            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
+        if (u is None) == (Fx is None):
+            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        if d is None:
+            d = self.approach(np.broadcast_to(F_N, self.batch))
+        d = np.broadcast_to(np.asarray(d, dtype=float), self.batch)
+        phase = self.normal_phase(d)
+        v = self._carry(state.v, state.ell, phase.ell)
+        v1 = np.clip(v, -phase.vmax, phase.vmax)
+        if Fx is not None:
+            du = self._solve_du(phase, v1, np.broadcast_to(np.asarray(Fx, dtype=float), self.batch))
+        else:
+            du = np.broadcast_to(np.asarray(u, dtype=float), self.batch) - state.u
+        trial = v1 + du[..., None]
+        v2 = np.clip(trial, -phase.vmax, phase.vmax)
+        slip = np.abs(v - v1) + np.abs(trial - v2)
+        work = 2.0 * np.sum(self.G_star * phase.ell * phase.vmax * slip, axis=-1)
+        res = StepResult(Fx=self._tangential_force(phase.ell, v2), FN=phase.FN, d=phase.d, a=phase.a,
+                         c=self.stick_radius(phase, trial), u=state.u + du, work=work)
+        return res, LawState(v=v2, ell=phase.ell, u=state.u + du, d=phase.d)
+
+    def _solve_du(self, phase: NormalPhase, v1, target):
+        mu_FN = np.asarray(self.mu) * phase.FN
+        if np.any(np.abs(target) >= mu_FN * (1 - 1e-12)) and np.any(np.abs(target) > 0):
+            bad = np.abs(target) >= mu_FN * (1 - 1e-12)
+            raise InputError(f"tangential force Fx={float(np.max(np.abs(target[bad]) if np.ndim(target) else abs(target))):.4g} N "
+                             f"must stay below the friction limit mu*F_N={float(np.min(mu_FN[bad]) if np.ndim(mu_FN) else mu_FN):.4g} N "
+                             f"under force control (beyond it the contact slides without equilibrium)")
+        lo = np.min(np.where(phase.ell > 0, -phase.vmax - v1, 0.0), axis=-1)
+        hi = np.max(np.where(phase.ell > 0, phase.vmax - v1, 0.0), axis=-1)
+        k = 2.0 * self.G_star * phase.ell
+
+        def fun(du):
+            t = v1 + du[..., None]
+            stick = np.abs(t) < phase.vmax
+            return np.sum(k * np.clip(t, -phase.vmax, phase.vmax), axis=-1), np.sum(k * stick, axis=-1)
+
+        scale = np.maximum(mu_FN, 1e-300)
+        return solve_increasing(fun, target, lo, hi, x0=np.zeros_like(target), atol=1e-12 * scale,
+                                what="MDR tangential force control")
+
+    # ---------------------------------------------------------------- runs
+    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: LawState | None = None, block: int | None = None) -> History:
+        """Run a whole load history (arrays of shape (T,) or batch + (T,)).
+
+        Starts from ``state`` (default: at rest, bodies apart). Displacement
+        control is the fast path: the normal phases of a block of time steps are
+        computed at once, then only the tangential update loops over time.
+        """
+        if (d is None) == (F_N is None):
+            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
+        if (u is None) == (Fx is None):
+            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+        drive = np.asarray(u if u is not None else Fx, dtype=float)
+        T = drive.shape[-1]
+        shape = self.batch + (T,)
+        if d is None:
+            F_N = np.broadcast_to(np.asarray(F_N, dtype=float), shape)
+            d = self.approach(F_N)
+        d = np.broadcast_to(np.asarray(d, dtype=float), shape)
+        drive = np.broadcast_to(drive, shape)
+        if state is None:
+            state = self.rest_state()
+        out = {k: np.empty(shape) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+        if Fx is not None:
+            for t in range(T):
+                res, state = self.step(state, d=d[..., t], Fx=drive[..., t])
+                for key in out:
+                    out[key][..., t] = getattr(res, key)
+            return History(state=state, **out)
+        v, ell, u_prev = state.v.copy(), state.ell, state.u
+        if block is None:  # bound the block arrays (batch x block x cells) to ~1e6 numbers
+            block = int(np.clip(1_000_000 // max(v.size, 1), 1, 256))
+        for t0 in range(0, T, block):
+            t1 = min(T, t0 + block)
+            db = d[..., t0:t1]
+            if np.all(db == db[..., :1]):
+                # constant normal load over the block: one normal phase, broadcast
+                ph1 = self.normal_phase(db[..., 0])
+                ph = NormalPhase(*(np.broadcast_to(np.expand_dims(x, -2 if x.ndim > len(self.batch) else -1),
+                                                   x.shape[:len(self.batch)] + (t1 - t0,) + x.shape[len(self.batch):])
+                                   for x in (ph1.d, ph1.a, ph1.ell, ph1.N, ph1.vmax, ph1.FN)))
+            else:
+                ph = self.normal_phase(db)
+            ells = np.concatenate([ell[..., None, :], ph.ell], axis=-2)
+            same = np.array_equal(ells[..., 1:, :], ells[..., :-1, :])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = None if same else np.where(ells[..., 1:, :] > 0,
+                                                   np.minimum(1.0, ells[..., :-1, :] / ells[..., 1:, :]), 0.0)
+            du = np.diff(np.concatenate([u_prev[..., None], drive[..., t0:t1]], axis=-1), axis=-1)
+            # time-major, contiguous copies for the sequential loop
+            tm = lambda x: np.ascontiguousarray(np.moveaxis(x, -2, 0))
+            vmax_t, du_t = tm(ph.vmax), np.ascontiguousarray(np.moveaxis(du, -1, 0))[..., None]
+            ratio_t = None if ratio is None else tm(ratio)
+            trial_t = np.empty(vmax_t.shape)
+            v2_t = np.empty(vmax_t.shape)
+            carried_t = np.empty(vmax_t.shape)
+            for j in range(t1 - t0):
+                vmax, cj, tj, vj = vmax_t[j], carried_t[j], trial_t[j], v2_t[j]
+                if ratio_t is None:
+                    cj[...] = v
+                else:
+                    np.multiply(v, ratio_t[j], out=cj)
+                np.minimum(cj, vmax, out=tj)
+                np.maximum(tj, -vmax, out=tj)
+                tj += du_t[j]
+                np.minimum(tj, vmax, out=vj)
+                np.maximum(vj, -vmax, out=vj)
+                v = vj
+            back = lambda x: np.moveaxis(x, 0, -2)
+            trial, v2s, carried = back(trial_t), back(v2_t), back(carried_t)
+            # slip in the normal update (carried -> clipped) and in the tangential one
+            slip = np.abs(carried - (trial - du[..., None])) + np.abs(trial - v2s)
+            sl = slice(t0, t1)
+            out["Fx"][..., sl] = self._tangential_force(ph.ell, v2s)
+            out["FN"][..., sl] = ph.FN
+            out["d"][..., sl] = ph.d
+            out["a"][..., sl] = ph.a
+            out["c"][..., sl] = self.stick_radius(ph, trial)
+            out["work"][..., sl] = 2.0 * self.G_star * np.sum(ph.ell * ph.vmax * slip, axis=-1)
+            ell = ph.ell[..., -1, :]
+            v = v.copy()
+            u_prev = drive[..., t1 - 1]
+        out["u"][...] = drive
+        return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out)
+
+    # ------------------------------------------------------------ tractions
+    def line_loads(self, state: LawState):
+        """MDR line loads at the cell midpoints: x, q_z = E*(d-g) (exact cell mean), q_x = G* v."""
+        ph = self.normal_phase(state.d)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            qz = np.where(ph.ell > 0, ph.N / ph.ell, 0.0)
+        return self.grid.mid, qz, np.where(ph.ell > 0, self.G_star * state.v, 0.0), ph.a
+
+    def traction(self, state: LawState, r):
+        """Tangential traction tau(r) (along x) of a single-scene state.
+
+        MDR inverse transform tau(r) = -(1/pi) int_r^a q_x'(x)/sqrt(x^2-r^2) dx
+        + q_x(a)/(pi sqrt(a^2 - r^2)), with q_x interpolated linearly between
+        cell midpoints (constant towards the centre) and extrapolated to a; the
+        segment integrals are exact (arccosh).
+        """
+        if self.batch:
+            raise InputError("traction() works on a single scene; build the law without batch parameters")
+        x, _, qx, a = self.line_loads(state)
+        a = float(a)
+        r = np.atleast_1d(np.asarray(r, dtype=float))
+        inside = self.grid.lo < a
+        xs, qs = x[inside], qx[inside]
+        if xs.size == 0 or a <= 0:
+            return np.zeros_like(r)
+        full = self.grid.edges[1:][inside] <= a
+        xf, qf = xs[full], qs[full]
+        if xf.size >= 2:
+            q_a = qf[-1] + (qf[-1] - qf[-2]) * (a - xf[-1]) / (xf[-1] - xf[-2])
+        else:
+            q_a = qs[-1]
+        nodes = np.concatenate([xf, [a]])
+        vals = np.concatenate([qf, [q_a]])
+        slopes = np.diff(vals) / np.diff(nodes)
+        tau = np.zeros_like(r)
+        for i, ri in enumerate(r):
+            if ri >= a:
+                continue
+            x0 = np.maximum(nodes[:-1], ri)
+            x1 = np.maximum(nodes[1:], ri)
+            L = lambda z: np.log(z + np.sqrt(np.maximum(z**2 - ri**2, 0.0)))
+            tau[i] = (-np.sum(slopes * (L(x1) - L(x0))) + q_a / np.sqrt(a**2 - ri**2)) / np.pi
+        return tau

@@ -1,0 +1,44 @@
+"""Safeguarded Newton iteration for monotone scalar equations, vectorised.
+
+Used wherever an equilibrium reduces to one monotone equation per scene: a
+tangential force prescribed on a contact law, or the apparatus equilibrium.
+The functions involved are piecewise linear (spring cells sticking or
+slipping), for which Newton terminates exactly once it lands on the right
+piece; a bracket that shrinks every iteration makes it robust.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ConvergenceError
+
+
+def solve_increasing(fun, target, lo, hi, x0=None, atol=0.0, xtol=0.0, max_iter=200, what="equation"):
+    """Solve fun(x) = target for nondecreasing ``fun`` on the bracket [lo, hi].
+
+    ``fun(x)`` returns (value, slope) elementwise. Requires
+    fun(lo) <= target <= fun(hi) (not checked for speed; a violated bracket ends
+    at the bracket end and is caught by the residual check). Returns x.
+    Raises ConvergenceError with the worst residual if ``max_iter`` is reached.
+    """
+    target = np.asarray(target, dtype=float)
+    lo = np.array(np.broadcast_to(lo, target.shape), dtype=float)
+    hi = np.array(np.broadcast_to(hi, target.shape), dtype=float)
+    x = 0.5 * (lo + hi) if x0 is None else np.clip(np.broadcast_to(x0, target.shape), lo, hi)
+    atol = np.broadcast_to(atol, target.shape)
+    for it in range(max_iter):
+        f, s = fun(x)
+        r = f - target
+        if np.all((np.abs(r) <= atol) | (hi - lo <= xtol)):
+            return x
+        lo = np.where(r < 0, x, lo)
+        hi = np.where(r > 0, x, hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xn = x - r / s
+        bad = ~np.isfinite(xn) | (xn <= lo) | (xn >= hi)
+        xn = np.where(bad, 0.5 * (lo + hi), xn)
+        x = np.where(np.abs(r) <= atol, x, xn)
+    f, _ = fun(x)
+    worst = float(np.max(np.abs(f - target)))
+    raise ConvergenceError(f"{what}: safeguarded Newton did not converge in {max_iter} iterations "
+                           f"(worst residual {worst:.3e}, tolerance {float(np.max(atol)):.3e})")

@@ -1,0 +1,67 @@
+"""Command line: JSON contract, stdout output, bad input -> exit 2 with one line."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from mdr import reference as ref
+from mdr.cli import main
+
+from conftest import STEEL
+
+
+def run(args, tmp_path=None):
+    return subprocess.run([sys.executable, "-m", "mdr", *args], capture_output=True, text=True, timeout=120)
+
+
+def test_normal_json(tmp_path):
+    out = tmp_path / "n.json"
+    assert main(["normal", "--profile", "sphere", "--R", "6e-3", "--F", "0.5", "--json", str(out)]) == 0
+    d = json.loads(out.read_text())
+    h = ref.hertz(0.5, 6e-3, STEEL.E_star)
+    assert d["contact_radius"] == pytest.approx(h["a"], rel=1e-12)
+    assert d["indentation"] == pytest.approx(h["d"], rel=1e-12)
+    assert d["normal_force"] == 0.5 and d["runtime_s"] > 0
+    r, p = np.array(d["pressure"]["r"]), np.array(d["pressure"]["p"])
+    np.testing.assert_allclose(p, ref.hertz_pressure(r, 0.5, 6e-3, STEEL.E_star), rtol=1e-9)
+
+
+def test_contact_json_to_stdout():
+    proc = run(["contact", "--profile", "truncated", "--R", "6e-3", "--b", "20e-6", "--mu", "0.2", "--F0", "0.5",
+                "--dF", "0.1", "--ua", "150e-9", "--cycles", "3", "--steps", "200", "--json", "-"])
+    assert proc.returncode == 0, proc.stderr
+    d = json.loads(proc.stdout)
+    for key in ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index", "runtime_s"):
+        assert np.isfinite(d[key])
+    assert set(d["loop"]) == {"t", "du", "Fx", "FN"} and len(d["loop"]["t"]) == 201
+    assert 0 < d["slip_index"] < 1
+
+
+@pytest.mark.parametrize("args,word", [
+    (["normal", "--profile", "sphere", "--R", "-6e-3", "--F", "0.5"], "R"),
+    (["normal", "--profile", "sphere", "--R", "6e-3", "--F", "0"], "F"),
+    (["normal", "--profile", "sphere", "--R", "nan", "--F", "0.5"], "R"),
+    (["normal", "--profile", "truncated", "--R", "6e-3", "--b", "-1e-6", "--F", "0.5"], "b"),
+    (["normal", "--profile", "truncated", "--R", "6e-3", "--b", "6e-3", "--F", "0.5"], "b"),
+    (["normal", "--profile", "cone", "--R", "6e-3", "--F", "0.5"], "profile"),
+    (["normal", "--profile", "sphere", "--R", "6e-3", "--F", "0.5", "--nu1", "0.5"], "nu1"),
+    (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "-0.2", "--F0", "0.5", "--ua", "1e-7"], "mu"),
+    (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5"], "ua"),
+    (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--ua", "1e-7", "--fa", "0.01"], "fa"),
+    (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--fa", "0.2"], "fa"),
+    (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--ua", "1e-7", "--steps", "10"], "steps"),
+])
+def test_bad_input_exit_2_one_line(args, word, tmp_path):
+    out = tmp_path / "x.json"
+    proc = run([*args, "--json", str(out)])
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and word in lines[0] and "Traceback" not in proc.stderr
+    assert not out.exists()
+
+
+def test_help_lists_commands():
+    proc = run(["--help"])
+    assert proc.returncode == 0 and "normal" in proc.stdout and "contact" in proc.stdout

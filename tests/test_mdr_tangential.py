@@ -1,0 +1,173 @@
+"""MDR tangential law against Cattaneo-Mindlin, Mindlin-Deresiewicz and gross slip."""
+import numpy as np
+import pytest
+
+from mdr import FlatPunch, InputError, MDRContact, Sphere, TruncatedSphere
+from mdr import reference as ref
+from mdr.drive import run_contact
+from mdr.normal import approach_from_force, normal_energy
+
+from conftest import F0, MU, R, STEEL, harmonic
+
+ES, GS = STEEL.E_star, STEEL.G_star
+H = ref.hertz(F0, R, ES)
+USTAR = ref.gross_slip_displacement(H["d"], MU, ES, GS)
+
+
+def sphere_law(n=400):
+    return MDRContact(Sphere(R), STEEL, MU, F_max=F0, n=n)
+
+
+def test_reference_values_from_notes():
+    # measured facts quoted in the design notes (steel/steel, R = 6 mm, F = 0.5 N)
+    assert H["a"] == pytest.approx(27.416e-6, rel=1e-4)
+    assert USTAR == pytest.approx(30.2e-9, rel=2e-3)
+    assert 2 * GS * H["a"] == pytest.approx(4.97e6, rel=1e-3)
+
+
+def test_cattaneo_mindlin_loading_curve_stick_radius_and_traction():
+    law = sphere_law()
+    u = np.linspace(0, 0.999 * USTAR, 200)
+    hist = law.run(u=u, F_N=np.full(u.size, F0))
+    Fcm = ref.cattaneo_mindlin_force(u, F0, MU, USTAR)
+    assert np.max(np.abs(hist.Fx - Fcm)) < 1e-5 * MU * F0
+    c_ref = ref.cattaneo_mindlin_stick_radius(hist.Fx, F0, MU, H["a"])
+    assert np.max(np.abs(hist.c[1:] - c_ref[1:])) < 3e-4 * H["a"]
+    # initial tangential stiffness 2 G* a
+    tiny = law.run(u=np.array([0.0, 1e-5 * USTAR]), F_N=np.full(2, F0))
+    assert tiny.Fx[1] / tiny.u[1] == pytest.approx(2 * GS * H["a"], rel=1e-4)
+    # traction distribution at half the friction limit
+    k = np.searchsorted(hist.Fx, 0.5 * MU * F0)
+    state = law.run(u=u[: k + 1], F_N=np.full(k + 1, F0)).state
+    r = np.linspace(0, 0.98, 40) * H["a"]
+    tau = law.traction(state, r)
+    tau_ref = ref.cattaneo_mindlin_traction(r, hist.Fx[k], F0, MU, H["a"])
+    assert np.max(np.abs(tau - tau_ref)) < 5e-3 * np.max(tau_ref)
+
+
+@pytest.mark.parametrize("frac", [0.25, 0.5, 0.9])
+def test_mindlin_deresiewicz_loop_and_dissipation_displacement_control(frac):
+    uA = frac * USTAR
+    steps, cycles = 400, 3
+    t, s = harmonic(cycles, steps)
+    law = sphere_law()
+    hist = law.run(u=uA * s, F_N=np.full(t.size, F0))
+    last = slice(2 * steps, 3 * steps + 1)
+    u, Fx = hist.u[last], hist.Fx[last]
+    down = slice(steps // 4, 3 * steps // 4 + 1)  # +uA -> -uA
+    F_down = ref.mindlin_deresiewicz_loop(u[down], uA, F0, MU, USTAR, "unloading")
+    assert np.max(np.abs(Fx[down] - F_down)) < 1e-5 * MU * F0
+    up = np.r_[3 * steps // 4: steps + 1]
+    F_up = ref.mindlin_deresiewicz_loop(u[up], uA, F0, MU, USTAR, "loading")
+    assert np.max(np.abs(Fx[up] - F_up)) < 1e-5 * MU * F0
+    W_ref = ref.mindlin_deresiewicz_dissipation(uA, F0, MU, USTAR)
+    res = run_contact(Sphere(R), STEEL, MU, F0, ua=uA, cycles=cycles, steps=steps)
+    assert res["dissipation"] == pytest.approx(W_ref, rel=1e-4)
+    assert res["friction_work"] == pytest.approx(W_ref, rel=1e-4)
+    assert res["stick_radius"] == pytest.approx(H["a"] * np.sqrt(1 - uA / USTAR), rel=1e-3)
+
+
+@pytest.mark.parametrize("q", [0.3, 0.8])
+def test_mindlin_deresiewicz_force_control(q):
+    FA = q * MU * F0
+    res = run_contact(Sphere(R), STEEL, MU, F0, fa=FA, cycles=3, steps=400)
+    W_ref = ref.mindlin_deresiewicz_dissipation_force(FA, F0, MU, USTAR)
+    assert res["dissipation"] == pytest.approx(W_ref, rel=2e-4)
+    assert res["displacement_amplitude"] == pytest.approx(float(ref.cattaneo_mindlin_displacement(FA, F0, MU, USTAR)), rel=1e-4)
+    assert res["tangential_force_amplitude"] == pytest.approx(FA, rel=1e-9)
+
+
+@pytest.mark.parametrize("prof", [Sphere(R), TruncatedSphere(R, 20e-6), TruncatedSphere(R, 50e-6), FlatPunch(100e-6)],
+                         ids=["sphere", "trunc20", "trunc50", "flat"])
+def test_gross_slip_dissipation_any_profile(prof):
+    uA = 150e-9
+    res = run_contact(prof, STEEL, MU, F0, ua=uA, cycles=3, steps=400)
+    d = approach_from_force(prof, STEEL, F0)
+    U = normal_energy(prof, STEEL, d)
+    W_ref = ref.gross_slip_dissipation(uA, F0, MU, U, ES, GS)
+    assert res["dissipation"] == pytest.approx(W_ref, rel=1e-4)
+    assert res["stick_radius"] == 0.0
+    assert res["tangential_force_amplitude"] == pytest.approx(MU * F0, rel=1e-12)
+
+
+def test_flat_punch_full_stick_then_sudden_gross_slip():
+    b = 100e-6
+    law = MDRContact(FlatPunch(b), STEEL, MU, n=50)
+    d = approach_from_force(FlatPunch(b), STEEL, F0)
+    u_star = MU * ES * d / GS
+    u = np.linspace(0, 2 * u_star, 101)
+    hist = law.run(u=u, F_N=np.full(u.size, F0))
+    stick = u < u_star * (1 - 1e-9)
+    np.testing.assert_allclose(hist.Fx[stick], 2 * GS * b * u[stick], rtol=1e-12)
+    np.testing.assert_allclose(hist.c[stick], b)
+    np.testing.assert_allclose(hist.Fx[~stick], MU * F0, rtol=1e-12)
+    assert np.all(hist.c[u > u_star * (1 + 1e-9)] == 0)
+
+
+def test_step_is_pure_and_matches_run():
+    law = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, n=100)
+    steps = 40
+    t, s = harmonic(2, steps)
+    FN = F0 + 0.1 * np.sin(2 * np.pi * t + 0.3)
+    u = 20e-9 * s
+    hist = law.run(u=u, F_N=FN)
+    state = law.rest_state()
+    for k in range(t.size):
+        before = (state.v.copy(), state.ell.copy(), float(state.u))
+        law.step(state, u[k] + 5e-9, F_N=FN[k])  # a trial that is discarded
+        assert np.array_equal(state.v, before[0]) and np.array_equal(state.ell, before[1]) and state.u == before[2]
+        res, state = law.step(state, u[k], F_N=FN[k])
+        assert res.Fx == pytest.approx(hist.Fx[k], rel=1e-12, abs=1e-15)
+        assert res.c == pytest.approx(hist.c[k], rel=1e-12, abs=1e-15)
+        assert res.work == pytest.approx(hist.work[k], rel=1e-9, abs=1e-22)
+
+
+def test_contact_lost_gives_defined_answer():
+    # normal force oscillating down to zero: tangential history released, no NaN
+    res = run_contact(Sphere(R), STEEL, MU, F0, dF=F0, alpha=np.pi / 2, ua=50e-9, cycles=3, steps=400)
+    loop = res["loop"]
+    assert np.all(np.isfinite(loop["Fx"])) and np.isfinite(res["dissipation"])
+    k = int(np.argmin(loop["FN"]))
+    assert loop["FN"][k] == pytest.approx(0.0, abs=1e-12) and loop["Fx"][k] == 0.0
+    law = sphere_law()
+    r, st = law.step(law.rest_state(), 1e-8, F_N=0.0)
+    assert r.Fx == 0 and r.FN == 0 and r.a == 0 and np.all(st.v == 0)
+
+
+@pytest.mark.parametrize("prof,ua", [(TruncatedSphere(R, 20e-6), 12e-9), (TruncatedSphere(R, 27e-6), 10e-9),
+                                     (Sphere(R), 15e-9)], ids=["trunc20", "trunc27", "sphere"])
+def test_convergence_under_grid_refinement_partial_slip_varying_load(prof, ua):
+    # no closed form with a varying normal force: the error against a 16x finer grid must
+    # fall under refinement and the default grid must meet the 1e-4 target
+    kw = dict(dF=0.1, alpha=0.0, ua=ua, cycles=3, steps=400)
+    fine = run_contact(prof, STEEL, MU, F0, n=6400, **kw)["dissipation"]
+    errs = [abs(run_contact(prof, STEEL, MU, F0, n=n, **kw)["dissipation"] / fine - 1) for n in (200, 400, 800)]
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[1] < 1e-4
+
+
+def test_bad_input_names_parameter():
+    with pytest.raises(InputError, match="R"):
+        Sphere(-1.0)
+    with pytest.raises(InputError, match="b"):
+        TruncatedSphere(R, R)
+    with pytest.raises(InputError, match="b"):
+        TruncatedSphere(R, -1e-6)
+    with pytest.raises(InputError, match="mu"):
+        MDRContact(Sphere(R), STEEL, -0.1, F_max=1)
+    with pytest.raises(InputError, match="F_max"):
+        MDRContact(Sphere(R), STEEL, 0.2)
+    with pytest.raises(InputError, match="nu1"):
+        from mdr import Materials
+        Materials(nu1=0.5)
+    with pytest.raises(InputError, match="F_N"):
+        law = sphere_law()
+        law.step(law.rest_state(), 0.0, F_N=-1.0)
+    with pytest.raises(InputError, match="F_N|d"):
+        law.step(law.rest_state(), 0.0)
+    with pytest.raises(InputError, match="ua|fa"):
+        run_contact(Sphere(R), STEEL, MU, F0, ua=1e-9, fa=0.01)
+    with pytest.raises(InputError, match="dF"):
+        run_contact(Sphere(R), STEEL, MU, F0, dF=0.6, ua=1e-9)
+    with pytest.raises(InputError, match="grid"):
+        law.step(law.rest_state(), 0.0, F_N=5.0)
