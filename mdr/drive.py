@@ -65,7 +65,12 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
                 cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None) -> dict:
-    """Drive the MDR contact law directly; returns the result dict (JSON keys)."""
+    """Drive a contact law directly; returns the result dict (JSON keys).
+
+    ``law`` is any object of the contact-law protocol (``run(u=|Fx=, F_N=)``
+    returning a History); default: an MDRContact with ``n`` cells sized for
+    the load history.
+    """
     F0, dF, alpha, mu, ua, fa, cycles, steps = check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)
     t_start = time.perf_counter()
     if law is None:
@@ -103,5 +108,6 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         "runtime_s": runtime,
         "loop": {"t": t[last].tolist(), "du": H.u[last].tolist(), "Fx": H.Fx[last].tolist(), "FN": H.FN[last].tolist()},
         "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
-                   "ua": ua, "fa": fa, "cycles": cycles, "steps": steps, "cells": law.grid.n},
+                   "ua": ua, "fa": fa, "cycles": cycles, "steps": steps,
+                   "law": law.describe() if hasattr(law, "describe") else type(law).__name__},
     }

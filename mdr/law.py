@@ -136,6 +136,9 @@ class MDRContact:
         self.grid = grid
         self.batch = grid.width.shape[:-1]
 
+    def describe(self) -> dict:
+        return {"law": "mdr", "cells": self.grid.n}
+
     # ------------------------------------------------------------------ state
     def rest_state(self) -> LawState:
         """Bodies apart, no tangential displacement."""
