@@ -19,8 +19,8 @@ not a polynomial (hoop term); ``intorder=4`` (6 points) makes the quadrature
 error far below the discretisation error (checked in the tests against the
 closed form of a loaded cylinder).
 
-The mode-1 forms (tangential loading) belong in this file as well; they will
-share :func:`node_dofs` and the DOF conventions below.
+The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness(...,
+mode=1)`` dispatches there); they share the node numbering of :func:`node_dofs`.
 """
 from __future__ import annotations
 
@@ -91,10 +91,15 @@ def boundary_nodes(mesh, name) -> np.ndarray:
 def stiffness(mesh, E, nu, mode: int = 0, intorder: int = 4):
     """Stiffness matrix (CSR, N/m) and basis of one body for the Fourier ``mode``.
 
-    Only mode 0 (axisymmetric, normal contact) is implemented so far.
+    Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1: tangential
+    loading along x, DOFs (S, D, W) of ``fem.mode1``.
     """
+    if mode == 1:
+        from .mode1 import stiffness_mode1
+
+        return stiffness_mode1(mesh, E, nu, intorder=intorder)
     if mode != 0:
-        raise NotImplementedError("only Fourier mode 0 is implemented")
+        raise NotImplementedError("only Fourier modes 0 and 1 are implemented")
     basis = vector_basis(mesh, intorder=intorder)
     lam, mu = lame(E, nu)
     K = asm(elasticity_mode0(lam, mu), basis)

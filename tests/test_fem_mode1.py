@@ -1,0 +1,64 @@
+"""Fourier mode 1 (tangential loading): zero-energy rigid modes and the bonded-disk stiffness."""
+import numpy as np
+import pytest
+from scipy.sparse.linalg import spsolve
+
+from fem.axisym import boundary_nodes, node_coords, stiffness
+from fem.mode1 import node_dofs_mode1, rigid_fields
+from fem.run import mesh_params
+from mdr.materials import Materials
+from meshes import cached_mesh
+
+MAT = Materials()
+
+
+@pytest.fixture(scope="module")
+def block(tmp_path_factory):
+    p = mesh_params("sphere", 6e-3, 0.0, 0.5, MAT, h_contact=1 / 40)
+    am = cached_mesh(p, tmp_path_factory.mktemp("m1"))
+    K, basis = stiffness(am.block, MAT.E2, MAT.nu2, mode=1)
+    return am, K, basis
+
+
+def test_rigid_translation_and_tilt_store_no_energy(block):
+    am, K, basis = block
+    dofs = node_dofs_mode1(basis)
+    rng = np.random.default_rng(0)
+    u_rand = rng.standard_normal(K.shape[0]) * 1e-6
+    e_scale = u_rand @ (K @ u_rand)
+    for name, f in rigid_fields(am.block).items():
+        u = np.zeros(K.shape[0])
+        u[dofs] = f * 1e-6
+        assert abs(u @ (K @ u)) < 1e-12 * e_scale, name
+        # and the rigid mode is in the null space (zero forces), not just orthogonal
+        assert np.max(np.abs(K @ u)) < 1e-9 * np.max(np.abs(K @ u_rand))
+
+
+def test_bonded_rigid_disk_has_the_half_space_tangential_stiffness(block):
+    """A rigid disk of radius a bonded to the block and translated along x (normal traction
+    free, Mindlin's approximation): F_x / u = 8 G a / (2 - nu) (Johnson 1985, eq. 7.39), up to
+    the finite-body effect of a 200 a block and the discretised edge singularity (< 1 %)."""
+    am, K, basis = block
+    blk = am.block
+    dofs = node_dofs_mode1(basis)
+    xy = node_coords(blk)
+    cn = boundary_nodes(blk, "contact")
+    a = am.params.a_ref
+    disk = cn[xy[0, cn] <= a * (1 + 1e-9)]
+    ax, bot = boundary_nodes(blk, "axis"), boundary_nodes(blk, "bottom")
+    fixed = np.unique(np.concatenate([dofs[1, ax], dofs[2, ax], dofs[:, bot].ravel(),
+                                      dofs[0, disk], dofs[1, disk]]))
+    u = np.zeros(K.shape[0])
+    u[dofs[0, disk]] = 1.0  # S = 1, D = 0: u_x = 1 on the disk
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    u[free] = spsolve(K[free][:, free].tocsc(), -(K[free][:, fixed] @ u[fixed]))
+    Fx = (K @ u)[dofs[0, disk]].sum()
+    G = MAT.E2 / (2 * (1 + MAT.nu2))
+    ref = 8 * G * xy[0, disk].max() / (2 - MAT.nu2)
+    assert abs(Fx / ref - 1) < 0.01
+
+
+def test_unknown_mode_is_not_implemented(block):
+    am = block[0]
+    with pytest.raises(NotImplementedError):
+        stiffness(am.block, MAT.E2, MAT.nu2, mode=2)
