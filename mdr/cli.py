@@ -99,6 +99,15 @@ def _cmd_contact(args):
                        cycles=args.cycles, steps=args.steps, n=args.cells)
 
 
+def _cmd_apparatus(args):
+    from .apparatus import Apparatus, apparatus_result
+
+    app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
+                    bedding=not args.no_bedding)
+    return apparatus_result(profile_from_args(args), materials_from_args(args), app, args.mu, args.F0, args.dF,
+                            args.alpha, args.ua, cycles=args.cycles, steps=args.steps, n=args.cells)
+
+
 def build_parser():
     parser = OneLineParser(prog="python -m mdr", description=(
         "MDR (method of dimensionality reduction) contact law for axisymmetric profiles: "
@@ -123,6 +132,31 @@ def build_parser():
     pc.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (default 400)")
     add_output_args(pc)
     pc.set_defaults(func=_cmd_contact)
+
+    pa = sub.add_parser("apparatus", help="fretting in the paper's apparatus (quasi-static reconstruction)",
+                        description="The contact inside the apparatus of Willert (2023): indenter on a normal axis "
+                                    "of tangential stiffness kx, block on three Si3N4 half-spheres pushed by a piezo "
+                                    "through two brass plates. Defaults from Table 1; see mdr/apparatus.py for "
+                                    "the reconstructed assumptions.")
+    add_profile_args(pa)
+    add_material_args(pa)
+    g = pa.add_argument_group("load and apparatus (SI)")
+    g.add_argument("--mu", type=float, required=True, help="friction of the fretting contact (mu1)")
+    g.add_argument("--mu2", type=float, default=0.1, help="friction of the bedding (default 0.1)")
+    g.add_argument("--kx", type=float, default=1.9e6, help="tangential stiffness of the normal axis in N/m (default 1.9e6)")
+    g.add_argument("--F0", type=float, required=True, help="mean normal force in N")
+    g.add_argument("--dF", type=float, default=0.1, help="normal force amplitude in N (default 0.1)")
+    g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
+    g.add_argument("--ua", type=float, required=True, help="piezo amplitude u_A in m")
+    g.add_argument("--cycles", type=int, default=4, help="cycles (the last one is reported)")
+    g.add_argument("--steps", type=int, default=200, help="steps per cycle (multiple of 4)")
+    g.add_argument("--R-bed", dest="R_bed", type=float, default=5e-3, help="radius of the bedding half-spheres in m")
+    g.add_argument("--plate-model", choices=["axial", "bending", "rigid"], default="axial",
+                   help="brass plates loaded along their length (default), bent across their thickness, or rigid")
+    g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
+    pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid")
+    add_output_args(pa)
+    pa.set_defaults(func=_cmd_apparatus)
     return parser
 
 

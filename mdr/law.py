@@ -81,6 +81,36 @@ class StepResult:
     work: np.ndarray
 
 
+@dataclass(frozen=True)
+class Trial:
+    """A prepared step of an MDRContact (see ``MDRContact.prepare``)."""
+
+    law: "MDRContact"
+    state: LawState
+    phase: NormalPhase
+    v: np.ndarray
+    v1: np.ndarray
+
+    def force(self, u):
+        """(F_x, dF_x/du) at total tangential displacement u (batch)."""
+        t = self.v1 + (np.asarray(u, dtype=float) - self.state.u)[..., None]
+        k = 2.0 * self.law.G_star * self.phase.ell
+        vm = self.phase.vmax
+        return np.sum(k * np.minimum(np.maximum(t, -vm), vm), axis=-1), np.sum(k * (np.abs(t) < vm), axis=-1)
+
+    def commit(self, u):
+        """StepResult and new state of the step to total displacement u."""
+        ph, st = self.phase, self.state
+        du = np.broadcast_to(np.asarray(u, dtype=float), self.law.batch) - st.u
+        trial = self.v1 + du[..., None]
+        v2 = np.clip(trial, -ph.vmax, ph.vmax)
+        slip = np.abs(self.v - self.v1) + np.abs(trial - v2)
+        work = 2.0 * np.sum(self.law.G_star * ph.ell * ph.vmax * slip, axis=-1)
+        res = StepResult(Fx=self.law._tangential_force(ph.ell, v2), FN=ph.FN, d=ph.d, a=ph.a,
+                         c=self.law.stick_radius(ph, trial), u=st.u + du, work=work)
+        return res, LawState(v=v2, ell=ph.ell, u=st.u + du, d=ph.d)
+
+
 @dataclass
 class History:
     """Time series of a run (arrays batch + (T,)) and the final state."""
@@ -237,23 +267,25 @@ class MDRContact:
             raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
         if (u is None) == (Fx is None):
             raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        tr = self.prepare(state, d=d, F_N=F_N)
+        if Fx is not None:
+            u = state.u + self._solve_du(tr.phase, tr.v1, np.broadcast_to(np.asarray(Fx, dtype=float), self.batch))
+        return tr.commit(u)
+
+    def prepare(self, state: LawState, *, d=None, F_N=None) -> "Trial":
+        """Normal update of a step, for many trial tangential displacements.
+
+        Returns a Trial whose ``force(u)`` gives (F_x, dF_x/du) at total
+        displacement u without committing, and ``commit(u)`` the step result and
+        new state, identical to ``step(state, u, d=...)``.
+        """
+        if (d is None) == (F_N is None):
+            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
         if d is None:
             d = self.approach(np.broadcast_to(F_N, self.batch))
-        d = np.broadcast_to(np.asarray(d, dtype=float), self.batch)
-        phase = self.normal_phase(d)
+        phase = self.normal_phase(np.broadcast_to(np.asarray(d, dtype=float), self.batch))
         v = self._carry(state.v, state.ell, phase.ell)
-        v1 = np.clip(v, -phase.vmax, phase.vmax)
-        if Fx is not None:
-            du = self._solve_du(phase, v1, np.broadcast_to(np.asarray(Fx, dtype=float), self.batch))
-        else:
-            du = np.broadcast_to(np.asarray(u, dtype=float), self.batch) - state.u
-        trial = v1 + du[..., None]
-        v2 = np.clip(trial, -phase.vmax, phase.vmax)
-        slip = np.abs(v - v1) + np.abs(trial - v2)
-        work = 2.0 * np.sum(self.G_star * phase.ell * phase.vmax * slip, axis=-1)
-        res = StepResult(Fx=self._tangential_force(phase.ell, v2), FN=phase.FN, d=phase.d, a=phase.a,
-                         c=self.stick_radius(phase, trial), u=state.u + du, work=work)
-        return res, LawState(v=v2, ell=phase.ell, u=state.u + du, d=phase.d)
+        return Trial(self, state, phase, v, np.clip(v, -phase.vmax, phase.vmax))
 
     def _solve_du(self, phase: NormalPhase, v1, target):
         mu_FN = np.asarray(self.mu) * phase.FN

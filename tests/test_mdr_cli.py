@@ -65,3 +65,15 @@ def test_bad_input_exit_2_one_line(args, word, tmp_path):
 def test_help_lists_commands():
     proc = run(["--help"])
     assert proc.returncode == 0 and "normal" in proc.stdout and "contact" in proc.stdout
+
+
+def test_apparatus_json(tmp_path):
+    out = tmp_path / "a.json"
+    args = ["apparatus", "--profile", "truncated", "--R", "6e-3", "--b", "20e-6", "--mu", "0.2", "--mu2", "0.1",
+            "--kx", "2e6", "--F0", "0.5", "--dF", "0.1", "--alpha", "0", "--ua", "150e-9", "--cycles", "3",
+            "--steps", "80", "--cells", "100", "--json", str(out)]
+    assert main(args) == 0
+    d = json.loads(out.read_text())
+    for key in ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index", "runtime_s"):
+        assert np.isfinite(d[key])
+    assert {"t", "du", "Fx", "FN"} <= set(d["loop"]) and 0 < d["slip_index"] < 1

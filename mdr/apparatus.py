@@ -1,0 +1,285 @@
+"""Quasi-static model of the fretting apparatus around a contact law.
+
+Reconstruction of the hybrid model of Willert, Machines 11 (2023) 484, Section 3
+(whose equations and Figure 3 are missing from our copy), from its text, Table 1
+and the project's DESIGN.md section 5. Every assumption beyond the paper's text
+is listed here and in the README; ``sensitivity`` measures its effect.
+
+Degrees of freedom (x, the fretting direction): indenter foundation u_1, block
+u_2, piezo u_3(t) = u_A sin(2 pi t) (prescribed). The relative displacement of
+the fretting contact is du = u_2 - u_1.
+
+- A1 (paper): quasi-static, no inertia (20 Hz far below the eigenfrequencies);
+  the block is rigid; the normal force F_N(t) = F0 + dF sin(2 pi t + alpha) is
+  prescribed at the contact.
+- A2 (paper): the indenter sits on the normal axis of tangential stiffness k_x:
+  F_x = k_x u_1 (F_x: tangential force of the contact, on the indenter).
+- A3 (reconstruction): the two brass plates join piezo and block as a parallel
+  motion, loaded along their length: each is an Euler-Bernoulli beam in
+  tension/compression, k_p = E B t / l, two in parallel (``plate_model="axial"``,
+  49 N/um with Table 1). The alternative, plates bent across their thickness
+  as guided beams (k_p = 2 * 12 E I / l^3, I = B t^3/12, 1.7 N/mm), is offered
+  as ``plate_model="bending"``; it is far too soft to move the block against its
+  bedding, which rules it out for the experiments of the paper.
+- A4 (reconstruction): the block rests on three Si3N4 half-spheres of radius
+  ``R_bed`` (not given in the paper; default 5 mm), MDR contact laws with
+  friction mu_2, all displaced by u_2 (no block rotation). One sphere lies at
+  x = +l_1, two at x = -l_2 from the point below the contact (Table 1: l_1, l_2).
+  Their normal forces follow from the vertical and moment equilibrium of the
+  block under its weight m_1 g, the normal force F_N and the moment of the
+  tangential forces: the contact force at height h (the block height) and the
+  plate force at height h_2. The moment uses the previous step's tangential
+  forces (explicit coupling; the change in one step is tiny).
+- A5: h_1 and m_2 (the normal axis' geometry and mass) do not enter the
+  quasi-static equilibrium in x and are not used.
+
+Equilibrium of the block, written with compliances so that an infinitely stiff
+apparatus (c = 1/k = 0) is allowed:
+
+    r(du) = u_3 - u_2 - c_p (F_x + F_bed),    u_2 = du + c_x F_x,
+
+with F_x = F_x(du) of the contact law and F_bed(u_2) of the bedding laws. r is
+strictly decreasing in du (all contact forces are nondecreasing in their
+displacement), so each step is solved by a bracketing iteration (Illinois
+regula falsi) over trial, uncommitted steps of the laws. Any contact law of the
+protocol (``rest_state``, pure ``step``) drops in.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass, replace
+
+import numpy as np
+
+from .errors import ConvergenceError, InputError, nonnegative, positive
+from .law import MDRContact
+from .loops import analyse_cycles, slip_index
+from .materials import Materials
+from .profiles import Sphere
+from .solve import solve_increasing
+
+G_ACC = 9.81
+
+
+@dataclass(frozen=True)
+class Apparatus:
+    """Apparatus parameters (SI), defaults from Table 1 of Willert (2023)."""
+
+    kx: float = 1.9e6          # tangential stiffness of the normal axis, N/m
+    mu2: float = 0.1           # friction of the Si3N4 bedding
+    m1: float = 0.335          # block mass, kg
+    m2: float = 0.047          # (not used: A5)
+    E_plate: float = 100e9     # brass
+    l: float = 34e-3           # plate length
+    B: float = 42e-3           # plate width
+    t: float = 0.2e-3          # plate thickness
+    l1: float = 8e-3
+    l2: float = 13e-3
+    h: float = 19e-3
+    h1: float = 50e-3          # (not used: A5)
+    h2: float = 20e-3
+    E_bed: float = 300e9
+    nu_bed: float = 0.29
+    R_bed: float = 5e-3        # bedding half-sphere radius (reconstruction, A4)
+    plate_model: str = "axial"
+    bedding: bool = True       # False: frictionless bedding, no bedding laws
+
+    def __post_init__(self):
+        for name in ("m1", "E_plate", "l", "B", "t", "l1", "l2", "h", "h2", "E_bed", "R_bed"):
+            positive(name, getattr(self, name))
+        kx = getattr(self, "kx")
+        if not (np.all(np.asarray(kx) > 0)):
+            raise InputError(f"kx must be > 0 (inf allowed: rigid axis), got {kx!r}")
+        nonnegative("mu2", self.mu2)
+        if self.plate_model not in ("axial", "bending", "rigid"):
+            raise InputError(f"plate_model must be one of axial, bending, rigid; got {self.plate_model!r}")
+
+    @property
+    def k_plates(self) -> float:
+        """Stiffness of the two plates between piezo and block (N/m)."""
+        if self.plate_model == "rigid":
+            return np.inf
+        if self.plate_model == "axial":
+            return 2.0 * self.E_plate * self.B * self.t / self.l
+        I = self.B * self.t**3 / 12.0
+        return 2.0 * 12.0 * self.E_plate * I / self.l**3
+
+    def bedding_loads(self, FN, M):
+        """Normal forces (front sphere, each rear sphere) for normal force FN and moment M."""
+        W = self.m1 * G_ACC + FN
+        L = self.l1 + self.l2
+        # N1 + 2 N2 = W ; N1 l1 - 2 N2 l2 = M
+        N1 = (W * self.l2 + M) / L
+        N2 = (W * self.l1 - M) / (2.0 * L)
+        return N1, N2
+
+
+def _illinois(fun, lo, hi, f_lo, f_hi, xtol, max_iter=100):
+    """Vectorised Illinois regula falsi for decreasing fun with f(lo) >= 0 >= f(hi)."""
+    side = np.zeros(lo.shape)
+    x = lo
+    for it in range(max_iter):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = np.where(f_lo != f_hi, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), 0.5 * (lo + hi))
+        x = np.where((x <= lo) | (x >= hi) | ~np.isfinite(x), 0.5 * (lo + hi), x)
+        f, aux = fun(x)
+        done = (np.abs(f) <= xtol) | (hi - lo <= xtol)
+        if np.all(done):
+            return x, aux, it + 1
+        pos = f > 0
+        lo, f_lo = np.where(pos, x, lo), np.where(pos, f, f_lo)
+        hi, f_hi = np.where(pos, hi, x), np.where(pos, f_hi, f)
+        # Illinois: halve the stale end's value to keep superlinear convergence
+        f_hi = np.where(pos & (side > 0), 0.5 * f_hi, f_hi)
+        f_lo = np.where(~pos & (side < 0), 0.5 * f_lo, f_lo)
+        side = np.where(pos, 1.0, -1.0)
+    raise ConvergenceError(f"apparatus equilibrium: no convergence in {max_iter} iterations "
+                           f"(worst residual {float(np.max(np.abs(f))):.3e} m)")
+
+
+def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
+                  bed_law_factory=None, xtol=1e-15):
+    """Run the apparatus with contact law ``law`` (any protocol law, batch allowed).
+
+    Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
+    cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
+    """
+    F0 = positive("F0", F0)
+    dF = nonnegative("dF", dF)
+    if dF > F0:
+        raise InputError(f"dF must be in [0, F0], got dF={dF!r}")
+    ua = positive("ua", ua)
+    t = np.arange(cycles * steps + 1) / steps
+    FN = F0 + dF * np.sin(2 * np.pi * t + alpha)
+    u3 = ua * np.sin(2 * np.pi * t)
+    cx = 0.0 if np.all(np.isinf(app.kx)) else 1.0 / np.asarray(app.kx, dtype=float)
+    cp = 1.0 / app.k_plates
+    batch = getattr(law, "batch", ())
+    use_bed = app.bedding and app.mu2 > 0
+    if use_bed:
+        N1max, N2max = app.bedding_loads(F0 + dF, 0.0)
+        Wmax = app.m1 * G_ACC + F0 + dF
+        bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
+        bed_state = bed.rest_state()
+    st = law.rest_state()
+    d_all = law.approach(np.broadcast_to(FN, batch + FN.shape)) if hasattr(law, "approach") else None
+    iters = 0
+    du_prev = np.zeros(batch)
+    out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "c")}
+    M = np.zeros(batch)
+    for k in range(t.size):
+        if use_bed:
+            N1, N2 = app.bedding_loads(FN[k], M)
+            N_b = np.stack(np.broadcast_arrays(N1, N2), axis=-1)  # batch + (2,)
+            if np.any(N_b <= 0):
+                raise InputError("the block lifts off a bedding sphere: tangential moment too large for the bedding geometry")
+            d_bed = bed.approach(N_b)
+        load = {"F_N": FN[k]} if d_all is None else {"d": d_all[..., k]}
+        span = (np.asarray(mu) * FN[k] + (app.mu2 * (app.m1 * G_ACC + FN[k]) if use_bed else 0.0)) * (cp + cx) + 1e-12
+        lo = np.broadcast_to(u3[k] - span, batch).astype(float)
+        hi = np.broadcast_to(u3[k] + span, batch).astype(float)
+
+        if hasattr(law, "prepare"):
+            tr = law.prepare(st, **load)
+            trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
+
+            def fun(du):
+                # -r(du) and its slope: increasing in du
+                nonlocal iters
+                iters += 1
+                F, kF = tr.force(du)
+                u2 = du + cx * F
+                du2 = 1.0 + cx * kF
+                if use_bed:
+                    Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
+                    Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
+                else:
+                    Fb, kb = 0.0, 0.0
+                return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
+
+            du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
+                                  atol=xtol, xtol=xtol, what="apparatus equilibrium")
+            res, st_new = tr.commit(du)
+            u2 = du + cx * res.Fx
+            if use_bed:
+                rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
+                Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+            else:
+                bst, Fbed = None, np.zeros_like(u2)
+        else:
+            def residual(du):
+                res, st_new = law.step(st, du, **load)
+                u2 = du + cx * res.Fx
+                if use_bed:
+                    rb, bst = bed.step(bed_state, np.stack([u2, u2], axis=-1), d=d_bed)
+                    Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+                else:
+                    rb, bst, Fbed = None, None, np.zeros_like(u2)
+                return u3[k] - u2 - cp * (res.Fx + Fbed), (res, st_new, u2, Fbed, bst)
+
+            f_lo, _ = residual(lo)
+            f_hi, _ = residual(hi)
+            du, (res, st_new, u2, Fbed, bst), it = _illinois(residual, lo, hi, f_lo, f_hi, xtol)
+            iters += it + 2
+        du_prev = du
+        st = st_new
+        if use_bed:
+            bed_state = bst
+            # moment about the bedding plane for the next step's sphere loads (A4)
+            M = -res.Fx * app.h + (res.Fx + Fbed) * app.h2
+        out["Fx"][..., k] = res.Fx
+        out["FN"][..., k] = res.FN
+        out["u1"][..., k] = cx * res.Fx
+        out["u2"][..., k] = u2
+        out["du"][..., k] = du
+        out["Fbed"][..., k] = Fbed
+        out["c"][..., k] = res.c
+    cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0)
+    out["t"] = t
+    out["u3"] = u3
+    out["cycles"] = cyc
+    out["slip_index"] = slip_index(cyc.dissipation[..., -1], mu, ua, F0)
+    out["dissipation"] = cyc.dissipation[..., -1]
+    out["evaluations_per_step"] = iters / t.size
+    return out
+
+
+def _mdr_bedding(app: Apparatus, Wmax, batch=()):
+    """Bedding: front sphere and one rear sphere (the second rear one is identical);
+    Si3N4 half-spheres on the steel block (E = 200 GPa, nu = 0.29)."""
+    mat = Materials(app.E_bed, app.nu_bed, 200e9, 0.29)
+    R = np.full(tuple(batch) + (2,), app.R_bed)
+    return MDRContact(Sphere(R), mat, app.mu2, F_max=np.full(R.shape, Wmax), n=100)
+
+
+def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
+                     steps=200, n=400, law=None) -> dict:
+    """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``)."""
+    from .normal import approach_from_force
+
+    t0 = time.perf_counter()
+    mu = nonnegative("mu", mu)
+    if law is None:
+        law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
+    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps)
+    last = slice(cycles * steps - steps, cycles * steps + 1)
+    d0 = float(approach_from_force(profile, materials, F0))
+    cyc = out["cycles"]
+    delta = float(out["slip_index"])
+    return {
+        "contact_radius": float(profile.g_inv(d0)), "indentation": d0, "normal_force": F0,
+        "stick_radius": float(np.min(out["c"][last])),
+        "dissipation": float(out["dissipation"]),
+        "slip_index": None if not np.isfinite(delta) else delta,
+        "dissipation_per_cycle": cyc.dissipation.tolist(),
+        "stationary": bool(cyc.last_is_stationary),
+        "evaluations_per_step": out["evaluations_per_step"],
+        "runtime_s": time.perf_counter() - t0,
+        "loop": {k: out[src][last].tolist() for k, src in
+                 (("t", "t"), ("du", "du"), ("Fx", "Fx"), ("FN", "FN"), ("u1", "u1"), ("u2", "u2"), ("u3", "u3"))},
+        "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
+                   "ua": ua, "cycles": cycles, "steps": steps,
+                   "apparatus": {k: (None if isinstance(v, float) and not np.isfinite(v) else v)
+                                 for k, v in asdict(app).items()},
+                   "k_plates": app.k_plates},
+    }
