@@ -108,6 +108,14 @@ def _cmd_apparatus(args):
                             args.alpha, args.ua, cycles=args.cycles, steps=args.steps, n=args.cells)
 
 
+def _cmd_study(args):
+    from .study import run_study
+
+    res = run_study(args.name, args.out)
+    sys.stderr.write(f"study {args.name}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
+    return res
+
+
 def build_parser():
     parser = OneLineParser(prog="python -m mdr", description=(
         "MDR (method of dimensionality reduction) contact law for axisymmetric profiles: "
@@ -157,6 +165,14 @@ def build_parser():
     pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid")
     add_output_args(pa)
     pa.set_defaults(func=_cmd_apparatus)
+
+    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7)",
+                        description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, or the "
+                                    "four experiment loops of Figs. 4-7 (loops). Writes CSV/JSON and PNG to --out.")
+    ps.add_argument("name", help="fig8, fig9 or loops")
+    ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
+    ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
+    ps.set_defaults(func=_cmd_study)
     return parser
 
 
@@ -165,7 +181,8 @@ def main(argv=None, parser=None):
     args = parser.parse_args(argv)
     try:
         result = args.func(args)
-        write_json(args.json, result)
+        if args.json is not None:
+            write_json(args.json, result)
     except InputError as exc:
         sys.stderr.write(f"{parser.prog}: error: {exc}\n")
         return 2

@@ -77,3 +77,8 @@ def test_apparatus_json(tmp_path):
     for key in ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index", "runtime_s"):
         assert np.isfinite(d[key])
     assert {"t", "du", "Fx", "FN"} <= set(d["loop"]) and 0 < d["slip_index"] < 1
+
+
+def test_unknown_study_exit_2(tmp_path):
+    proc = run(["study", "fig99", "--out", str(tmp_path)])
+    assert proc.returncode == 2 and "study" in proc.stderr and not any(tmp_path.iterdir())

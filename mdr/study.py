@@ -1,0 +1,149 @@
+"""Parameter studies of Willert, Machines 11 (2023) 484 (Figs. 4-9) with the apparatus model.
+
+``python -m mdr study fig8 --out DIR``: slip index against the flat-face radius b
+(1 um - 1 mm, log scale) for k_x = 1, 2, 10, 20 N/um, with the flat punch of
+radius b beside it. ``fig9``: slip index against k_x for b = 10, 50, 100 um.
+``loops``: the four experiment cases of Figs. 4-7 (loop plots F_x-F_N, F_x-du).
+Table 2 values: F0 = 0.5 N, dF = 0.1 N, mu1 = 0.2, mu2 = 0.1, u_A = 150 nm.
+All points of a study run as one batch (one pass of the vectorised laws).
+Study resolution: 100 spring cells, 120 steps per cycle, 3 cycles (the slip
+index changes by < 1e-3 against 400 cells / 400 steps).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .apparatus import Apparatus, run_apparatus
+from .errors import InputError
+from .io import write_bytes_atomic, write_json
+from .law import MDRContact
+from .materials import Materials
+from .profiles import FlatPunch, Sphere, TruncatedSphere
+
+TABLE2 = dict(F0=0.5, dF=0.1, mu1=0.2, mu2=0.1, ua=150e-9)
+R_IND = 6e-3
+RES = dict(cycles=3, steps=120, n=100)
+
+
+def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=0.0, res=RES):
+    law = MDRContact(profile, Materials(), mu1, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None,
+                     n=res["n"]) if not isinstance(profile, FlatPunch) else MDRContact(profile, Materials(), mu1, n=8)
+    out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2), mu1, F0, dF, alpha, ua, cycles=res["cycles"], steps=res["steps"])
+    return out["slip_index"], out
+
+
+def fig8(nb=25):
+    kx = np.array([1, 2, 10, 20]) * 1e6
+    b = np.geomspace(1e-6, 1e-3, nb)
+    B = np.broadcast_to(b, (kx.size, nb))
+    K = np.broadcast_to(kx[:, None], B.shape)
+    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K)
+    d_fl, _ = _slip_index(FlatPunch(B.copy()), K)
+    rows = [{"kx": float(K[i, j]), "b": float(B[i, j]), "delta_truncated": float(d_tr[i, j]),
+             "delta_flat": float(d_fl[i, j])} for i in range(kx.size) for j in range(nb)]
+    return rows
+
+
+def fig9(nk=30):
+    b = np.array([10e-6, 50e-6, 100e-6])
+    kx = np.geomspace(0.3e6, 30e6, nk)
+    K = np.broadcast_to(kx, (b.size, nk))
+    B = np.broadcast_to(b[:, None], K.shape)
+    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K.copy())
+    return [{"b": float(B[i, j]), "kx": float(K[i, j]), "delta_truncated": float(d_tr[i, j])}
+            for i in range(b.size) for j in range(nk)]
+
+
+LOOP_CASES = {  # Figs. 4-7: profile, F0, u_A, mu1, mu2; b and k_x from Table 1
+    "fig4": ("sphere", 0.35, 90e-9, 0.24, 0.06),
+    "fig5": ("sphere", 0.61, 220e-9, 0.26, 0.10),
+    "fig6": ("truncated", 0.31, 90e-9, 0.20, 0.10),
+    "fig7": ("truncated", 0.61, 220e-9, 0.16, 0.10),
+}
+
+
+def loops():
+    out = {}
+    for name, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
+        prof = Sphere(R_IND) if kind == "sphere" else TruncatedSphere(R_IND, 0.6e-3)
+        res = dict(cycles=4, steps=400, n=400)
+        delta, o = _slip_index(prof, 1.9e6, mu1=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5, ua=ua, res=res)
+        last = slice(3 * 400, 4 * 400 + 1)
+        out[name] = {"profile": kind, "F0": F0, "ua": ua, "mu1": mu1, "mu2": mu2, "slip_index": float(delta),
+                     "Fx": o["Fx"][last], "FN": o["FN"][last], "du": o["du"][last]}
+    return out
+
+
+def _csv(rows):
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+    return buf.getvalue().encode()
+
+
+def _png(fig, path):
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=120)
+    write_bytes_atomic(path, buf.getvalue())
+
+
+def run_study(name: str, out_dir) -> dict:
+    """Run study ``name`` (fig8, fig9, loops) and write CSV/JSON + PNG into out_dir."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out_dir = Path(out_dir)
+    t0 = time.perf_counter()
+    if name == "fig8":
+        rows = fig8()
+        write_bytes_atomic(out_dir / "fig8.csv", _csv(rows))
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for kx in sorted({r["kx"] for r in rows}):
+            sel = [r for r in rows if r["kx"] == kx]
+            line, = ax.semilogx([r["b"] * 1e6 for r in sel], [r["delta_truncated"] for r in sel], lw=2,
+                                label=f"k_x = {kx / 1e6:g} N/um")
+            ax.semilogx([r["b"] * 1e6 for r in sel], [r["delta_flat"] for r in sel], lw=0.8, color=line.get_color())
+        ax.set_xlabel("flat-face radius b (um)")
+        ax.set_ylabel("slip index delta")
+        ax.set_title("truncated sphere (thick) and flat punch of radius b (thin)")
+        ax.legend()
+        fig.tight_layout()
+        _png(fig, out_dir / "fig8.png")
+    elif name == "fig9":
+        rows = fig9()
+        write_bytes_atomic(out_dir / "fig9.csv", _csv(rows))
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for b in sorted({r["b"] for r in rows}):
+            sel = [r for r in rows if r["b"] == b]
+            ax.semilogx([r["kx"] / 1e6 for r in sel], [r["delta_truncated"] for r in sel], label=f"b = {b * 1e6:g} um")
+        ax.axvline(0.2 * 0.5 / 150e-9 / 1e6, color="k", ls=":", label="mu1 F0 / u_A")
+        ax.set_xlabel("apparatus stiffness k_x (N/um)")
+        ax.set_ylabel("slip index delta")
+        ax.legend()
+        fig.tight_layout()
+        _png(fig, out_dir / "fig9.png")
+    elif name == "loops":
+        data = loops()
+        write_json(out_dir / "loops.json", data)
+        fig, axes = plt.subplots(len(data), 2, figsize=(8, 2.6 * len(data)))
+        for row, (key, d) in zip(axes, data.items()):
+            row[0].plot(np.asarray(d["FN"]), np.asarray(d["Fx"]) * 1e3, "r")
+            row[0].set_xlabel("F_N (N)")
+            row[0].set_ylabel("F_x (mN)")
+            row[1].plot(np.asarray(d["du"]) * 1e9, np.asarray(d["Fx"]) * 1e3, "r")
+            row[1].set_xlabel("du (nm)")
+            row[0].set_title(f"{key}: {d['profile']} F0 = {d['F0']} N, u_A = {d['ua'] * 1e9:g} nm, "
+                             f"delta = {d['slip_index']:.2f}", fontsize=8, loc="left")
+        fig.tight_layout()
+        _png(fig, out_dir / "loops.png")
+        rows = [{k: v for k, v in d.items() if k not in ("Fx", "FN", "du")} | {"case": k} for k, d in data.items()]
+    else:
+        raise InputError(f"study must be one of fig8, fig9, loops; got {name!r}")
+    return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0}
