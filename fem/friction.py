@@ -1,0 +1,197 @@
+"""Coulomb friction on the condensed interface: penalty return map, augmented Lagrangian,
+and a primal-dual active-set (semi-smooth Newton) solver of each load increment.
+
+Assumptions (the FE analogue of the Hertz-Mindlin / MDR assumptions):
+
+- local Coulomb friction with a constant coefficient mu; the tangential traction
+  is along x everywhere (Mindlin 1949, J. Appl. Mech. 16, 259), so each contact
+  pair i carries one tangential force T_i (N, on the block, +x), conjugate to the
+  mode-1 variable S (``fem.mode1``);
+- the slip limit of pair i is g_i = mu lam_i with lam_i its mode-0 normal pair
+  force at the same instant (no normal-tangential coupling: exact for equal
+  materials in the half-space limit, neglected otherwise, as in MDR);
+- rate independence: a load step is one increment of the return map.
+
+Kinematics: the relative tangential displacement of pair i (indenter minus block)
+is ``s = u 1 - Ct T`` with ``u`` the x translation of the indenter's top plate
+(the block's bottom clamped) and ``Ct = C_t,indenter + N C_t,block N^T`` the
+mode-1 interface flexibility. Each pair has a plastic (slip) displacement p_i
+(the history variable). Penalty law with augmented-Lagrangian multiplier lbar:
+
+    T_i = proj_[-g_i, g_i]( lbar_i + k_i (s_i - p_i,old) ),   k_i = eps w_i,
+
+(the classical return map; Simo & Laursen, Computers & Structures 42 (1992) 97;
+Wriggers, *Computational Contact Mechanics*, Springer 2006, ch. 10). For fixed
+lbar this is the optimality condition of the strictly convex box-constrained
+quadratic programme
+
+    min_T  1/2 T^T M T - T^T (b + u 1),   |T_i| <= g_i,
+    M = Ct + diag(1/k),   b = lbar/k - p_old,
+
+(with u as the multiplier of sum T = Fx under force control). It is solved by the
+primal-dual active-set method, the semi-smooth Newton method of this problem
+(Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2002) 865): every pair is
+free, sliding forward (+1) or sliding backward (-1), so the convergence test
+includes the slip direction, not just the stick/slip split. The sets are
+updated from the trial force ``T - k grad`` (which is the return-map trial).
+If they cycle, the iteration is damped: the Newton candidate is accepted with
+Armijo backtracking on the (convex) potential along the projected path, which
+makes it monotone. The Uzawa / augmented-Lagrangian loop then sets lbar <- T
+until the largest change is below ``al_tol`` times the largest slip limit;
+at that point the stick pairs do not move relative to each other (exact
+Coulomb), so the penalty error is removed, not just made small.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg as sla
+
+from mdr.errors import ConvergenceError
+
+
+class _Factors:
+    """Cholesky factors of M restricted to free sets, cached by the set."""
+
+    def __init__(self, M, size=8):
+        self.M = M
+        self.size = size
+        self.cache = {}
+
+    def get(self, free):
+        key = free.tobytes()
+        cf = self.cache.get(key)
+        if cf is None:
+            if len(self.cache) >= self.size:
+                self.cache.pop(next(iter(self.cache)))
+            cf = sla.cho_factor(self.M[np.ix_(free, free)], lower=True, check_finite=False)
+            self.cache[key] = cf
+        return cf
+
+
+def _solve_sets(M, fac, b, g, sgn, u, F):
+    """Linear solve for fixed sets: free pairs sgn == 0 (with g > 0), bound T = sgn g."""
+    n = b.size
+    T = np.where(sgn != 0, sgn * g, 0.0)
+    free = (sgn == 0) & (g > 0)
+    if not np.any(free):
+        if u is None:  # force control with every pair sliding: u from the mean residual
+            c = g > 0
+            u = float(np.mean((M @ T - b)[c])) if np.any(c) else 0.0
+        return T, u
+    A = sgn != 0
+    rhs = b[free] - (M[np.ix_(free, A)] @ T[A] if np.any(A) else 0.0)
+    cf = fac.get(free)
+    x = sla.cho_solve(cf, rhs, check_finite=False)
+    if F is not None:
+        y = sla.cho_solve(cf, np.ones(x.size), check_finite=False)
+        u = (F - T[A].sum() - x.sum()) / y.sum()
+        T[free] = x + u * y
+    else:
+        T[free] = x + u * sla.cho_solve(cf, np.ones(x.size), check_finite=False)
+    return T, u
+
+
+def _potential(M, b, u, T):
+    return 0.5 * T @ (M @ T) - T @ (b + u)
+
+
+def _signs(trial, g):
+    return np.where(g > 0, np.where(trial > g, 1, np.where(trial < -g, -1, 0)), 0).astype(np.int8)
+
+
+def solve_increment(M, fac, b, g, k, sgn0, *, u=None, F=None, max_iter=60):
+    """Solve the box QP of one augmented-Lagrangian pass (see module docstring).
+
+    Give the plate displacement ``u`` or the total force ``F``. Returns
+    (T, u, sgn, iterations, trial): forces, plate displacement, final sets
+    (+1/-1 sliding, 0 sticking), Newton iterations and the trial forces.
+    Primal-dual active sets first; if the sets cycle, a projected Newton method
+    with Armijo line search on the potential (displacement control), or a
+    safeguarded secant search on the monotone force-displacement relation
+    (force control).
+    """
+    sgn = np.where(g > 0, sgn0, 0).astype(np.int8)
+    seen = set()
+    for it in range(1, max_iter + 1):
+        T, uu = _solve_sets(M, fac, b, g, sgn, u, F)
+        grad = M @ T - b - uu
+        trial = T - k * grad
+        new = _signs(trial, g)
+        if np.array_equal(new, sgn) and np.all(np.abs(T) <= g * (1 + 1e-12) + 1e-300):
+            return T, uu, sgn, it, trial
+        key = new.tobytes()
+        if key in seen:
+            break
+        seen.add(key)
+        sgn = new
+    if F is not None:
+        return _force_by_secant(M, fac, b, g, k, sgn, F, max_iter, it)
+    return _projected_newton(M, fac, b, g, k, u, np.clip(T, -g, g), max_iter, it)
+
+
+def _projected_newton(M, fac, b, g, k, u, T, max_iter, it0):
+    """Projected Newton (Bertsekas, SIAM J. Control Optim. 20 (1982) 221) for the box QP at
+    fixed u: Newton steps on the pairs not held at a bound by the gradient, projected Armijo
+    line search on the convex potential; monotone, so it cannot cycle."""
+    gmax = float(np.max(g))
+    c = g > 0
+    for it in range(1, 20 * max_iter + 1):
+        grad = M @ T - b - u
+        trial = T - k * grad
+        resid = np.abs(T - np.clip(trial, -g, g))
+        if np.max(resid) <= 1e-10 * gmax:
+            return T, u, _signs(trial, g), it0 + it, trial
+        eps = min(1e-9 * gmax, float(np.max(resid)))
+        hold = ((T >= g - eps) & (grad < 0)) | ((T <= -g + eps) & (grad > 0)) | ~c
+        free = ~hold
+        d = np.zeros_like(T)
+        if np.any(free):
+            d[free] = -sla.cho_solve(fac.get(free), grad[free], check_finite=False)
+        phi0 = _potential(M, b, u, T)
+        t = 1.0
+        while True:
+            Tt = np.clip(T + t * d, -g, g)
+            if _potential(M, b, u, Tt) <= phi0 + 1e-4 * grad @ (Tt - T) or t < 1e-12:
+                break
+            t *= 0.5
+        T = Tt
+    raise ConvergenceError(f"friction projected Newton did not converge in {20 * max_iter} iterations "
+                           f"(KKT residual {np.max(resid) / gmax:.3g} of the largest slip limit)")
+
+
+def _force_by_secant(M, fac, b, g, k, sgn, F, max_iter, it0):
+    """Force control fallback: sum T(u) is continuous and nondecreasing in u; bracket the
+    target and use regula falsi (Illinois variant) on displacement-controlled solves."""
+    def total(u):
+        out = solve_increment(M, fac, b, g, k, sgn, u=u, max_iter=max_iter)
+        return out[0].sum() - F, out
+
+    scale = float(np.max(np.abs(b)) + np.max(g) * np.max(np.abs(np.diag(M)))) + 1e-300
+    lo, hi = -scale, scale
+    flo, out_lo = total(lo)
+    fhi, out_hi = total(hi)
+    while fhi < 0:
+        hi *= 2
+        fhi, out_hi = total(hi)
+    while flo > 0:
+        lo *= 2
+        flo, out_lo = total(lo)
+    side = 0
+    tol = 1e-12 * float(np.sum(g))
+    for _ in range(200):
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        fx, out = total(x)
+        if abs(fx) <= tol or hi - lo <= 1e-15 * scale:
+            T, u, s, it, trial = out
+            return T, u, s, it0 + it, trial
+        if fx < 0:
+            lo, flo = x, fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi, fhi = x, fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+    raise ConvergenceError("friction force control: secant search on the plate displacement did not converge")

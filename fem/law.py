@@ -1,0 +1,332 @@
+"""The FE frictional contact law: the contact-law protocol of ``mdr.law`` on the FE model.
+
+One object holds the two-body axisymmetric FE model of a profile (mode 0 for
+the pressure, ``fem.model``/``fem.normal``; mode 1 for the tangential load,
+``fem.mode1``), condensed once to the contact pairs. A step is a pure function
+of an explicit, immutable state (:class:`FEState`), exactly like
+``mdr.law.MDRContact.step``:
+
+1. normal: mode 0 is solved at the step's normal force F_N (or plate approach
+   d); its pair forces lam_i set the slip limits g_i = mu lam_i (results are
+   cached per load value, so constant-load cycles solve it once);
+2. tangential: one return-map increment on the condensed interface
+   (``fem.friction``) to the plate displacement u or total force Fx. Pairs
+   out of contact (lam_i = 0) carry no force and their plastic slip follows
+   the relative displacement, so a pair entering contact starts unstrained and
+   a pair leaving releases its force.
+
+Boundary conditions of mode 1: block bottom clamped; the indenter's top face
+is a rigid plate translated by u along x (no tilt, D = W = 0 there); D = W = 0
+on the axis. No mode-1 normal traction is transmitted (Mindlin's assumption:
+no normal-tangential coupling).
+
+Displacement measure (DESIGN.md sec. 4). The law's ``u`` is the x translation
+of the indenter's top plate relative to the clamped block bottom: it contains
+the tangential compliance of the finite bodies, which a half-space (MDR, Mindlin)
+does not have. That extra compliance is a linear elastic spring in series that
+depends on the forces only, so it stores and returns energy without
+dissipating: under force control the loop area (dissipation), the stick radius
+and the force history equal the half-space ones, while displacement amplitudes
+differ. :meth:`FEContact.halfspace_displacement` gives a half-space comparable
+measure like the normal model's indentation: the relative x displacement of two
+probe points on the axis at depth z0 inside each body, plus what two
+half-spaces would add below them (Cerruti 1882; Johnson, *Contact Mechanics*,
+CUP 1985, eq. 3.86a, averaged over the ring of each pair force).
+
+Approach ``d`` (input and output) is the plate approach of ``fem.normal``
+(also including the bulk compliance); force control ``F_N`` is the clean input.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from mdr.errors import InputError, nonnegative, positive
+from mdr.law import History, StepResult
+from mdr.materials import Materials
+from mdr.profiles import FlatPunch, Profile
+
+from .axisym import boundary_nodes
+from .condense import Condensation
+from .friction import _Factors, solve_increment
+from .mode1 import node_dofs_mode1, stiffness_mode1
+from .model import build_model
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
+from .solvers import blas_threads
+
+DEFAULT_FRICTION_AL_TOL = 1e-7
+
+
+def _frozen(a):
+    a = np.array(a, dtype=float if np.asarray(a).dtype.kind == "f" else np.asarray(a).dtype)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class FEState:
+    """History of the FE contact (read-only arrays over the n pairs): tangential pair forces
+    ``T`` (N), plastic slip ``p`` (m), normal pair forces ``lam`` (N), last sliding sets
+    ``sgn`` (warm start), plate displacement ``u`` and approach ``d`` (m)."""
+
+    T: np.ndarray
+    p: np.ndarray
+    lam: np.ndarray
+    sgn: np.ndarray
+    u: float
+    d: float
+
+
+def cerruti_axis(r, z, G, nu):
+    """x displacement on the axis at depth z of a half-space per unit x force spread on a
+    ring of radius r (Cerruti; Johnson 1985 eq. 3.86a averaged over theta), m/N."""
+    rho = np.sqrt(r**2 + z**2)
+    return (1.0 / (4.0 * np.pi * G * rho)) * (1.0 + r**2 / (2 * rho**2)
+                                               + (1 - 2 * nu) * (rho / (rho + z) - r**2 / (2 * (rho + z) ** 2)))
+
+
+class FEContact:
+    """FE contact law of one profile and two materials (the ``mdr.law`` protocol).
+
+    Parameters: ``profile`` (mdr Profile: Sphere, TruncatedSphere, FlatPunch),
+    ``materials``, ``mu``; ``F_max`` the largest normal force (sizes the mesh's
+    contact segment, a_ref = its half-space contact radius; not needed for the
+    flat punch); mesh options ``h_contact`` (element size / a_ref), ``contact_extent``,
+    ``block_size``, ``cache_dir`` (further ``meshes.AxisymMeshParams`` fields as keywords); ``penalty`` (dimensionless, eps = penalty E*/h
+    for normal and tangential pairs), ``al_tol`` (normal augmented Lagrangian),
+    ``friction_al_tol`` (tangential: largest multiplier change / largest slip
+    limit; 0 = pure penalty), ``backend`` (sparse solver).
+    """
+
+    def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
+                 h_contact=0.0125, contact_extent=1.25, block_size=None, cache_dir=None,
+                 penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
+                 backend=None, max_al=50, **mesh_kw):
+        from meshes import cached_mesh
+
+        from .run import mesh_params
+
+        if not isinstance(profile, Profile) or profile.describe().get("profile") == "general":
+            raise InputError(f"profile must be a Sphere, TruncatedSphere or FlatPunch, got {profile!r}")
+        t0 = time.perf_counter()
+        self.profile = profile
+        self.materials = materials if materials is not None else Materials()
+        self.mu = float(nonnegative("mu", mu))
+        self.penalty = float(positive("penalty", penalty))
+        self.al_tol = float(nonnegative("al_tol", al_tol))
+        self.friction_al_tol = float(nonnegative("friction_al_tol", friction_al_tol))
+        self.max_al = int(max_al)
+        desc = profile.describe()
+        kind = desc["profile"]
+        R, b = desc.get("R"), float(desc.get("b") or 0.0)
+        if isinstance(profile, FlatPunch):
+            F_ref = 1.0 if F_max is None else F_max
+        else:
+            if F_max is None:
+                raise InputError("FEContact needs F_max (> 0, the largest normal force) to size its mesh")
+            F_ref = F_max
+        F_ref = positive("F_max", F_ref)
+        self.F_max = F_ref
+        params = mesh_params(kind, R, b, F_ref, self.materials, h_contact=h_contact, block_size=block_size,
+                             contact_extent=contact_extent, **mesh_kw)
+        self.amesh = cached_mesh(params, cache_dir)
+        t1 = time.perf_counter()
+        self.model = build_model(self.amesh, self.materials, profile, backend=backend)
+        self._build_mode1(backend)
+        it = self.model.interface
+        eps = self.penalty * self.materials.E_star / it.h
+        self.k = eps * it.w
+        self.M = self.Ct + np.diag(1.0 / self.k)
+        self._fac = _Factors(self.M, size=16)
+        self._normal_cache = {}
+        self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0}
+        self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
+
+    # ----------------------------------------------------------------- model
+    def _build_mode1(self, backend):
+        it = self.model.interface
+        m = self.materials
+        bodies = self.model.bodies
+        out = {}
+        for name, E, nu in (("indenter", m.E1, m.nu1), ("block", m.E2, m.nu2)):
+            mesh = bodies[name].mesh
+            K, basis = stiffness_mode1(mesh, E, nu)
+            dofs = node_dofs_mode1(basis)
+            ax = boundary_nodes(mesh, "axis")
+            fixed = [dofs[1, ax], dofs[2, ax]]
+            clamp = boundary_nodes(mesh, "top" if name == "indenter" else "bottom")
+            fixed.append(dofs[:, clamp].ravel())
+            nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
+            cond = Condensation(K, np.unique(np.concatenate(fixed)), dofs[0, nodes],
+                                probe_dofs=[dofs[0, bodies[name].probe_node]], backend=backend)
+            out[name] = (K, basis, dofs, cond)
+        self.mode1 = out
+        N = it.N
+        C2 = out["block"][3].C
+        self.Ct = out["indenter"][3].C + N @ (N @ C2).T
+        self.Ct = 0.5 * (self.Ct + self.Ct.T)
+        # plate displacement minus the half-space-comparable displacement, per unit pair force
+        z0 = self.model.probe_depth
+        cer = (cerruti_axis(it.r, z0, m.E1 / (2 * (1 + m.nu1)), m.nu1)
+               + cerruti_axis(it.r, z0, m.E2 / (2 * (1 + m.nu2)), m.nu2))
+        self._L = out["indenter"][3].P[0] + N @ out["block"][3].P[0] - cer
+
+    @property
+    def dofs(self) -> int:
+        """Total DOFs of the mode-0 and mode-1 models of both bodies."""
+        return int(self.model.dofs + sum(v[1].N for v in self.mode1.values()))
+
+    @property
+    def n_pairs(self) -> int:
+        return self.model.interface.n
+
+    def describe(self) -> dict:
+        p = self.amesh.params
+        return {"law": "fem", "dofs": self.dofs, "pairs": self.n_pairs, "penalty": self.penalty,
+                "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol,
+                "mesh": dict(p.as_dict(), key=self.amesh.key), "backend": self.model.backend}
+
+    # ----------------------------------------------------------------- state
+    def rest_state(self) -> FEState:
+        n = self.n_pairs
+        z = _frozen(np.zeros(n))
+        return FEState(T=z, p=z, lam=z, sgn=_frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
+
+    def halfspace_displacement(self, state_or_T, u=None) -> float:
+        """Half-space-comparable tangential displacement (see module docstring)."""
+        if isinstance(state_or_T, FEState):
+            return float(state_or_T.u - self._L @ state_or_T.T)
+        return float(u - self._L @ np.asarray(state_or_T))
+
+    def normal(self, *, F_N=None, d=None):
+        """Mode-0 normal result at force F_N (> 0) or plate approach d (> 0), cached."""
+        key = ("F", float(f"{F_N:.13g}")) if F_N is not None else ("d", float(f"{d:.13g}"))
+        res = self._normal_cache.get(key)
+        if res is None:
+            if len(self._normal_cache) > 4096:
+                self._normal_cache.clear()
+            res = solve_normal(self.model, force=F_N, approach=d, penalty=self.penalty, al_tol=self.al_tol)
+            self.stats["normal_solves"] += 1
+            self._normal_cache[key] = res
+        return res
+
+    # ------------------------------------------------------------------ step
+    def step(self, state: FEState, u=None, *, d=None, F_N=None, Fx=None):
+        """Advance by one step; pure (``state`` is not modified). Normal load as plate
+        approach ``d`` (m) or force ``F_N`` (N, >= 0; 0 = contact lost, history released);
+        tangential load as plate displacement ``u`` (m) or force ``Fx`` (N, |Fx| < mu F_N).
+        Returns (mdr.law.StepResult, FEState)."""
+        if (d is None) == (F_N is None):
+            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
+        if (u is None) == (Fx is None):
+            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        n = self.n_pairs
+        if F_N is not None:
+            F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
+            lost = F_N == 0.0
+        else:
+            d = float(d)
+            if not np.isfinite(d):
+                raise InputError(f"d must be finite, got {d!r}")
+            lost = d <= 0.0
+        if lost:
+            lam = np.zeros(n)
+            FN, dd, a = 0.0, (0.0 if d is None else d), 0.0
+        else:
+            res = self.normal(F_N=F_N, d=d)
+            lam, FN, dd, a = res.lam, res.force, res.approach, res.contact_radius
+        g = self.mu * lam
+        if Fx is not None:
+            Fx = float(Fx)
+            if not np.isfinite(Fx) or (abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0):
+                raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                                 f"mu*F_N={self.mu * FN:.4g} N under force control")
+        else:
+            u = float(u)
+            if not np.isfinite(u):
+                raise InputError(f"u must be finite, got {u!r}")
+        T_old = np.asarray(state.T)
+        s_old = state.u - self.Ct @ T_old
+        p_old = np.where(np.asarray(state.lam) > 0, state.p, s_old)
+        contact = g > 0
+        if not np.any(contact):
+            if Fx not in (None, 0.0):
+                raise InputError("tangential force needs contact (F_N > 0)")
+            uu = state.u if u is None else u
+            z = np.zeros(n)
+            new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
+                          sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
+            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0), new
+        k = self.k
+        if self.friction_al_tol > 0:
+            lbar = np.clip(T_old, -g, g)
+        else:
+            lbar = np.zeros(n)
+        sgn = np.asarray(state.sgn)
+        newton = 0
+        with blas_threads(1):
+            for n_al in range(1, self.max_al + 1):
+                b = lbar / k - p_old
+                T, uu, sgn, nit, trial = solve_increment(self.M, self._fac, b, g, k, sgn, u=u, F=Fx)
+                newton += nit
+                change = float(np.max(np.abs(T - lbar)) / np.max(g))
+                if self.friction_al_tol == 0 or change <= self.friction_al_tol:
+                    break
+                lbar = T
+            else:
+                from mdr.errors import ConvergenceError
+
+                raise ConvergenceError(f"friction augmented Lagrangian: multiplier change {change:.3g} of "
+                                       f"mu max(lam) after {self.max_al} passes (friction_al_tol="
+                                       f"{self.friction_al_tol:g})")
+            s = uu - self.Ct @ T
+        p_new = np.where(contact, s - (T - lbar) / k, s)
+        work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
+        c = self._stick_radius(np.abs(trial) - g, contact, a)
+        self.stats["steps"] += 1
+        self.stats["newton"] += newton
+        self.stats["al"] += n_al
+        new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
+                      u=float(uu), d=float(dd))
+        return StepResult(Fx=float(T.sum()), FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
+                          work=work), new
+
+    def _stick_radius(self, phi, contact, a):
+        """Outer edge of the central zone of pairs that did not slip in the step: the zero of
+        phi = |trial| - g (negative in stick) between the last sticking and first slipping pair."""
+        r = self.model.interface.r
+        slipping = (phi >= 0) | ~contact
+        if not np.any(slipping):
+            return float(a)
+        j = int(np.argmax(slipping))
+        if j == 0:
+            return 0.0
+        if not contact[j]:
+            return float(min(a, r[j]))
+        f0, f1 = phi[j - 1], phi[j]
+        x = r[j - 1] + (r[j] - r[j - 1]) * (-f0) / (f1 - f0) if f1 != f0 else r[j]
+        return float(min(x, a))
+
+    # ------------------------------------------------------------------ runs
+    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FEState | None = None) -> History:
+        """Run a load history (arrays of shape (T,)); returns mdr.law.History."""
+        if (d is None) == (F_N is None):
+            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
+        if (u is None) == (Fx is None):
+            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+        drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
+        nT = drive.shape[-1]
+        normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
+        state = state if state is not None else self.rest_state()
+        out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+        for t in range(nT):
+            kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
+            if u is not None:
+                res, state = self.step(state, u=drive[t], **kw)
+            else:
+                res, state = self.step(state, Fx=drive[t], **kw)
+            for key in out:
+                out[key][t] = getattr(res, key)
+        return History(state=state, **out)
