@@ -88,7 +88,27 @@ def blas_threads(n: int = 1):
     pools both at 2 threads, the dense active-set solves of a 200-pair
     interface took 2.4 s instead of 8 ms (the idle pool spins while the other
     works).
+
+    Nested blocks with the same ``n`` cost nothing (entering one scans the
+    loaded libraries, about 3 ms): callers running many small solves wrap the
+    whole loop once.
     """
+    if _BLAS_LIMIT and _BLAS_LIMIT[-1] == n:
+        yield
+        return
+    _BLAS_LIMIT.append(n)
+    try:
+        with _blas_threads(n):
+            yield
+    finally:
+        _BLAS_LIMIT.pop()
+
+
+_BLAS_LIMIT: list = []
+
+
+@contextlib.contextmanager
+def _blas_threads(n):
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:

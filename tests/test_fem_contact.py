@@ -1,0 +1,185 @@
+"""FE frictional contact (mode 0 + mode 1) against closed forms and the MDR law.
+
+Truths used: Cattaneo-Mindlin and Mindlin-Deresiewicz (sphere, constant F_N),
+MDR at the same tangential FORCE amplitude (any profile, varying F_N), energy
+conservation (loop area = friction work), and the protocol's purity. The FE
+plate displacement contains the finite bodies' compliance c_bulk in series
+with the contact (fem.law docstring); force-controlled quantities do not see
+it, displacement-controlled ones are compared at u - c_bulk Fx.
+"""
+import dataclasses
+
+import numpy as np
+import pytest
+
+from fem.law import FEContact
+from mdr.drive import run_contact
+from mdr.errors import InputError
+from mdr.law import MDRContact, StepResult
+from mdr.loops import loop_integral
+from mdr.materials import Materials
+from mdr.normal import approach_from_force
+from mdr.profiles import make_profile
+from mdr.reference import (cattaneo_mindlin_force, cattaneo_mindlin_stick_radius, gross_slip_displacement,
+                           hertz, mindlin_deresiewicz_dissipation, mindlin_deresiewicz_dissipation_force,
+                           mindlin_deresiewicz_loop)
+
+MAT = Materials()
+R, F, MU = 6e-3, 0.5, 0.2
+SPHERE = make_profile("sphere", R)
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return tmp_path_factory.mktemp("fem_contact_meshes")
+
+
+@pytest.fixture(scope="module")
+def sphere(cache):
+    return FEContact(SPHERE, MAT, MU, F_max=0.6, h_contact=1 / 80, cache_dir=cache)
+
+
+def u_star(F_N=F):
+    return gross_slip_displacement(hertz(F_N, R, MAT.E_star)["d"], MU, MAT.E_star, MAT.G_star)
+
+
+def test_step_is_pure_and_follows_the_protocol(sphere):
+    s0 = sphere.rest_state()
+    r1, s1 = sphere.step(s0, Fx=0.05, F_N=F)
+    assert isinstance(r1, StepResult)
+    snapshot = dataclasses.replace(s1)
+    copies = {f.name: np.array(getattr(s1, f.name)) for f in dataclasses.fields(s1)}
+    r2, s2 = sphere.step(s1, u=2 * r1.u, F_N=F)
+    r2b, _ = sphere.step(s1, u=2 * r1.u, F_N=F)
+    assert r2 == r2b  # same input state, same answer: the first call did not mutate it
+    for name, v in copies.items():
+        assert np.array_equal(np.asarray(getattr(snapshot, name)), v)
+    with pytest.raises(ValueError):
+        s1.T[0] = 1.0  # read-only arrays
+    # contact lost releases all tangential history
+    r3, s3 = sphere.step(s2, u=r2.u, F_N=0.0)
+    assert r3.Fx == 0 and r3.FN == 0 and np.all(s3.T == 0)
+    r4, _ = sphere.step(s3, u=r2.u, F_N=F)
+    assert abs(r4.Fx) < 1e-12 * MU * F  # re-entering pairs start unstrained
+    d = sphere.describe()
+    assert d["law"] == "fem" and d["dofs"] == sphere.dofs > 0 and "mesh" in d
+
+
+@pytest.mark.parametrize("kw", [dict(Fx=0.2 * F), dict(Fx=-0.2 * F), dict(Fx=np.nan), dict(u=np.inf)])
+def test_bad_tangential_input_is_an_input_error(sphere, kw):
+    with pytest.raises(InputError):
+        sphere.step(sphere.rest_state(), F_N=F, **kw)
+
+
+def test_cattaneo_mindlin_loading_curve_and_stick_radius(sphere):
+    """Monotonic loading at constant F_N: F_x(u) within 0.2 % of mu F_N and c within 1 % of a."""
+    fx = np.linspace(0.0, 0.98, 50) * MU * F
+    H = sphere.run(Fx=fx, F_N=np.full(fx.size, F))
+    a = hertz(F, R, MAT.E_star)["a"]
+    uc = sphere.contact_displacement(H.u, H.Fx, F)
+    assert np.max(np.abs(cattaneo_mindlin_force(uc, F, MU, u_star()) - fx)) < 2e-3 * MU * F
+    assert np.max(np.abs(H.c[1:] - cattaneo_mindlin_stick_radius(fx[1:], F, MU, a))) < 0.01 * a
+    # the finite bodies' compliance is a small series spring (< 2 % of the contact's)
+    assert 0 < sphere.bulk_compliance(F) * 2 * MAT.G_star * a < 0.02
+
+
+def test_mindlin_deresiewicz_partial_slip_loop_and_dissipation(sphere):
+    """Force amplitude with u_A = u*/2: stationary loop and dissipation within 0.5 %."""
+    us = u_star()
+    FA = float(cattaneo_mindlin_force(0.5 * us, F, MU, us))
+    steps = 100
+    t = np.arange(3 * steps + 1) / steps
+    H = sphere.run(Fx=FA * np.sin(2 * np.pi * t), F_N=np.full(t.size, F))
+    last = slice(2 * steps, 3 * steps + 1)
+    u, Fx = H.u[last], H.Fx[last]
+    dW = abs(loop_integral(u, Fx))
+    assert abs(dW / mindlin_deresiewicz_dissipation_force(FA, F, MU, us) - 1) < 5e-3
+    # loop branches at the contact displacement
+    uc = sphere.contact_displacement(u, Fx, F)
+    uA = 0.5 * np.ptp(uc)
+    assert abs(uA / (0.5 * us) - 1) < 5e-3
+    k = np.arange(u.size)
+    unload = (k >= steps // 4) & (k <= 3 * steps // 4)
+    ref = np.where(unload, mindlin_deresiewicz_loop(uc, uA, F, MU, us, "unloading"),
+                   mindlin_deresiewicz_loop(uc, uA, F, MU, us, "loading"))
+    assert np.max(np.abs(ref - Fx)) < 5e-3 * MU * F
+    # the series compliance does not dissipate: plate and contact loops have the same area
+    assert abs(abs(loop_integral(uc, Fx)) / dW - 1) < 1e-9
+    # energy: loop area = friction work summed over the pairs (to the time-step error)
+    assert abs(np.sum(H.work[last][1:]) / dW - 1) < 5e-3
+
+
+def test_gross_slip_dissipation_at_the_contact_amplitude(sphere):
+    """Displacement control: the plate amplitude u_A is the contact amplitude u_A - c_bulk mu F_N."""
+    us = u_star()
+    uA = 2.0 * us
+    steps = 100
+    t = np.arange(3 * steps + 1) / steps
+    H = sphere.run(u=uA * np.sin(2 * np.pi * t), F_N=np.full(t.size, F))
+    last = slice(2 * steps, 3 * steps + 1)
+    dW = abs(loop_integral(H.u[last], H.Fx[last]))
+    assert np.max(np.abs(H.Fx[last])) == pytest.approx(MU * F, rel=1e-6)
+    uc = uA - sphere.bulk_compliance(F) * MU * F
+    assert abs(dW / mindlin_deresiewicz_dissipation(uc, F, MU, us) - 1) < 5e-3
+
+
+def _force_loops(law, prof, F0, dF, alpha, FA, steps, mdr_steps=None):
+    fe = run_contact(prof, MAT, MU, F0, dF, alpha, fa=FA, cycles=3, steps=steps, law=law)
+    md = run_contact(prof, MAT, MU, F0, dF, alpha, fa=FA, cycles=3, steps=mdr_steps or steps, n=2000)
+    return fe, md
+
+
+def test_truncated_sphere_against_mdr_at_equal_force_amplitude(cache):
+    prof = make_profile("truncated", R, 20e-6)
+    law = FEContact(prof, MAT, MU, F_max=F, h_contact=1 / 40, cache_dir=cache)
+    FA = 0.6 * MU * F
+    fe, md = _force_loops(law, prof, F, 0.0, 0.0, FA, 100)
+    assert abs(fe["dissipation"] / md["dissipation"] - 1) < 5e-3
+    assert np.allclose(fe["loop"]["Fx"], md["loop"]["Fx"])
+    u = np.array(fe["loop"]["du"])
+    uc = law.contact_displacement(u, np.array(fe["loop"]["Fx"]), F)
+    um = np.array(md["loop"]["du"])
+    assert np.max(np.abs((uc - uc.mean()) - (um - um.mean()))) < 5e-3 * np.ptp(um)
+    assert abs(fe["friction_work"] / fe["dissipation"] - 1) < 5e-3
+
+
+def test_flat_punch_sticks_below_the_limit_and_matches_mdr_in_gross_slip(cache):
+    """Flat punch: tau/p is the same everywhere, so nothing slips below mu F_N (MDR: exactly
+    no dissipation); in gross slip the loop is MDR's at the contact amplitude."""
+    prof = make_profile("flat", None, 30e-6)
+    law = FEContact(prof, MAT, MU, h_contact=1 / 40, cache_dir=cache)
+    FA = 0.6 * MU * F
+    fe, md = _force_loops(law, prof, F, 0.0, 0.0, FA, 40)
+    assert md["dissipation"] < 1e-9 * FA * md["displacement_amplitude"]
+    assert fe["dissipation"] < 2e-3 * 4 * FA * fe["displacement_amplitude"]
+    mdr = MDRContact(prof, MAT, MU, n=2000)
+    d = float(approach_from_force(prof, MAT, F))
+    ustar = MU * MAT.E_star * d / MAT.G_star
+    uA = 3 * ustar
+    steps = 40
+    t = np.arange(3 * steps + 1) / steps
+    s = np.sin(2 * np.pi * t)
+    H = law.run(u=uA * s, F_N=np.full(t.size, F))
+    uc = uA - law.bulk_compliance(F) * MU * F
+    Hm = mdr.run(u=uc * s, F_N=np.full(t.size, F))
+    last = slice(2 * steps, 3 * steps + 1)
+    dW, dWm = (abs(loop_integral(h.u[last], h.Fx[last])) for h in (H, Hm))
+    assert abs(dW / dWm - 1) < 5e-3
+
+
+@pytest.mark.parametrize("alpha", [0.0, np.pi / 2])
+def test_varying_normal_force_against_mdr_and_energy(sphere, alpha):
+    """dF = 0.1 N in phase and in quadrature: dissipation against MDR within 0.5 %, and loop
+    area = friction work, with a first-order time-step error. MDR's own time-step error is
+    first order (its normal and tangential updates are split), so its value is Richardson-
+    extrapolated from 200 and 800 steps per cycle."""
+    dF, FA = 0.1, 0.6 * MU * (F - 0.1)
+    fe, md = _force_loops(sphere, SPHERE, F, dF, alpha, FA, 100, mdr_steps=200)
+    md4 = run_contact(SPHERE, MAT, MU, F, dF, alpha, fa=FA, cycles=3, steps=800, n=2000)
+    dW_mdr = (4 * md4["dissipation"] - md["dissipation"]) / 3
+    assert abs(fe["dissipation"] / dW_mdr - 1) < 5e-3
+    e100 = fe["friction_work"] / fe["dissipation"] - 1
+    fe2 = run_contact(SPHERE, MAT, MU, F, dF, alpha, fa=FA, cycles=3, steps=200, law=sphere)
+    e200 = fe2["friction_work"] / fe2["dissipation"] - 1
+    assert abs(e200) < 5e-3
+    assert abs(e200) < 0.6 * abs(e100) or abs(e200) < 1e-4
