@@ -7,6 +7,7 @@ import sys
 from mdr.errors import ConvergenceError, InputError
 from mdr.io import write_json
 
+from .friction import DEFAULT_FRICTION_AL_TOL
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 from .run import H_CONTACT_RANGE
 
@@ -60,12 +61,79 @@ def build_parser() -> argparse.ArgumentParser:
                    help="mesh cache directory (default $FRETTING_MESH_CACHE or ~/.cache/fretting-meshes)")
     n.add_argument("--vtu", default=None, help="also write displacements and stresses to this .vtu file")
     n.add_argument("--json", required=True, help="output JSON path ('-' for stdout)")
+    _add_contact_parser(sub)
     return p
+
+
+def _add_fe_options(c):
+    g = c.add_argument_group("FE model (mesh, penalty, solver)")
+    g.add_argument("--h-contact", type=float, default=0.0125,
+                   help=f"element size in the contact zone / contact radius at F0 + dF "
+                        f"(range [{H_CONTACT_RANGE[0]:g}, {H_CONTACT_RANGE[1]:g}]; 0.0125 = a/80)")
+    g.add_argument("--contact-extent", type=float, default=1.25,
+                   help="radius of the finely meshed contact segment / a (> 1)")
+    g.add_argument("--block-size", type=float, default=None,
+                   help="block radius and height (m); default 200 a")
+    g.add_argument("--penalty", type=float, default=DEFAULT_PENALTY,
+                   help="penalty factor alpha (> 0): normal and tangential stiffness alpha * E* / h per unit area")
+    g.add_argument("--al-tol", type=float, default=DEFAULT_AL_TOL,
+                   help="normal augmented-Lagrangian stop: largest penetration / approach; 0 = pure penalty")
+    g.add_argument("--friction-al-tol", type=float, default=DEFAULT_FRICTION_AL_TOL,
+                   help="tangential augmented-Lagrangian stop: largest multiplier change / largest slip "
+                        "limit; 0 = pure penalty")
+    g.add_argument("--solver", choices=("auto", "cholmod", "pardiso", "superlu"), default="auto",
+                   help="sparse factorisation backend")
+    g.add_argument("--cache-dir", default=None,
+                   help="mesh cache directory (default $FRETTING_MESH_CACHE or ~/.cache/fretting-meshes)")
+
+
+def _add_contact_parser(sub):
+    from mdr.cli import add_contact_args, add_material_args, add_output_args, add_profile_args
+
+    c = sub.add_parser("contact", help="FE fretting cycles with the contact driven directly",
+                       description=(
+                           "Axisymmetric FE frictional contact (Fourier mode 0 for the pressure, mode 1 for "
+                           "the tangential load, Coulomb friction with penalty return map and augmented "
+                           "Lagrangian on the condensed interface) driven with the harmonic loads of "
+                           "'python -m mdr contact' (same flags and JSON keys). Adds dofs, mesh, solver, "
+                           "bulk_compliance and runtime_s {setup, cycles, total}. Displacements are those of "
+                           "the indenter's top plate relative to the block bottom (they include the finite "
+                           "bodies' compliance; subtract bulk_compliance * Fx for a half-space measure). "
+                           "Exit 2: bad input; exit 3: a solver did not converge."))
+    add_profile_args(c)
+    add_material_args(c)
+    add_contact_args(c)
+    _add_fe_options(c)
+    add_output_args(c)
+
+
+def _contact(args) -> int:
+    try:
+        from mdr.cli import materials_from_args, profile_from_args
+
+        from .contact_run import run_fem_contact
+
+        out = run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
+                              args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
+                              h_contact=args.h_contact, contact_extent=args.contact_extent,
+                              block_size=args.block_size, penalty=args.penalty, al_tol=args.al_tol,
+                              friction_al_tol=args.friction_al_tol, cache_dir=args.cache_dir,
+                              backend=None if args.solver == "auto" else args.solver)
+    except InputError as exc:
+        sys.stderr.write(f"python -m fem contact: error: {exc}\n")
+        return 2
+    except ConvergenceError as exc:
+        sys.stderr.write(f"python -m fem contact: solver failed: {exc}\n")
+        return 3
+    write_json(args.json, out)
+    return 0
 
 
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.command == "contact":
+        return _contact(args)
     try:
         from mdr.materials import Materials
 

@@ -48,6 +48,8 @@ import scipy.linalg as sla
 
 from mdr.errors import ConvergenceError
 
+DEFAULT_FRICTION_AL_TOL = 1e-7
+
 
 class _Factors:
     """Cholesky factors of M restricted to free sets, cached by the set."""

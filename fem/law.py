@@ -54,13 +54,12 @@ from mdr.profiles import FlatPunch, Profile
 
 from .axisym import boundary_nodes
 from .condense import Condensation
-from .friction import _Factors, solve_increment
+from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
 from .mode1 import node_dofs_mode1, stiffness_mode1
 from .model import build_model
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
 from .solvers import blas_threads
 
-DEFAULT_FRICTION_AL_TOL = 1e-7
 
 
 def _frozen(a):

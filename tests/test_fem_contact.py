@@ -183,3 +183,39 @@ def test_varying_normal_force_against_mdr_and_energy(sphere, alpha):
     e200 = fe2["friction_work"] / fe2["dissipation"] - 1
     assert abs(e200) < 5e-3
     assert abs(e200) < 0.6 * abs(e100) or abs(e200) < 1e-4
+
+
+def run_cli(*args):
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "fem", "contact", *args], capture_output=True, text=True)
+
+
+def test_cli_writes_the_mdr_keys_plus_fe_keys(cache, tmp_path):
+    out = tmp_path / "c.json"
+    p = run_cli("--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--fa", "0.06",
+                "--steps", "40", "--h-contact", "0.05", "--cache-dir", str(cache), "--json", str(out))
+    assert p.returncode == 0, p.stderr
+    import json
+
+    d = json.loads(out.read_text())
+    mdr_keys = {"contact_radius", "indentation", "stick_radius", "dissipation", "friction_work", "slip_index",
+                "runtime_s", "loop", "dissipation_per_cycle", "displacement_amplitude", "inputs"}
+    assert mdr_keys <= d.keys() and {"dofs", "mesh"} <= d.keys()
+    assert set(d["runtime_s"]) >= {"setup", "cycles"} and set(d["loop"]) == {"t", "du", "Fx", "FN"}
+    assert d["dofs"] > 0 and d["inputs"]["law"]["law"] == "fem"
+    assert abs(d["contact_radius"] / hertz(F, R, MAT.E_star)["a"] - 1) < 0.01
+
+
+@pytest.mark.parametrize("args", [
+    ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--fa", "0.5"],   # fa above mu F0
+    ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "-1", "--ua", "1e-8"],
+    ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--ua", "1e-8", "--h-contact", "0.5"],
+    ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5"],                  # no drive
+])
+def test_cli_bad_input_exit_2_one_line(args, tmp_path):
+    p = run_cli(*args, "--json", str(tmp_path / "x.json"))
+    assert p.returncode == 2
+    assert len(p.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "x.json").exists()

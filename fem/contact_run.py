@@ -1,0 +1,57 @@
+"""One FE fretting run with the contact driven directly: ``python -m fem contact``.
+
+The FE law (``fem.law.FEContact``) is driven by ``mdr.drive.run_contact``, the
+same harmonic loads and cycle analysis as ``python -m mdr contact``, so the
+JSON keys are the same; added: ``dofs``, ``mesh``, ``solver`` and
+``runtime_s`` split into ``setup`` (mesh, assembly, factorisation and
+condensation of both Fourier modes) and ``cycles`` (the load history).
+The displacement keys (``loop.du``, ``displacement_amplitude``) are the plate
+displacement (indenter top vs block bottom, includes the finite bodies'
+compliance); ``contact_radius`` and ``indentation`` are the FE's own at F0
+(the half-space comparable indentation of ``fem.normal``), ``approach`` the
+plate approach; ``bulk_compliance`` (m/N) gives the series compliance to subtract
+for a half-space comparable measure, ``du - bulk_compliance * Fx``.
+"""
+from __future__ import annotations
+
+import time
+
+from mdr.drive import check_loading, run_contact
+from mdr.errors import in_range
+
+from .friction import DEFAULT_FRICTION_AL_TOL
+from .law import FEContact
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from .run import H_CONTACT_RANGE
+
+
+def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
+                    h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
+                    al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
+                    backend=None, return_law=False):
+    """FE fretting run; returns the result dict (and the law if ``return_law``)."""
+    check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
+    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
+    t0 = time.perf_counter()
+    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
+                    cache_dir=cache_dir, backend=backend)
+    t1 = time.perf_counter()
+    out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
+    t2 = time.perf_counter()
+    st = law.stats
+    nr = law.normal(F_N=F0)  # the FE's own normal contact at the mean force
+    out["contact_radius"] = nr.contact_radius
+    out["indentation"] = nr.indentation
+    out["approach"] = nr.approach
+    out["dofs"] = law.dofs
+    out["mesh"] = dict(law.amesh.params.as_dict(), key=law.amesh.key, cache=law.amesh.info.get("cache"))
+    out["bulk_compliance"] = law.bulk_compliance(F0)
+    out["solver"] = {"backend": law.model.backend, "pairs": law.n_pairs, "penalty": penalty, "al_tol": al_tol,
+                     "friction_al_tol": friction_al_tol, "steps": st["steps"],
+                     "newton_per_step": st["newton"] / max(st["steps"], 1),
+                     "al_per_step": st["al"] / max(st["steps"], 1), "normal_solves": st["normal_solves"]}
+    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
+    if return_law:
+        return out, law
+    return out
