@@ -219,3 +219,50 @@ def test_cli_bad_input_exit_2_one_line(args, tmp_path):
     assert p.returncode == 2
     assert len(p.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "x.json").exists()
+
+
+@pytest.mark.slow
+def test_penalty_error_falls_with_penalty_and_augmented_lagrangian_removes_it(cache):
+    """Pure penalty: the dissipation error against the augmented-Lagrangian (exact Coulomb)
+    answer falls like 1/penalty; with the augmented Lagrangian the answer does not depend
+    on the penalty."""
+    us = u_star()
+    FA = float(cattaneo_mindlin_force(0.5 * us, F, MU, us))
+    steps = 100
+    t = np.arange(2 * steps + 1) / steps
+    fx = FA * np.sin(2 * np.pi * t)
+
+    def dW(penalty, tol):
+        law = FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / 40, cache_dir=cache, penalty=penalty,
+                        friction_al_tol=tol)
+        H = law.run(Fx=fx, F_N=np.full(t.size, F))
+        return abs(loop_integral(H.u[steps:], H.Fx[steps:]))
+
+    exact = {p: dW(p, 1e-9) for p in (10.0, 100.0, 1000.0)}
+    assert max(exact.values()) / min(exact.values()) - 1 < 2e-4
+    ref = exact[1000.0]
+    err = [abs(dW(p, 0.0) / ref - 1) for p in (10.0, 100.0, 1000.0)]
+    assert err[0] > 5 * err[1] > 25 * err[2]
+    assert err[1] < 1e-3
+
+
+@pytest.mark.slow
+def test_mesh_convergence_of_stick_radius_and_dissipation(cache):
+    """Refining a/20 -> a/40 -> a/80 -> a/160: the stick-radius error of the Cattaneo-Mindlin
+    loading falls by at least 1.5x per level, the dissipation stays within 0.2 %."""
+    us = u_star()
+    a = hertz(F, R, MAT.E_star)["a"]
+    fx = np.linspace(0.0, 0.95, 40) * MU * F
+    FA = float(cattaneo_mindlin_force(0.5 * us, F, MU, us))
+    steps = 200
+    t = np.arange(2 * steps + 1) / steps
+    ref = mindlin_deresiewicz_dissipation_force(FA, F, MU, us)
+    c_err, dW_err = [], []
+    for N in (20, 40, 80, 160):
+        law = FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / N, cache_dir=cache)
+        H = law.run(Fx=fx, F_N=np.full(fx.size, F))
+        c_err.append(np.max(np.abs(H.c[1:] - cattaneo_mindlin_stick_radius(fx[1:], F, MU, a))) / a)
+        H = law.run(Fx=FA * np.sin(2 * np.pi * t), F_N=np.full(t.size, F))
+        dW_err.append(abs(loop_integral(H.u[steps:], H.Fx[steps:])) / ref - 1)
+    assert all(c_err[i + 1] < c_err[i] / 1.5 for i in range(3)), c_err
+    assert max(abs(e) for e in dW_err[1:]) < 2e-3, dW_err
