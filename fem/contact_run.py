@@ -50,7 +50,10 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     out["solver"] = {"backend": law.model.backend, "pairs": law.n_pairs, "penalty": penalty, "al_tol": al_tol,
                      "friction_al_tol": friction_al_tol, "steps": st["steps"],
                      "newton_per_step": st["newton"] / max(st["steps"], 1),
-                     "al_per_step": st["al"] / max(st["steps"], 1), "normal_solves": st["normal_solves"]}
+                     "al_per_step": st["al"] / max(st["steps"], 1), "normal_solves": st["normal_solves"],
+                     # tangential penalty error: last multiplier change / largest slip limit (pure
+                     # penalty: the relative size of the penalty's elastic slip)
+                     "friction_penalty_error": st["al_change_max"]}
     out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
     if return_law:
         return out, law

@@ -136,7 +136,7 @@ class FEContact:
         self.M = self.Ct + np.diag(1.0 / self.k)
         self._fac = _Factors(self.M, size=16)
         self._normal_cache = {}
-        self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0}
+        self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
 
     # ----------------------------------------------------------------- model
@@ -289,6 +289,7 @@ class FEContact:
         self.stats["steps"] += 1
         self.stats["newton"] += newton
         self.stats["al"] += n_al
+        self.stats["al_change_max"] = max(self.stats.get("al_change_max", 0.0), change)
         new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
                       u=float(uu), d=float(dd))
         return StepResult(Fx=float(T.sum()), FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),

@@ -109,6 +109,27 @@ def test_mindlin_deresiewicz_partial_slip_loop_and_dissipation(sphere):
     assert abs(np.sum(H.work[last][1:]) / dW - 1) < 5e-3
 
 
+def test_force_control_is_independent_of_the_bulk_compliance(cache):
+    """Two block sizes (100 a and 400 a): under force control the dissipation and the stick
+    radius agree (the bulk is a non-dissipating series spring), the plate displacement does not."""
+    us = u_star()
+    FA = float(cattaneo_mindlin_force(0.5 * us, F, MU, us))
+    a = hertz(F, R, MAT.E_star)["a"]
+    steps = 40
+    t = np.arange(2 * steps + 1) / steps
+    res = []
+    for size in (100 * a, 400 * a):
+        law = FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / 20, block_size=size, cache_dir=cache)
+        H = law.run(Fx=FA * np.sin(2 * np.pi * t), F_N=np.full(t.size, F))
+        res.append((abs(loop_integral(H.u[steps:], H.Fx[steps:])), np.ptp(H.u[steps:]), H.c[steps // 4],
+                    np.ptp(law.contact_displacement(H.u[steps:], H.Fx[steps:], F)), law.bulk_compliance(F)))
+    (dW1, du1, c1, uc1, cb1), (dW2, du2, c2, uc2, cb2) = res
+    assert abs(dW1 / dW2 - 1) < 1e-4 and abs(c1 / c2 - 1) < 1e-4
+    # the plate amplitude sees the bodies' size through the series compliance only ...
+    assert abs((du1 - du2) - 2 * FA * (cb1 - cb2)) < 0.05 * abs(du1 - du2)
+    assert abs(uc1 / uc2 - 1) < 1e-4    # ... the contact displacement does not
+
+
 def test_gross_slip_dissipation_at_the_contact_amplitude(sphere):
     """Displacement control: the plate amplitude u_A is the contact amplitude u_A - c_bulk mu F_N."""
     us = u_star()
@@ -214,10 +235,15 @@ def test_cli_writes_the_mdr_keys_plus_fe_keys(cache, tmp_path):
     ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--ua", "1e-8", "--h-contact", "0.5"],
     ["--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5"],                  # no drive
 ])
-def test_cli_bad_input_exit_2_one_line(args, tmp_path):
-    p = run_cli(*args, "--json", str(tmp_path / "x.json"))
-    assert p.returncode == 2
-    assert len(p.stderr.strip().splitlines()) == 1
+def test_cli_bad_input_exit_2_one_line(args, tmp_path, capsys):
+    from fem.cli import main
+
+    try:
+        code = main(["contact", *args, "--json", str(tmp_path / "x.json")])
+    except SystemExit as exc:  # argparse errors
+        code = exc.code
+    assert code == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
     assert not (tmp_path / "x.json").exists()
 
 
