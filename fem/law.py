@@ -92,13 +92,20 @@ class FEContact:
     ``block_size``, ``cache_dir`` (further ``meshes.AxisymMeshParams`` fields as keywords); ``penalty`` (dimensionless, eps = penalty E*/h
     for normal and tangential pairs), ``al_tol`` (normal augmented Lagrangian),
     ``friction_al_tol`` (tangential: largest multiplier change / largest slip
-    limit; 0 = pure penalty), ``backend`` (sparse solver).
+    limit; 0 = pure penalty), ``backend`` (sparse solver), ``displacement``:
+    ``"plate"`` (default: u is the plate displacement) or ``"contact"`` (u is the
+    half-space comparable u_plate - c_bulk Fx, with c_bulk measured once at F_max;
+    the flexibility becomes Ct - c_bulk 1 1^T, still symmetric positive definite
+    because c_bulk is far below the contact's full-stick compliance). Use
+    ``"contact"`` to put the FE law where a half-space law is expected (e.g. in
+    the apparatus model, whose machine compliances would otherwise also get the
+    FE bodies' bulk compliance).
     """
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=0.0125, contact_extent=1.25, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
-                 backend=None, max_al=50, **mesh_kw):
+                 backend=None, max_al=50, displacement="plate", **mesh_kw):
         from meshes import cached_mesh
 
         from .run import mesh_params
@@ -113,6 +120,9 @@ class FEContact:
         self.al_tol = float(nonnegative("al_tol", al_tol))
         self.friction_al_tol = float(nonnegative("friction_al_tol", friction_al_tol))
         self.max_al = int(max_al)
+        if displacement not in ("plate", "contact"):
+            raise InputError(f"displacement must be 'plate' or 'contact', got {displacement!r}")
+        self.displacement = displacement
         desc = profile.describe()
         kind = desc["profile"]
         R, b = desc.get("R"), float(desc.get("b") or 0.0)
@@ -133,10 +143,15 @@ class FEContact:
         it = self.model.interface
         eps = self.penalty * self.materials.E_star / it.h
         self.k = eps * it.w
-        self.M = self.Ct + np.diag(1.0 / self.k)
-        self._fac = _Factors(self.M, size=16)
         self._normal_cache = {}
         self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
+        self.c_bulk = 0.0
+        if displacement == "contact":
+            # u measured without the bodies' series compliance: s = u_c + (c_bulk 1 1^T - Ct) T
+            self.c_bulk = self.bulk_compliance(F_ref)
+            self.Ct = self.Ct - self.c_bulk
+        self.M = self.Ct + np.diag(1.0 / self.k)
+        self._fac = _Factors(self.M, size=16)
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
 
     # ----------------------------------------------------------------- model
@@ -176,6 +191,7 @@ class FEContact:
         p = self.amesh.params
         return {"law": "fem", "dofs": self.dofs, "pairs": self.n_pairs, "penalty": self.penalty,
                 "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol,
+                "displacement": self.displacement, "c_bulk": self.c_bulk,
                 "mesh": dict(p.as_dict(), key=self.amesh.key), "backend": self.model.backend}
 
     # ----------------------------------------------------------------- state
@@ -186,7 +202,7 @@ class FEContact:
 
     def bulk_compliance(self, F_N) -> float:
         """c_bulk (m/N) at normal force F_N: FE full-stick tangential compliance of the
-        pairs in contact (the plate measure) minus the half-space 1/(2 G* a)."""
+        pairs in contact (in the law's displacement measure) minus the half-space 1/(2 G* a)."""
         res = self.normal(F_N=float(positive("F_N", F_N)))
         A = res.lam > 0
         Ct = self.Ct[np.ix_(A, A)]

@@ -292,3 +292,23 @@ def test_mesh_convergence_of_stick_radius_and_dissipation(cache):
         dW_err.append(abs(loop_integral(H.u[steps:], H.Fx[steps:])) / ref - 1)
     assert all(c_err[i + 1] < c_err[i] / 1.5 for i in range(3)), c_err
     assert max(abs(e) for e in dW_err[1:]) < 2e-3, dW_err
+
+
+def test_contact_displacement_measure_gives_half_space_loops_under_displacement_control(cache):
+    """displacement='contact' removes the bodies' series compliance from u: the
+    Cattaneo-Mindlin curve and the Mindlin-Deresiewicz dissipation at a prescribed
+    DISPLACEMENT amplitude (partial and gross slip) then hold directly, within 0.5 %."""
+    law = FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / 80, cache_dir=cache, displacement="contact")
+    assert abs(law.bulk_compliance(F)) < 1e-6 * law.c_bulk
+    us = u_star()
+    fx = np.linspace(0.0, 0.98, 30) * MU * F
+    H = law.run(Fx=fx, F_N=np.full(fx.size, F))
+    assert np.max(np.abs(cattaneo_mindlin_force(H.u, F, MU, us) - fx)) < 2e-3 * MU * F
+    steps = 100
+    t = np.arange(2 * steps + 1) / steps
+    for uA in (0.5 * us, 2.0 * us):
+        H = law.run(u=uA * np.sin(2 * np.pi * t), F_N=np.full(t.size, F))
+        dW = abs(loop_integral(H.u[steps:], H.Fx[steps:]))
+        assert abs(dW / mindlin_deresiewicz_dissipation(uA, F, MU, us) - 1) < 5e-3
+    with pytest.raises(InputError):
+        FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / 80, cache_dir=cache, displacement="surface")
