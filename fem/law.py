@@ -46,6 +46,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg as sla
 
 from mdr.errors import InputError, nonnegative, positive
 from mdr.law import History, StepResult
@@ -239,6 +240,26 @@ class FEContact:
             raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
         if (u is None) == (Fx is None):
             raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        if Fx is None:
+            u = float(u)
+            if not np.isfinite(u):
+                raise InputError(f"u must be finite, got {u!r}")
+        else:
+            Fx = float(Fx)
+            if not np.isfinite(Fx):
+                raise InputError(f"Fx must be finite, got {Fx!r}")
+        res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
+        return res, new
+
+    def prepare(self, state: FEState, *, d=None, F_N=None) -> "FETrial":
+        """Normal part of a step, for many trial tangential displacements (as
+        ``mdr.law.MDRContact.prepare``): ``force(u)`` gives (Fx, dFx/du), ``commit(u)``
+        the result of ``step(state, u, ...)``. Lets the apparatus use Newton steps."""
+        if (d is None) == (F_N is None):
+            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
+        return FETrial(self, self._normal_part(state, d, F_N))
+
+    def _normal_part(self, state, d, F_N):
         n = self.n_pairs
         if F_N is not None:
             F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
@@ -254,28 +275,26 @@ class FEContact:
         else:
             res = self.normal(F_N=F_N, d=d)
             lam, FN, dd, a = res.lam, res.force, res.approach, res.contact_radius
-        g = self.mu * lam
-        if Fx is not None:
-            Fx = float(Fx)
-            if not np.isfinite(Fx) or (abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0):
-                raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
-                                 f"mu*F_N={self.mu * FN:.4g} N under force control")
-        else:
-            u = float(u)
-            if not np.isfinite(u):
-                raise InputError(f"u must be finite, got {u!r}")
         T_old = np.asarray(state.T)
         s_old = state.u - self.Ct @ T_old
-        p_old = np.where(np.asarray(state.lam) > 0, state.p, s_old)
+        return {"state": state, "lam": lam, "FN": FN, "d": dd, "a": a, "g": self.mu * lam, "T_old": T_old,
+                "p_old": np.where(np.asarray(state.lam) > 0, state.p, s_old)}
+
+    def _tangential(self, ctx, u, Fx):
+        """Tangential return map of a step; returns (StepResult, FEState, dFx/du)."""
+        n = self.n_pairs
+        state, lam, FN, dd, a, g = ctx["state"], ctx["lam"], ctx["FN"], ctx["d"], ctx["a"], ctx["g"]
+        T_old, p_old = ctx["T_old"], ctx["p_old"]
+        if Fx is not None and abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0:
+            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                             f"mu*F_N={self.mu * FN:.4g} N under force control")
         contact = g > 0
         if not np.any(contact):
-            if Fx not in (None, 0.0):
-                raise InputError("tangential force needs contact (F_N > 0)")
             uu = state.u if u is None else u
             z = np.zeros(n)
             new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
                           sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
-            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0), new
+            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0), new, 0.0
         k = self.k
         if self.friction_al_tol > 0:
             lbar = np.clip(T_old, -g, g)
@@ -299,6 +318,9 @@ class FEContact:
                                        f"mu max(lam) after {self.max_al} passes (friction_al_tol="
                                        f"{self.friction_al_tol:g})")
             s = uu - self.Ct @ T
+            free = (sgn == 0) & contact
+            slope = float(np.sum(sla.cho_solve(self._fac.get(free), np.ones(int(free.sum())),
+                                               check_finite=False))) if np.any(free) else 0.0
         p_new = np.where(contact, s - (T - lbar) / k, s)
         work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
         c = self._stick_radius(np.abs(trial) - g, contact, a)
@@ -309,7 +331,7 @@ class FEContact:
         new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
                       u=float(uu), d=float(dd))
         return StepResult(Fx=float(T.sum()), FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
-                          work=work), new
+                          work=work), new, slope
 
     def _stick_radius(self, phi, contact, a):
         """Outer edge of the central zone of pairs that did not slip in the step: the zero of
@@ -352,3 +374,29 @@ class FEContact:
             for key in out:
                 out[key][t] = getattr(res, key)
         return History(state=state, **out)
+
+
+class FETrial:
+    """A prepared step of an FEContact (see :meth:`FEContact.prepare`); pure like ``step``."""
+
+    def __init__(self, law: FEContact, ctx: dict):
+        self.law, self.ctx = law, ctx
+        self._last = None
+
+    def _at(self, u):
+        u = float(u)
+        if not np.isfinite(u):
+            raise InputError(f"u must be finite, got {u!r}")
+        if self._last is None or self._last[0] != u:
+            self._last = (u, self.law._tangential(self.ctx, u, None))
+        return self._last[1]
+
+    def force(self, u):
+        """(Fx, dFx/du) at plate (or contact) displacement u; dFx/du is the stick-set tangent."""
+        res, _, slope = self._at(u)
+        return res.Fx, slope
+
+    def commit(self, u):
+        """(StepResult, FEState) of the step to displacement u."""
+        res, new, _ = self._at(u)
+        return res, new

@@ -312,3 +312,31 @@ def test_contact_displacement_measure_gives_half_space_loops_under_displacement_
         assert abs(dW / mindlin_deresiewicz_dissipation(uA, F, MU, us) - 1) < 5e-3
     with pytest.raises(InputError):
         FEContact(SPHERE, MAT, MU, F_max=F, h_contact=1 / 80, cache_dir=cache, displacement="surface")
+
+
+def test_prepare_commit_equals_step_and_slope_is_a_tangent(sphere):
+    s0 = sphere.rest_state()
+    _, s1 = sphere.step(s0, Fx=0.04, F_N=F)
+    u = s1.u * 1.3
+    tr = sphere.prepare(s1, F_N=F)
+    Fx, k = tr.force(u)
+    r_c, s_c = tr.commit(u)
+    r_s, s_s = sphere.step(s1, u, F_N=F)
+    assert r_c == r_s and np.array_equal(s_c.T, s_s.T) and Fx == r_s.Fx
+    h = 1e-4 * s1.u
+    fd = (tr.force(u + h)[0] - tr.force(u - h)[0]) / (2 * h)
+    assert k > 0 and abs(k / fd - 1) < 0.05  # penalty tangent of the stick set
+
+
+@pytest.mark.slow
+def test_fe_law_runs_inside_the_apparatus_like_mdr(cache):
+    """The apparatus model drives the FE law (displacement='contact') unchanged; its slip
+    index agrees with the MDR law's within 0.5 % (truncated sphere b = 20 um, dF = 0.1 N)."""
+    from mdr.apparatus import Apparatus, run_apparatus
+
+    prof = make_profile("truncated", R, 20e-6)
+    law = FEContact(prof, MAT, MU, F_max=0.6, h_contact=1 / 40, cache_dir=cache, displacement="contact")
+    r_fe = run_apparatus(law, Apparatus(), MU, F, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=100)
+    r_md = run_apparatus(MDRContact(prof, MAT, MU, F_max=0.6, n=2000), Apparatus(), MU, F, dF=0.1, alpha=0.0,
+                         ua=150e-9, cycles=3, steps=100)
+    assert abs(float(r_fe["slip_index"]) / float(r_md["slip_index"]) - 1) < 5e-3
