@@ -29,7 +29,8 @@ def test_harmonic_fretting_invariants(prof, mat, mu, F0, q, alpha, ua):
     if res["stationary"]:
         assert abs(Fx[-1] - Fx[0]) <= 1e-6 * mu * F0
         scale = 4 * mu * F0 * ua
-        assert abs(res["dissipation"] - res["friction_work"]) <= 2e-3 * res["dissipation"] + 5e-3 * scale
+        # with a varying normal force the two differ by a first-order time-step error (80 steps)
+        assert abs(res["dissipation"] - res["friction_work"]) <= (2e-3 + 0.1 * q) * res["dissipation"] + 5e-3 * scale
 
 
 @settings(**SETTINGS)
