@@ -64,12 +64,14 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
-                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None) -> dict:
+                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None, state_at=None):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
     ``law`` is any object of the contact-law protocol (``run(u=|Fx=, F_N=)``
     returning a History); default: an MDRContact with ``n`` cells sized for
-    the load history.
+    the load history. ``state_at`` (a step index): also return the law's state
+    after that step, as ``(result, state)`` (the history is run in two pieces,
+    which gives the same result).
     """
     F0, dF, alpha, mu, ua, fa, cycles, steps = check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)
     t_start = time.perf_counter()
@@ -77,10 +79,20 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
     t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
     s = np.sin(2.0 * np.pi * t)
-    if ua is not None:
-        H = law.run(u=ua * s, F_N=FN)
+    drive = ua * s if ua is not None else fa * s
+    key = "u" if ua is not None else "Fx"
+    kept = None
+    if state_at is None:
+        H = law.run(**{key: drive}, F_N=FN)
     else:
-        H = law.run(Fx=fa * s, F_N=FN)
+        k = int(state_at)
+        if not 0 <= k < t.size - 1:
+            raise InputError(f"state_at must be a step index in [0, {t.size - 2}], got {state_at!r}")
+        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1])
+        H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state)
+        kept = H1.state
+        H = type(H2)(state=H2.state, **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-1)
+                                        for f in ("u", "Fx", "FN", "d", "a", "c", "work")})
     cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0)
     last = slice(cycles * steps - steps, cycles * steps + 1)
     dW = float(cyc.dissipation[-1])
@@ -92,7 +104,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
                       f"{float(cyc.loop_change[-1]):.2e} of mu F0); run more --cycles", RuntimeWarning)
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
-    return {
+    out = {
         "contact_radius": float(profile.g_inv(d0)),
         "indentation": d0,
         "normal_force": F0,
@@ -111,3 +123,4 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
                    "ua": ua, "fa": fa, "cycles": cycles, "steps": steps,
                    "law": law.describe() if hasattr(law, "describe") else type(law).__name__},
     }
+    return out if state_at is None else (out, kept)

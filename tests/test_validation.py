@@ -1,0 +1,208 @@
+"""validation.compare: report structure, figures, atomic per-scene storage, metrics (fast suite).
+
+The physics of the full catalogue is asserted in tests/test_validation_full.py (slow).
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mdr import Materials, reference as ref
+from mdr.drive import run_contact
+from mdr.profiles import TruncatedSphere
+from validation import compare, metrics, runner
+from validation.fields import image_is_blank
+from validation.scenes import CATALOGUE, Scene, code_version, select
+
+CONTRACT_KEYS = ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index", "runtime_s", "loop")
+
+
+def tiny(name="sphere-md", **kw):
+    """A scene on very coarse ladders (seconds): structure, not accuracy."""
+    s = CATALOGUE[name]
+    return replace(s, fe_levels=(1 / 8, 1 / 16), mdr_cells=(25, 100), steps=40, cycles=3, **kw)
+
+
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("compare")
+    rc = compare.main(["--quick", "--scenes", "sphere-md", "--out", str(out), "--no-hard-cases"])
+    return rc, out
+
+
+def test_quick_report_structure(quick_report):
+    rc, out = quick_report
+    assert rc == 0
+    report = (out / "report.md").read_text()
+    assert report.startswith("# MDR against FE")
+    assert "## Summary" in report and "## sphere-md" in report
+    data = json.loads((out / "results.json").read_text())
+    sc = data["scenes"]["sphere-md"]
+    for side in ("mdr", "fem"):
+        for k in CONTRACT_KEYS:
+            assert k in sc[side], (side, k)
+        assert set(sc[side]["loop"]) >= {"t", "du", "Fx", "FN"}
+    assert "dofs" in sc["fem"] and "setup" in sc["fem"]["runtime_s"]
+    for q in ("contact_radius", "stick_radius", "dissipation", "slip_index"):
+        assert {"mdr_minus_fe", "fe_error"} <= set(sc["errors"][q])
+    assert len([r for r in sc["speed_error"] if r["side"] == "fem"]) >= 3
+    assert len([r for r in sc["speed_error"] if r["side"] == "mdr"]) >= 3
+    # every figure the report embeds exists
+    for line in report.splitlines():
+        if line.startswith("!["):
+            assert (out / line.split("(")[1].rstrip(")")).is_file(), line
+
+
+def test_quick_report_physics(quick_report):
+    """Sphere at constant F_N: both sides against Mindlin-Deresiewicz and Hertz (closed forms)."""
+    _, out = quick_report
+    sc = json.loads((out / "scenes" / "sphere-md" / "result.json").read_text())
+    cfe = sc["errors"]["closed_form"]
+    assert abs(cfe["mdr"]["dissipation"]) < 0.005  # MDR: grid and time-step error only
+    fe_err = sc["errors"]["dissipation"]["fe_error"]
+    assert abs(cfe["fem"]["dissipation"]) < fe_err + 0.01
+    assert abs(cfe["fem"]["contact_radius"]) < 0.005
+    assert abs(cfe["mdr"]["pressure_profile"]) < 1e-3 and abs(cfe["fem"]["pressure_profile"]) < 0.01
+    assert sc["errors"]["dissipation"]["mdr_minus_fe"] is not None
+    assert abs(sc["errors"]["dissipation"]["mdr_minus_fe"]) < fe_err + 0.01
+    # the stored closed form is Mindlin-Deresiewicz's, independently recomputed here
+    m = Materials()
+    h = ref.hertz(0.5, 6e-3, m.E_star)
+    us = ref.gross_slip_displacement(h["d"], 0.2, m.E_star, m.G_star)
+    assert sc["closed_form"]["dissipation"] == pytest.approx(
+        ref.mindlin_deresiewicz_dissipation_force(0.05, 0.5, 0.2, us), rel=1e-12)
+
+
+def test_field_plot_not_blank(quick_report):
+    import matplotlib.image as mpimg
+
+    _, out = quick_report
+    img = mpimg.imread(out / "scenes" / "sphere-md" / "fields.png")
+    assert img.shape[0] > 200 and img.shape[1] > 600
+    assert not image_is_blank((img * 255).astype(np.uint8))
+    assert image_is_blank(np.full((50, 50, 3), 255, np.uint8))
+
+
+def test_vtu_has_fields(quick_report):
+    import meshio
+
+    _, out = quick_report
+    m = meshio.read(out / "scenes" / "sphere-md" / "fields.vtu")
+    assert {"mises", "u"} <= set(m.point_data)
+    assert np.all(np.isfinite(m.point_data["mises"])) and np.max(m.point_data["mises"]) > 1e7  # ~0.6 p0
+
+
+def test_rerun_skips_unchanged_and_force_reruns(tmp_path, capsys):
+    s = tiny()
+    st = compare.run_all([s], tmp_path, fields=False)
+    assert st == {s.name: "ok"}
+    f = tmp_path / "scenes" / s.name / "result.json"
+    first = f.stat().st_mtime_ns
+    assert compare.run_all([s], tmp_path, fields=False) == {s.name: "skipped"}
+    assert f.stat().st_mtime_ns == first
+    # a changed input is rerun
+    assert compare.run_all([replace(s, amplitude=0.04)], tmp_path, fields=False) == {s.name: "ok"}
+    assert compare.run_all([replace(s, amplitude=0.04)], tmp_path, fields=False, force=True) == {s.name: "ok"}
+    assert json.loads(f.read_text())["scene"]["amplitude"] == 0.04
+
+
+def test_interrupted_scene_leaves_nothing(tmp_path, monkeypatch):
+    s = tiny()
+
+    def boom(*a, **k):
+        Path(a[1], "partial.txt").write_text("half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(runner, "run_scene", boom)
+    with pytest.raises(KeyboardInterrupt):
+        runner.write_scene(s, tmp_path, "x")
+    assert not (tmp_path / "scenes" / s.name).exists()
+    assert list((tmp_path / "scenes").iterdir()) == []
+
+
+def test_custom_executor_and_failure_isolation(tmp_path):
+    """Any concurrent.futures executor runs the scenes; a failing scene does not stop the others."""
+    good = tiny()
+    bad = tiny("geom-b20um", amplitude=0.5)  # beyond the friction limit: force control has no equilibrium
+    with cf.ThreadPoolExecutor(max_workers=2) as ex:
+        st = compare.run_all([good, bad], tmp_path, executor=ex, fields=False, log=lambda m: None)
+    assert st[good.name] == "ok"
+    assert st[bad.name].startswith("InputError") and "fa" in st[bad.name]
+    assert not (tmp_path / "scenes" / bad.name).exists()
+
+
+def test_cli_bad_input(capsys, tmp_path):
+    assert compare.main(["--scenes", "nope", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nope" in err[0] and "sphere-md" in err[0]
+    assert compare.main(["--jobs", "0", "--out", str(tmp_path)]) == 2
+    assert "jobs" in capsys.readouterr().err
+    f = tmp_path / "file"
+    f.write_text("")
+    assert compare.main(["--scenes", "sphere-md", "--out", str(f)]) == 2
+    assert list(tmp_path.iterdir()) == [f]
+
+
+def test_cli_list(capsys):
+    assert compare.main(["--list"]) == 0
+    text = capsys.readouterr().out
+    for name in CATALOGUE:
+        assert name in text
+
+
+def test_catalogue_covers_the_issue():
+    names = set(CATALOGUE)
+    for b in ("5", "10", "20", "30", "50", "100", "600"):
+        assert f"geom-b{b}um" in names
+    assert {"geom-sphere", "geom-flat", "validity"} <= names
+    assert {f"exp-fig{i}" for i in range(4, 8)} <= names
+    assert {f"app-kx{k}" for k in (1, 2, 10, 20)} <= names
+    for s in CATALOGUE.values():
+        assert len(s.fe_levels) >= 3 or s.variants, s.name
+        assert len(s.mdr_cells) >= 3 or s.variants, s.name
+    quick = select(quick=True)
+    assert 1 <= len(quick) < len(CATALOGUE)
+    assert all(s.fingerprint(code_version()) != replace(s, mu=0.3).fingerprint(code_version()) for s in quick)
+
+
+def test_scene_bad_input():
+    from mdr.errors import InputError
+
+    with pytest.raises(InputError, match="profile"):
+        Scene("x", "x", "cone")
+    with pytest.raises(InputError, match="kx"):
+        Scene("x", "x", "sphere", drive="apparatus")
+    with pytest.raises(InputError, match="unknown scene"):
+        select("sphere-md,zzz")
+
+
+def test_state_at_splits_history_exactly():
+    p, m = TruncatedSphere(6e-3, 20e-6), Materials()
+    for kw in ({"fa": 0.06}, {"ua": 50e-9}):
+        a = run_contact(p, m, 0.2, 0.5, 0.1, 0.3, cycles=3, steps=40, **kw)
+        b, st = run_contact(p, m, 0.2, 0.5, 0.1, 0.3, cycles=3, steps=40, state_at=50, **kw)
+        assert a["dissipation"] == b["dissipation"] and a["loop"] == b["loop"]
+        assert st is not None
+
+
+def test_metrics():
+    t = np.linspace(0, 1, 81)
+    loop = {"du": np.sin(2 * np.pi * t), "Fx": np.sin(2 * np.pi * t + 0.3)}
+    d = metrics.loop_distance(loop, loop, 0.2, 0.5)
+    assert d == {"Fx": 0.0, "du": 0.0, "area": 0.0}
+    shifted = {"du": loop["du"], "Fx": loop["Fx"] + 0.01}
+    assert metrics.loop_distance(shifted, loop, 0.2, 0.5)["Fx"] == pytest.approx(0.1)
+    # profile error of p and 1.01 p is 1 % of the peak times the rms of the profile shape
+    r = np.linspace(0, 1, 200)
+    p = np.sqrt(1 - r**2)
+    e = metrics.profile_error(r, 1.01 * p, r, p, 1.0)
+    assert e == pytest.approx(0.01 * np.sqrt(0.5), rel=1e-3)  # int (1-r^2) r dr / int r dr = 1/2
+    assert metrics.own_error([1.0, 1.1, 1.0]) == pytest.approx(0.1)
+    assert metrics.own_error([1.0]) is None
+    assert metrics.rel(1.0, 0.0) is None
+    assert metrics.dissipation_error(1e-3, 0.0, 0.2, 0.5, 1e-7) == pytest.approx(1e-3 / (4 * 0.2 * 0.5 * 1e-7))

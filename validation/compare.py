@@ -1,0 +1,154 @@
+"""``python -m validation.compare``: run the scenes through MDR and FE and write the report.
+
+Usage::
+
+    python -m validation.compare --quick            # representative subset, < 2 min
+    python -m validation.compare                    # full catalogue
+    python -m validation.compare --scenes sphere-md,geom-b20um --jobs 2 --out results
+    python -m validation.compare --list             # the catalogue
+
+Each scene is written to ``OUT/scenes/NAME/`` atomically when it finishes
+(result.json, fields.vtu, PNGs); a rerun skips scenes whose inputs and code
+are unchanged (``--force`` reruns them). ``OUT/report.md`` and
+``OUT/results.json`` are rebuilt from the stored scenes at the end.
+Exit codes: 0 all scenes ran, 1 a scene failed (the others are reported),
+2 bad input.
+"""
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import sys
+import time
+import traceback
+from pathlib import Path
+
+from mdr.errors import ConvergenceError, InputError, positive_int
+
+from . import report
+from .runner import load_scene, write_scene
+from .scenes import CATALOGUE, code_version, select
+
+
+def _work(scene, out, fingerprint, fields, verbose):
+    """One scene in a worker process (top level: picklable for any executor)."""
+    from fem.solvers import blas_threads
+
+    log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", flush=True)) if verbose else None
+    with blas_threads(1):
+        res = write_scene(scene, out, fingerprint, fields=fields, log=log)
+    return _summary(res)
+
+
+def _summary(res) -> str:
+    e = res.get("errors", {}).get("dissipation")
+    if not e or e.get("mdr_minus_fe") is None:
+        return f"{res.get('runtime_s', 0):.1f} s"
+    fe = e.get("fe_error")
+    return (f"{res['runtime_s']:.1f} s, dissipation MDR-FE {e['mdr_minus_fe']:+.2%}"
+            + (f" (FE error {fe:.2%})" if fe is not None else ""))
+
+
+def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, force: bool = False,
+            fields: bool = True, log=print) -> dict:
+    """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
+
+    ``executor``: any ``concurrent.futures.Executor`` (e.g. a cluster executor);
+    default: in-process for ``jobs == 1``, else a ``ProcessPoolExecutor(jobs)``.
+    """
+    out = Path(out)
+    version = code_version()
+    status, todo = {}, []
+    for s in scenes:
+        fp = s.fingerprint(version)
+        old = load_scene(out, s.name)
+        if not force and old is not None and old.get("fingerprint") == fp:
+            status[s.name] = "skipped"
+            log(f"[skip] {s.name}: unchanged since the last run (--force reruns)")
+        else:
+            todo.append((s, fp))
+    n = len(todo)
+    t0 = time.perf_counter()
+    own = None
+    if executor is None and jobs > 1 and n > 1:
+        executor = own = cf.ProcessPoolExecutor(max_workers=jobs)
+    try:
+        if executor is None:
+            for i, (s, fp) in enumerate(todo, 1):
+                log(f"[{i}/{n}] {s.name}: {s.title}")
+                try:
+                    status[s.name] = "ok"
+                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, True)}")
+                except (InputError, ConvergenceError, RuntimeError, ValueError, ArithmeticError) as e:
+                    status[s.name] = f"{type(e).__name__}: {e}"
+                    log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
+        else:
+            futs = {executor.submit(_work, s, out, fp, fields, False): s for s, fp in todo}
+            log(f"running {n} scene(s) on {jobs if own else 'the given'} executor workers")
+            for i, f in enumerate(cf.as_completed(futs), 1):
+                s = futs[f]
+                try:
+                    msg = f.result()
+                    status[s.name] = "ok"
+                    log(f"[{i}/{n}] {s.name} done: {msg} ({time.perf_counter() - t0:.0f} s elapsed)")
+                except Exception as e:  # a failed scene must not stop the others
+                    status[s.name] = f"{type(e).__name__}: {e}"
+                    log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
+                    traceback.print_exception(e, file=sys.stderr)
+    finally:
+        if own is not None:
+            own.shutdown(cancel_futures=True)
+    return status
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m validation.compare",
+        description="Run the scene catalogue through the MDR and FE contact models and write a report "
+                    "(report.md, results.json, figures, VTU) saying where the half-space model holds.")
+    p.add_argument("--quick", action="store_true",
+                   help="representative subset on coarser ladders (under 2 minutes on 2 cores)")
+    p.add_argument("--scenes", metavar="NAME,...", help="comma-separated scene names (see --list)")
+    p.add_argument("--jobs", type=int, default=1, metavar="N", help="scenes in parallel processes (default 1)")
+    p.add_argument("--out", default="results", metavar="DIR", help="output directory (default ./results)")
+    p.add_argument("--json", metavar="PATH", help="also write results.json to PATH ('-' = stdout)")
+    p.add_argument("--force", action="store_true", help="rerun scenes even if their stored results are current")
+    p.add_argument("--no-fields", action="store_true", help="skip the pyvista field plots")
+    p.add_argument("--no-hard-cases", action="store_true", help="skip the hard-cases table")
+    p.add_argument("--list", action="store_true", help="list the scenes and exit")
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        jobs = positive_int("jobs", args.jobs)
+        if args.list:
+            for s in CATALOGUE.values():
+                print(f"{s.name:16s} {'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
+            return 0
+        scenes = select(args.scenes, quick=args.quick)
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise InputError(f"out must be a directory, got the file {out}")
+    except InputError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    print(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/", flush=True)
+    status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields,
+                     log=lambda m: print(m, flush=True))
+    hard = None
+    if not args.no_hard_cases:
+        hard = report.hard_cases_cached(out, quick=args.quick, log=lambda m: print(m, flush=True))
+    path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
+                               quick=args.quick)
+    failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
+    print(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
+          + (f"; FAILED: {', '.join(failed)}" if failed else ""), flush=True)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

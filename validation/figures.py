@@ -1,0 +1,151 @@
+"""Matplotlib figures of scene results (they read result dicts, never call a solver).
+
+Every figure is written atomically as PNG; functions return ``{key: file name}``
+relative to the directory they write into.
+"""
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from mdr.io import write_bytes_atomic  # noqa: E402
+
+C_MDR, C_FE, C_CF = "tab:blue", "tab:red", "k"
+
+
+def save(fig, path) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110)
+    plt.close(fig)
+    write_bytes_atomic(path, buf.getvalue())
+    return Path(path).name
+
+
+def _loop_axes(ax_du, ax_fn, res, label, color, ls="-"):
+    lp = res["loop"]
+    du, fx, fn = (np.asarray(lp[k], float) for k in ("du", "Fx", "FN"))
+    ax_du.plot(du * 1e9, fx, ls, color=color, label=label, lw=1.4)
+    ax_fn.plot(fn, fx, ls, color=color, label=label, lw=1.4)
+
+
+def scene_figures(result: dict, out_dir) -> dict:
+    """loops.png (F_x-du, F_x-F_N), profiles.png (p, tau), speed_error.png for one scene."""
+    out_dir = Path(out_dir)
+    s = result["scene"]
+    files = {}
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    _loop_axes(a1, a2, result["mdr"], f"MDR (n={result['mdr']['cells']})", C_MDR)
+    _loop_axes(a1, a2, result["fem"], f"FE (a/{1 / result['fem']['h_contact']:.0f})", C_FE, "--")
+    a1.set_xlabel("du (nm)")
+    a1.set_ylabel("F_x (N)")
+    a2.set_xlabel("F_N (N)")
+    a2.set_ylabel("F_x (N)")
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.suptitle(f"{s['name']}: stationary loop")
+    fig.tight_layout()
+    files["loops"] = save(fig, out_dir / "loops.png")
+
+    cf = result.get("closed_form")
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    pm, pf = result["mdr"]["profiles"], result["fem"]["profiles"]
+    a1.plot(np.asarray(pm["r"]) * 1e6, np.asarray(pm["pressure"]) / 1e6, color=C_MDR, label="MDR")
+    a1.plot(np.asarray(pf["r"]) * 1e6, np.asarray(pf["pressure"]) / 1e6, ".", ms=3, color=C_FE, label="FE")
+    if pm.get("traction") is not None:
+        a2.plot(np.asarray(pm["r"]) * 1e6, np.asarray(pm["traction"]) / 1e6, color=C_MDR, label="MDR")
+    if pf.get("traction") is not None:
+        a2.plot(np.asarray(pf["r_pairs"]) * 1e6, np.asarray(pf["traction"]) / 1e6, ".", ms=3, color=C_FE, label="FE")
+    if cf is not None:
+        pc = cf["profiles"]
+        a1.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["pressure"]) / 1e6, ":", color=C_CF, label="closed form")
+        a2.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["traction"]) / 1e6, ":", color=C_CF, label="closed form")
+    pmax = np.nanmax(np.abs(pm["pressure"])) / 1e6
+    a1.set_ylim(0, 1.6 * pmax)
+    a1.set_xlabel("r (um)")
+    a1.set_ylabel("p (MPa) at F_N = F0")
+    a2.set_xlabel("r (um)")
+    a2.set_ylabel("tau (MPa) at the peak of the last cycle")
+    if pm.get("traction") is not None:
+        tmax = np.nanmax(np.abs(pm["traction"])) / 1e6
+        if np.isfinite(tmax) and tmax > 0:
+            a2.set_ylim(-0.1 * tmax, 1.6 * tmax)
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.suptitle(f"{s['name']}: pressure and traction")
+    fig.tight_layout()
+    files["profiles"] = save(fig, out_dir / "profiles.png")
+
+    files["speed_error"] = save(pareto_figure({s["name"]: result["speed_error"]}), out_dir / "speed_error.png")
+    return files
+
+
+def pareto_figure(rows_by_scene: dict):
+    """Dissipation error against runtime: MDR grids and FE meshes of each scene (log-log)."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    markers = "osD^v<>ph*"
+    for i, (name, rows) in enumerate(rows_by_scene.items()):
+        for side, color in (("mdr", C_MDR), ("fem", C_FE)):
+            pts = [(r["runtime_s"], r["error_vs_closed_form"] if r["error_vs_closed_form"] is not None
+                    else r["error_vs_fe"]) for r in rows if r["side"] == side]
+            pts = [(t, abs(e)) for t, e in pts if e is not None and e != 0]
+            if not pts:
+                continue
+            t, e = zip(*sorted(pts))
+            ax.loglog(t, e, marker=markers[i % len(markers)], color=color, lw=1, ms=5,
+                      label=f"{name} {side.upper()}")
+    ax.set_xlabel("runtime (s)")
+    ax.set_ylabel("|dissipation error|")
+    ax.set_title("speed against error (closed form where one exists, else finest FE)", fontsize=9)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    return fig
+
+
+def validity_figure(result: dict, out_dir) -> dict:
+    """Deviation of the FE from MDR (contact radius, stick radius, dissipation) against size / a."""
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    rows = result["validity"]
+    for kind, mk in (("block", "o"), ("cap", "s")):
+        sel = sorted([r for r in rows if f"{kind} " in r["variant"]], key=lambda r: r[f"{kind}_over_a"])
+        if not sel:
+            continue
+        x = [r[f"{kind}_over_a"] for r in sel]
+        for q, c in (("contact_radius", "tab:blue"), ("stick_radius", "tab:green"), ("dissipation", "tab:red")):
+            y = [abs(r[f"{q}_mdr_minus_fe"] or 0) * 100 for r in sel]
+            ax.semilogy(x, y, marker=mk, color=c, ls="-" if kind == "block" else "--",
+                        label=f"{q.replace('_', ' ')}, {kind} shrunk")
+    ax.set_xscale("log")
+    ax.set_xlabel("block or cap size / contact radius")
+    ax.set_ylabel("|MDR - FE| (%)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=7)
+    ax.set_title("Where the half-space assumption breaks", fontsize=10)
+    fig.tight_layout()
+    return {"validity": save(fig, Path(out_dir) / "validity.png")}
+
+
+def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
+    """Slip index against a scene parameter: ``points = {"mdr": [(x, delta)], "fem": [...]}``."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for side, color, mk in (("mdr", C_MDR, "o-"), ("fem", C_FE, "s--")):
+        pts = sorted(p for p in points.get(side, []) if p[1] is not None)
+        if pts:
+            x, y = zip(*pts)
+            ax.plot(x, y, mk, color=color, label=side.upper())
+    if logx:
+        ax.set_xscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("slip index delta = dW / (4 mu F0 u_A)")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend()
+    fig.tight_layout()
+    return save(fig, path)

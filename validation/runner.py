@@ -1,0 +1,431 @@
+"""Run one scene through MDR and FE side by side: result ladders, errors, files.
+
+For each scene (``validation.scenes.Scene``):
+
+1. MDR at each grid size of ``scene.mdr_cells`` (``mdr.law.MDRContact``);
+2. FE at each mesh level of ``scene.fe_levels`` (``fem.law.FEContact`` with
+   ``displacement="contact"``: the displacement is measured without the finite
+   bodies' series compliance, the quantity a half-space law predicts);
+3. both driven by the same code (``mdr.drive.run_contact`` for the contact
+   driven directly, ``mdr.apparatus.apparatus_result`` for the apparatus), so
+   the result keys are those of ``python -m mdr contact`` / ``apparatus``;
+4. profiles at the mean normal force (pressure) and at the peak of the last
+   cycle (tangential traction), closed forms where they exist;
+5. differences (finest MDR against finest FE), each beside the FE's own error
+   estimate (finest against next coarser level) and the MDR's own.
+
+The result is plain data (JSON); ``write_scene`` stores it with its figures
+atomically in one directory per scene.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from mdr.apparatus import Apparatus, apparatus_result
+from mdr.drive import run_contact
+from mdr.io import write_json
+from mdr.law import MDRContact
+from mdr.materials import Materials
+from mdr.normal import approach_from_force, pressure
+from mdr.profiles import make_profile
+from mdr import reference as ref
+
+from . import metrics
+from .scenes import Scene, a_ref
+
+QUANTITIES = ("contact_radius", "stick_radius", "dissipation", "slip_index")
+_UMASK = os.umask(0o022)
+os.umask(_UMASK)
+
+
+def materials_of(s: Scene) -> Materials:
+    return Materials(s.E1, s.nu1, s.E2, s.nu2)
+
+
+def profile_of(s: Scene):
+    return make_profile(s.profile, None if s.profile == "flat" else s.R, None if s.profile == "sphere" else s.b)
+
+
+def peak_index(s: Scene) -> int:
+    """Step of the positive peak of the tangential drive in the last cycle."""
+    return (s.cycles - 1) * s.steps + s.steps // 4
+
+
+class _Recorder:
+    """Wraps a contact law and keeps the state committed at step ``at`` (apparatus runs)."""
+
+    def __init__(self, law, at):
+        self._law, self._at, self._count, self.state = law, at, 0, None
+
+    def __getattr__(self, name):
+        return getattr(self._law, name)
+
+    def prepare(self, state, **kw):
+        trial, rec = self._law.prepare(state, **kw), self
+
+        class _T:
+            def force(self, u):
+                return trial.force(u)
+
+            def commit(self, u):
+                res, new = trial.commit(u)
+                if rec._count == rec._at:
+                    rec.state = new
+                rec._count += 1
+                return res, new
+
+        return _T()
+
+
+def _drive(s: Scene, law):
+    """Run the scene's loading with ``law``; returns (result dict, state at the peak step)."""
+    prof, mat = profile_of(s), materials_of(s)
+    k = peak_index(s)
+    if s.drive == "apparatus":
+        rec = _Recorder(law, k)
+        out = apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
+                               ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=rec)
+        return out, rec.state
+    kw = {"fa": s.amplitude} if s.drive == "force" else {"ua": s.amplitude}
+    return run_contact(prof, mat, s.mu, s.F0, s.dF, s.alpha, cycles=s.cycles, steps=s.steps, law=law,
+                       state_at=k, **kw)
+
+
+def _timed_median(fun, budget=0.3, repeats=5):
+    """Median wall time of fun() over up to ``repeats`` calls within ~``budget`` s; returns (value, t)."""
+    times, val = [], None
+    t_all = time.perf_counter()
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        val = fun()
+        times.append(time.perf_counter() - t0)
+        if time.perf_counter() - t_all > budget:
+            break
+    return val, statistics.median(times)
+
+
+def _r_profile(s: Scene, a_max):
+    return np.linspace(0.0, 1.2 * a_max, 241)
+
+
+def run_mdr(s: Scene, n: int) -> dict:
+    """One MDR run of the scene with n cells; result dict + profiles."""
+    prof, mat = profile_of(s), materials_of(s)
+
+    def once():
+        law = MDRContact(prof, mat, s.mu, F_max=s.F0 + s.dF, F_min=s.F0 - s.dF if s.dF < s.F0 else None, n=n)
+        out, st = _drive(s, law)
+        return law, out, st
+
+    (law, out, st), t = _timed_median(once)
+    out["runtime_s"] = t
+    r = _r_profile(s, a_ref(s))
+    d0 = float(approach_from_force(prof, mat, s.F0))
+    out["profiles"] = {"r": r.tolist(), "pressure": np.asarray(pressure(prof, mat, d0, r), float).tolist(),
+                       "traction": law.traction(st, r).tolist() if st is not None else None}
+    out["cells"] = int(n)
+    return out
+
+
+def _fe_law(s: Scene, h, **mesh_kw):
+    from fem.law import FEContact
+
+    return FEContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
+                     displacement="contact", **mesh_kw)
+
+
+def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
+    """One FE run at mesh level h (element size / a_ref); result dict + profiles, and the
+    field data for plots (pair radii, pressure, traction and slip flags at the peak)."""
+    from fem.output import write_vtu
+
+    t0 = time.perf_counter()
+    law = _fe_law(s, h, **mesh_kw)
+    t1 = time.perf_counter()
+    out, st = _drive(s, law)
+    t2 = time.perf_counter()
+    nr = law.normal(F_N=s.F0)
+    out["contact_radius"] = nr.contact_radius
+    out["indentation"] = nr.indentation
+    it = law.model.interface
+    stats = law.stats
+    out.update({
+        "dofs": law.dofs, "h_contact": h,
+        "mesh": dict(law.amesh.params.as_dict(), key=law.amesh.key),
+        "bulk_compliance": law.c_bulk,
+        "solver": {"backend": law.model.backend, "pairs": law.n_pairs, "steps": stats["steps"],
+                   "newton_per_step": stats["newton"] / max(stats["steps"], 1),
+                   "al_per_step": stats["al"] / max(stats["steps"], 1),
+                   "normal_solves": stats["normal_solves"], "friction_penalty_error": stats["al_change_max"]},
+        "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0},
+    })
+    T = np.asarray(st.T) if st is not None else np.zeros(it.n)
+    lam = np.asarray(st.lam) if st is not None else np.zeros(it.n)
+    out["profiles"] = {"r": nr.r.tolist(), "pressure": nr.pressure.tolist(),
+                       "r_pairs": it.r.tolist(), "traction": (T / it.w).tolist() if st is not None else None}
+    field = {"r": it.r, "p": nr.lam / it.w, "tau": T / it.w, "contact": lam > 0,
+             "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(it.n, bool)}
+    if vtu_path is not None:
+        write_vtu(law.model, nr, vtu_path)
+    return out, field
+
+
+def closed_forms(s: Scene) -> dict | None:
+    """Closed-form values of the scene (None if none applies), with their source."""
+    cf = s.closed_form
+    if cf is None or s.drive != "force":
+        return None
+    mat = materials_of(s)
+    Es, Gs = mat.E_star, mat.G_star
+    fa, FN, mu = s.amplitude, s.F0, s.mu
+    r = _r_profile(s, a_ref(s))
+    if cf == "hertz-mindlin":
+        h = ref.hertz(FN, s.R, Es)
+        a, d = float(h["a"]), float(h["d"])
+        us = ref.gross_slip_displacement(d, mu, Es, Gs)
+        return {"source": "Hertz (1882); Cattaneo (1938); Mindlin & Deresiewicz (1953, J. Appl. Mech.)",
+                "contact_radius": a, "indentation": d,
+                "stick_radius": float(ref.cattaneo_mindlin_stick_radius(fa, FN, mu, a)),
+                "dissipation": float(ref.mindlin_deresiewicz_dissipation_force(fa, FN, mu, us)),
+                "profiles": {"r": r.tolist(), "pressure": ref.hertz_pressure(r, FN, s.R, Es).tolist(),
+                             # at the peak of a stationary loop the traction is Cattaneo's at F_A (Masing)
+                             "traction": ref.cattaneo_mindlin_traction(r, fa, FN, mu, a).tolist()}}
+    b = s.b
+    inside = r < b
+    q = np.zeros_like(r)
+    q[inside] = fa / (2 * np.pi * b * np.sqrt(b**2 - r[inside] ** 2))
+    return {"source": "Boussinesq (1885) flat punch; Mindlin (1949, J. Appl. Mech.): full stick below mu F_N",
+            "contact_radius": b, "indentation": float(ref.flat_punch_approach(FN, b, Es)),
+            "stick_radius": b, "dissipation": 0.0,
+            "profiles": {"r": r.tolist(), "pressure": np.asarray(ref.flat_punch_pressure(r, FN, b)).tolist(),
+                         "traction": q.tolist()}}
+
+
+def _u_amp(res):
+    return float(res.get("displacement_amplitude") or 0.5 * np.ptp(res["loop"]["du"]))
+
+
+def compare(s: Scene, mdr: dict, fe: dict, fe_ladder: list, mdr_ladder: list, cf: dict | None) -> dict:
+    """Differences MDR - FE (finest of each), the FE and MDR own error estimates, closed-form errors."""
+    u_A = _u_amp(fe)
+    err = {}
+    for q in QUANTITIES:
+        if q == "slip_index":
+            a, b = mdr.get(q), fe.get(q)
+            diff = None if a is None or b is None else float(a) - float(b)
+            fe_err = metrics.own_error([x.get(q) for x in fe_ladder])
+            fe_err = None if fe_err is None or b is None else fe_err * abs(float(b))
+            mdr_err = metrics.own_error([x.get(q) for x in mdr_ladder])
+            mdr_err = None if mdr_err is None or a is None else mdr_err * abs(float(a))
+            err[q] = {"mdr_minus_fe": diff, "fe_error": fe_err, "mdr_error": mdr_err, "kind": "absolute"}
+            continue
+        if q == "dissipation":
+            diff = metrics.dissipation_error(mdr[q], fe[q], s.mu, s.F0, u_A)
+            fe_err = metrics.dissipation_error(fe_ladder[-1][q], fe_ladder[-2][q], s.mu, s.F0, u_A) \
+                if len(fe_ladder) > 1 else None
+            mdr_err = metrics.dissipation_error(mdr_ladder[-1][q], mdr_ladder[-2][q], s.mu, s.F0, u_A) \
+                if len(mdr_ladder) > 1 else None
+            fe_err = None if fe_err is None else abs(fe_err)
+            mdr_err = None if mdr_err is None else abs(mdr_err)
+        else:
+            diff = metrics.rel(mdr[q], fe[q])
+            fe_err = metrics.own_error([x[q] for x in fe_ladder])
+            mdr_err = metrics.own_error([x[q] for x in mdr_ladder])
+        err[q] = {"mdr_minus_fe": diff, "fe_error": fe_err, "mdr_error": mdr_err, "kind": "relative"}
+    a_max = a_ref(s)
+    pm, pf = mdr["profiles"], fe["profiles"]
+    r_edge = 0.95 * min(float(mdr["contact_radius"]), float(fe["contact_radius"]))
+    err["pressure_profile"] = {"mdr_minus_fe": metrics.profile_error(pm["r"], pm["pressure"], pf["r"], pf["pressure"],
+                                                                    r_edge)}
+    if len(fe_ladder) > 1:
+        p2 = fe_ladder[-2]["profiles"]
+        err["pressure_profile"]["fe_error"] = metrics.profile_error(p2["r"], p2["pressure"], pf["r"], pf["pressure"],
+                                                                    r_edge)
+    if pm.get("traction") is not None and pf.get("traction") is not None:
+        err["traction_profile"] = {"mdr_minus_fe": metrics.profile_error(pm["r"], pm["traction"], pf["r_pairs"],
+                                                                        pf["traction"], r_edge)}
+        if len(fe_ladder) > 1 and fe_ladder[-2]["profiles"].get("traction") is not None:
+            p2 = fe_ladder[-2]["profiles"]
+            err["traction_profile"]["fe_error"] = metrics.profile_error(p2["r_pairs"], p2["traction"], pf["r_pairs"],
+                                                                        pf["traction"], r_edge)
+    err["loop"] = metrics.loop_distance(mdr["loop"], fe["loop"], s.mu, s.F0)
+    if len(fe_ladder) > 1:
+        own = metrics.loop_distance(fe_ladder[-2]["loop"], fe["loop"], s.mu, s.F0)
+        err["loop"] = {k: {"mdr_minus_fe": v, "fe_error": own[k]} for k, v in err["loop"].items()}
+    else:
+        err["loop"] = {k: {"mdr_minus_fe": v} for k, v in err["loop"].items()}
+    if cf is not None:
+        cfe = {}
+        for side, res in (("mdr", mdr), ("fem", fe)):
+            cfe[side] = {q: metrics.rel(res[q], cf[q]) for q in ("contact_radius", "stick_radius")}
+            cfe[side]["dissipation"] = metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0,
+                                                                 _u_amp(res))
+            p = res["profiles"]
+            cfe[side]["pressure_profile"] = metrics.profile_error(p["r"], p["pressure"], cf["profiles"]["r"],
+                                                                  cf["profiles"]["pressure"], 0.95 * cf["contact_radius"])
+            if p.get("traction") is not None:
+                rr = p["r_pairs"] if side == "fem" else p["r"]
+                cfe[side]["traction_profile"] = metrics.profile_error(rr, p["traction"], cf["profiles"]["r"],
+                                                                      cf["profiles"]["traction"],
+                                                                      0.95 * cf["contact_radius"])
+        err["closed_form"] = cfe
+    err["a_ref"] = a_max
+    return err
+
+
+def speed_error(s: Scene, fe_ladder: list, mdr_ladder: list, cf: dict | None) -> list:
+    """Rows (side, level, dofs or cells, runtime, dissipation error vs finest FE and vs closed form)."""
+    best = fe_ladder[-1]
+    rows = []
+    for side, ladder in (("fem", fe_ladder), ("mdr", mdr_ladder)):
+        for res in ladder:
+            u_A = _u_amp(res)
+            rt = res["runtime_s"]["total"] if isinstance(res["runtime_s"], dict) else res["runtime_s"]
+            row = {"side": side, "level": (f"a/{1 / res['h_contact']:.0f}" if side == "fem" else f"n={res['cells']}"),
+                   "size": res["dofs"] if side == "fem" else res["cells"], "runtime_s": rt,
+                   "runtime_cycles_s": res["runtime_s"]["cycles"] if side == "fem" else rt,
+                   "dissipation": res["dissipation"],
+                   "error_vs_fe": None if res is best else
+                   metrics.dissipation_error(res["dissipation"], best["dissipation"], s.mu, s.F0, u_A),
+                   "error_vs_closed_form": None if cf is None else
+                   metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0, u_A)}
+            rows.append(row)
+    return rows
+
+
+def _strip(res: dict) -> dict:
+    """Ladder entries without the bulky arrays (kept for the finest levels only)."""
+    return {k: v for k, v in res.items() if k not in ("loop", "profiles", "dissipation_per_cycle")}
+
+
+def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
+    """Run one scene; returns its result dict. With ``out_dir`` the VTU and figures are
+    written there (the caller makes the directory atomic, see ``write_scene``)."""
+    log = log or (lambda msg: None)
+    t0 = time.perf_counter()
+    if s.variants:
+        return _run_validity(s, out_dir, log)
+    out_dir = Path(out_dir) if out_dir is not None else None
+    mdr_ladder = []
+    for n in s.mdr_cells:
+        mdr_ladder.append(run_mdr(s, n))
+        log(f"  mdr n={n}: dW={mdr_ladder[-1]['dissipation']:.4g} J in {mdr_ladder[-1]['runtime_s']:.3g} s")
+    fe_ladder, field = [], None
+    for i, h in enumerate(s.fe_levels):
+        last = i == len(s.fe_levels) - 1
+        vtu = out_dir / "fields.vtu" if (last and out_dir is not None) else None
+        res, fld = run_fe(s, h, vtu_path=vtu)
+        fe_ladder.append(res)
+        if last:
+            field = fld
+        log(f"  fem a/{1 / h:.0f} ({res['dofs']} DOFs): dW={res['dissipation']:.4g} J, set-up "
+            f"{res['runtime_s']['setup']:.2f} s, cycles {res['runtime_s']['cycles']:.2f} s")
+    cf = closed_forms(s)
+    mdr, fe = mdr_ladder[-1], fe_ladder[-1]
+    result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": fe,
+              "errors": compare(s, mdr, fe, fe_ladder, mdr_ladder, cf),
+              "ladder": {"mdr": [_strip(x) for x in mdr_ladder], "fem": [_strip(x) for x in fe_ladder]},
+              "speed_error": speed_error(s, fe_ladder, mdr_ladder, cf),
+              "files": {}}
+    if out_dir is not None:
+        from . import figures
+
+        result["files"]["vtu"] = "fields.vtu"
+        result["files"].update(figures.scene_figures(result, out_dir))
+        if fields:
+            from . import fields as fieldplots
+
+            try:
+                result["files"]["fields"] = fieldplots.field_figure(out_dir / "fields.vtu", field, result,
+                                                                    out_dir / "fields.png")
+            except fieldplots.RenderError as e:
+                result["files"]["fields_error"] = str(e)
+                log(f"  field plot skipped: {e}")
+    result["runtime_s"] = time.perf_counter() - t0
+    return result
+
+
+def _run_validity(s: Scene, out_dir, log) -> dict:
+    """Half-space validity: FE with the block or the cap shrunk (multiples of a_ref), one mesh level."""
+    h = s.fe_levels[-1]
+    a = a_ref(s)
+    mdr = run_mdr(s, s.mdr_cells[-1])
+    cf = closed_forms(s)
+    base, _ = run_fe(s, h)
+    rows = []
+    for v in ({},) + tuple(s.variants):
+        kw = {}
+        if "block" in v:
+            kw["block_size"] = v["block"] * a
+        if "cap" in v:
+            kw["indenter_height"] = v["cap"] * a
+        size = min(v.get("block", 200.0), v.get("cap", 200.0))
+        if size < 25:
+            kw["probe_depth"] = 0.5 * (1.25 + 0.8 * size) * a
+        res = base if not v else run_fe(s, h, **kw)[0]
+        row = {"variant": "default (200 a)" if not v else ", ".join(f"{k} {x:g} a" for k, x in v.items()),
+               "block_over_a": v.get("block", 200.0), "cap_over_a": v.get("cap", 200.0), "dofs": res["dofs"]}
+        for q in ("contact_radius", "stick_radius", "dissipation"):
+            row[q] = res[q]
+            row[f"{q}_mdr_minus_fe"] = metrics.rel(mdr[q], res[q])
+            row[f"{q}_vs_default"] = metrics.rel(res[q], base[q])
+        row["bulk_compliance"] = res["bulk_compliance"]
+        row["runtime_s"] = res["runtime_s"]["total"]
+        rows.append(row)
+        log(f"  {row['variant']}: a {row['contact_radius']:.4g} m (MDR-FE {row['contact_radius_mdr_minus_fe']:+.2%})")
+    result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": base, "validity": rows,
+              "errors": {"a_ref": a}, "files": {}}
+    if out_dir is not None:
+        from . import figures
+
+        result["files"].update(figures.validity_figure(result, Path(out_dir)))
+    return result
+
+
+# ---------------------------------------------------------------------- storage
+
+
+def scene_dir(out_root, name) -> Path:
+    return Path(out_root) / "scenes" / name
+
+
+def load_scene(out_root, name) -> dict | None:
+    """The stored result of a scene, or None if absent or unreadable."""
+    import json
+
+    p = scene_dir(out_root, name) / "result.json"
+    try:
+        return json.loads(p.read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, log=None) -> dict:
+    """Run a scene into a temporary directory and move it into place when complete: an
+    interrupted run leaves the previous result (or nothing) and never half a scene."""
+    final = scene_dir(out_root, s.name)
+    final.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{s.name}.", dir=final.parent))
+    os.chmod(tmp, 0o777 & ~_UMASK)
+    try:
+        result = run_scene(s, tmp, fields=fields, log=log)
+        result["fingerprint"] = fingerprint
+        write_json(tmp / "result.json", result)
+        old = None
+        if final.exists():
+            old = final.with_name(f".{s.name}.old.{os.getpid()}")
+            os.replace(final, old)
+        os.replace(tmp, final)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+        return result
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise

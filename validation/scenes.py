@@ -1,0 +1,230 @@
+"""The scene catalogue: every comparison of MDR and FE is a :class:`Scene` (plain data).
+
+A scene names the geometry (profile, R, b), the materials, friction, the
+loading (contact driven directly under force or displacement control, or the
+apparatus of ``mdr.apparatus``), the FE model that can answer it at the least
+cost, and the resolution ladders used to estimate each side's own error.
+
+Loading conventions (SI; time in cycles):
+``F_N(t) = F0 + dF sin(2 pi t + alpha)`` and, for the tangential load,
+``F_x(t) = amplitude sin(2 pi t)`` (``drive="force"``),
+``u(t) = amplitude sin(2 pi t)`` (``drive="displacement"``, the FE displacement
+measured without the finite bodies' series compliance, see ``fem.law``), or
+the piezo displacement ``u_3(t) = amplitude sin(2 pi t)`` of the apparatus
+(``drive="apparatus"``, with ``kx`` and ``mu2``).
+
+Why force control for the directly driven scenes: a finite FE body adds a bulk
+tangential compliance in series with the contact; under force control the
+force history, stick radius and dissipation do not depend on it (a series
+spring shears the loop without changing its area), so MDR and FE compare
+without a calibration. Displacement-driven loops are compared through the
+apparatus, where both laws sit in the same machine.
+
+Choices documented here (the paper's Table 2 loading is F0 = 0.5 N, dF = 0.1 N,
+mu1 = 0.2, mu2 = 0.1, u_A = 150 nm):
+
+- geometry series: the Table 2 normal load (alpha = 0) with a tangential force
+  amplitude of 0.06 N, i.e. 3/4 of the smallest friction limit mu (F0 - dF) and
+  1/2 of the largest: partial slip, where the profile shapes loops and stick
+  zones (at 150 nm driven directly every profile is in gross slip, which
+  compares nothing but mu);
+- apparatus k_x series: truncated sphere b = 10 um (Fig. 9's first profile)
+  at the Table 2 point;
+- Figs. 4-7: the four experiments of ``mdr.study.LOOP_CASES`` (k_x = 1.9 N/um,
+  b = 0.6 mm from Table 1, dF = 0.1 F0 / 0.5 N);
+- half-space validity: the sphere under the closed-form load case with the
+  block and the indenter cap shrunk towards the contact radius.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+from mdr.errors import InputError
+from mdr.study import LOOP_CASES
+
+R_IND = 6e-3
+STEEL = {"E1": 200e9, "nu1": 0.29, "E2": 200e9, "nu2": 0.29}
+FE_LEVELS = (1 / 20, 1 / 40, 1 / 80)          # h_contact = element size / a_ref
+FE_LEVELS_QUICK = (1 / 10, 1 / 20, 1 / 40)
+MDR_CELLS = (25, 100, 400, 1600)
+MDR_CELLS_QUICK = (25, 100, 400)
+DRIVES = ("force", "displacement", "apparatus")
+PROFILES = ("sphere", "truncated", "flat")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One comparison (SI units). See the module docstring for the loading conventions.
+
+    ``fe_model``: "axisym" (Fourier modes 0 + 1 on one r-z mesh: exact for an
+    axisymmetric body under a tangential load with linear elasticity and
+    Mindlin's uncoupled friction). ``variants`` (validity scenes only): mesh
+    size overrides as multiples of a_ref, e.g. ``{"block": 5.0}``.
+    ``expect``: the agreement the physics predicts, checked by the slow tests
+    and shown in the report (e.g. ``{"dissipation": 0.01}``: MDR within the FE
+    error estimate plus 1 %).
+    """
+
+    name: str
+    title: str
+    profile: str
+    b: float = 0.0
+    R: float = R_IND
+    mu: float = 0.2
+    F0: float = 0.5
+    dF: float = 0.1
+    alpha: float = 0.0
+    drive: str = "force"
+    amplitude: float = 0.06
+    kx: float | None = None
+    mu2: float = 0.1
+    cycles: int = 3
+    steps: int = 200
+    E1: float = STEEL["E1"]
+    nu1: float = STEEL["nu1"]
+    E2: float = STEEL["E2"]
+    nu2: float = STEEL["nu2"]
+    fe_model: str = "axisym"
+    fe_levels: tuple = FE_LEVELS
+    mdr_cells: tuple = MDR_CELLS
+    variants: tuple = ()
+    group: str = "geometry"
+    quick: bool = False
+    expect: dict = field(default_factory=dict)
+    notes: str = ""
+
+    def __post_init__(self):
+        if self.profile not in PROFILES:
+            raise InputError(f"profile must be one of {', '.join(PROFILES)}; got {self.profile!r}")
+        if self.drive not in DRIVES:
+            raise InputError(f"drive must be one of {', '.join(DRIVES)}; got {self.drive!r}")
+        if self.drive == "apparatus" and not (self.kx and self.kx > 0):
+            raise InputError(f"scene {self.name}: kx must be > 0 for drive='apparatus', got {self.kx!r}")
+        if len(self.fe_levels) < 1 or len(self.mdr_cells) < 1:
+            raise InputError(f"scene {self.name}: fe_levels and mdr_cells must not be empty")
+
+    @property
+    def closed_form(self) -> str | None:
+        """Which closed form applies to the whole scene (None: compare with the finest FE)."""
+        if self.drive == "apparatus" or self.dF != 0:
+            return None
+        if self.profile == "sphere":
+            return "hertz-mindlin"
+        if self.profile == "flat":
+            return "flat-punch"
+        return None
+
+    def as_dict(self) -> dict:
+        d = asdict(self)
+        d["fe_levels"] = list(self.fe_levels)
+        d["mdr_cells"] = list(self.mdr_cells)
+        d["variants"] = [dict(v) for v in self.variants]
+        return d
+
+    def fingerprint(self, code_version: str) -> str:
+        """Hash of the scene's inputs and the code version (a rerun skips unchanged scenes)."""
+        blob = json.dumps({"scene": self.as_dict(), "code": code_version}, sort_keys=True, default=str)
+        return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+    def quick_version(self) -> "Scene":
+        """Coarser ladders and fewer steps (``--quick``): same physics, larger own errors."""
+        return replace(self, fe_levels=FE_LEVELS_QUICK, mdr_cells=MDR_CELLS_QUICK, steps=min(self.steps, 80),
+                       cycles=min(self.cycles, 3))
+
+
+def _um(x):
+    return f"{x * 1e6:g} um"
+
+
+def _catalogue() -> dict:
+    sc = []
+    # closed-form anchor: Hertz + Cattaneo-Mindlin + Mindlin-Deresiewicz (constant F_N)
+    sc.append(Scene("sphere-md", "Sphere, constant F_N, partial slip (closed forms)", "sphere", dF=0.0,
+                    amplitude=0.5 * 0.2 * 0.5, group="anchor", quick=True,
+                    expect={"dissipation": 0.01, "contact_radius": 0.01, "stick_radius": 0.01},
+                    notes="Force amplitude mu F0 / 2. Hertz (1882), Mindlin & Deresiewicz (1953, J. Appl. Mech.) "
+                          "hold exactly for this half-space problem."))
+    sc.append(Scene("flat-md", "Flat punch b = 50 um, constant F_N (closed forms)", "flat", b=50e-6, dF=0.0,
+                    amplitude=0.5 * 0.2 * 0.5, group="anchor",
+                    expect={"slip_index_abs": 0.01},
+                    notes="Pressure and traction share the profile 1/sqrt(b^2 - r^2) below mu F_N: full stick, "
+                          "no dissipation in the half-space (Mindlin 1949, J. Appl. Mech.)."))
+    # geometry series at the Table 2 normal load
+    for b in (0.0, 5e-6, 10e-6, 20e-6, 30e-6, 50e-6, 100e-6, 0.6e-3):
+        kind = "sphere" if b == 0 else "truncated"
+        name = "geom-sphere" if b == 0 else f"geom-b{b * 1e6:g}um"
+        sc.append(Scene(name, f"{'Sphere' if b == 0 else 'Truncated sphere b = ' + _um(b)}, Table 2 load",
+                        kind, b=b, quick=(b == 20e-6), group="geometry",
+                        expect={"dissipation": 0.02}))
+    sc.append(Scene("geom-flat", "Flat punch b = 50 um, Table 2 load", "flat", b=50e-6, group="geometry", quick=True,
+                    expect={"slip_index_abs": 0.01}))
+    # the paper's experiments (Figs. 4-7) in the apparatus
+    for fig, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
+        b = 0.0 if kind == "sphere" else 0.6e-3
+        sc.append(Scene(f"exp-{fig}", f"Experiment {fig[3:]}: {kind}, F0 = {F0} N, u_A = {ua * 1e9:g} nm, "
+                        f"mu1 = {mu1}, mu2 = {mu2}", kind, b=b, mu=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5,
+                        drive="apparatus", amplitude=ua, kx=1.9e6, cycles=4, steps=120, group="experiments",
+                        quick=(fig == "fig4"),
+                        expect={"slip_index_abs": 0.02}))
+    # apparatus stiffness series at the Table 2 point
+    for kx in (1e6, 2e6, 10e6, 20e6):
+        sc.append(Scene(f"app-kx{kx / 1e6:g}", f"Apparatus k_x = {kx / 1e6:g} N/um, b = 10 um, Table 2 point",
+                        "truncated", b=10e-6, drive="apparatus", amplitude=150e-9, kx=kx, cycles=4, steps=120,
+                        quick=(kx == 2e6), group="apparatus", expect={"slip_index_abs": 0.02}))
+    # half-space validity: shrink the block and the cap towards the contact
+    variants = tuple({"block": s} for s in (3.0, 5.0, 10.0, 30.0)) + \
+        tuple({"cap": s} for s in (3.0, 5.0, 10.0, 30.0))
+    sc.append(Scene("validity", "Half-space validity: block and cap size against the contact radius", "sphere",
+                    dF=0.0, amplitude=0.5 * 0.2 * 0.5, fe_levels=(1 / 40,), mdr_cells=(400,), variants=variants,
+                    group="validity", expect={"contact_radius_large": 0.01},
+                    notes="Sizes as multiples of the Hertz contact radius; every variant at h = a/40 against "
+                          "the default FE model (200 a) at the same mesh size."))
+    out = {}
+    for s in sc:
+        if s.name in out:
+            raise RuntimeError(f"duplicate scene name {s.name}")
+        out[s.name] = s
+    return out
+
+
+CATALOGUE = _catalogue()
+
+
+def select(names=None, quick: bool = False) -> list[Scene]:
+    """Scenes by name (comma list or iterable; None: all, or the quick subset), quick ladders if asked."""
+    if names is None:
+        chosen = [s for s in CATALOGUE.values() if s.quick or not quick]
+    else:
+        if isinstance(names, str):
+            names = [n.strip() for n in names.split(",") if n.strip()]
+        unknown = [n for n in names if n not in CATALOGUE]
+        if unknown:
+            raise InputError(f"unknown scene name(s) {', '.join(unknown)}; valid scenes: {', '.join(CATALOGUE)}")
+        if not names:
+            raise InputError("scenes must name at least one scene")
+        chosen = [CATALOGUE[n] for n in dict.fromkeys(names)]
+    return [s.quick_version() for s in chosen] if quick else chosen
+
+
+def code_version() -> str:
+    """Hash of the package sources (mdr, fem, meshes, validation): results of other code are rerun."""
+    root = Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    for pkg in ("mdr", "fem", "meshes", "validation"):
+        for p in sorted((root / pkg).glob("*.py")):
+            h.update(p.name.encode())
+            h.update(p.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def a_ref(scene: Scene) -> float:
+    """Half-space contact radius at the largest normal force (the FE mesh's a_ref)."""
+    from fem.run import reference_radius
+    from mdr.materials import Materials
+
+    E_star = Materials(scene.E1, scene.nu1, scene.E2, scene.nu2).E_star
+    return reference_radius(scene.profile, scene.R, scene.b, scene.F0 + scene.dF, E_star)
+
