@@ -5,7 +5,7 @@ import argparse
 import sys
 
 from mdr.errors import ConvergenceError, InputError
-from mdr.io import write_json
+from mdr.io import check_output_path, write_json
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
@@ -132,6 +132,14 @@ def _contact(args) -> int:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    try:  # output paths are checked before the run, so a bad one costs nothing and leaves no file
+        if args.json != "-":
+            check_output_path(args.json, "--json")
+        if getattr(args, "vtu", None):
+            check_output_path(args.vtu, "--vtu")
+    except InputError as exc:
+        sys.stderr.write(f"python -m fem {args.command}: error: {exc}\n")
+        return 2
     if args.command == "contact":
         return _contact(args)
     try:
@@ -149,8 +157,11 @@ def main(argv=None) -> int:
             from .output import write_vtu
 
             write_vtu(model, res, args.vtu)
-    except (InputError, ConvergenceError) as exc:
-        sys.stderr.write(f"python -m fem: error: {exc}\n")
+    except InputError as exc:
+        sys.stderr.write(f"python -m fem normal: error: {exc}\n")
         return 2
+    except ConvergenceError as exc:  # same convention as python -m mdr and python -m fem contact
+        sys.stderr.write(f"python -m fem normal: solver failed: {exc}\n")
+        return 3
     write_json(args.json, out)
     return 0

@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from mdr.errors import InputError, nonnegative, positive
+from mdr.errors import InputError, nonnegative, positive, positive_int
 from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
@@ -116,11 +116,13 @@ class FEContact:
         t0 = time.perf_counter()
         self.profile = profile
         self.materials = materials if materials is not None else Materials()
+        if np.ndim(mu) != 0:
+            raise InputError(f"mu must be one number (the FE law has no batch), got an array of shape {np.shape(mu)}")
         self.mu = float(nonnegative("mu", mu))
         self.penalty = float(positive("penalty", penalty))
         self.al_tol = float(nonnegative("al_tol", al_tol))
         self.friction_al_tol = float(nonnegative("friction_al_tol", friction_al_tol))
-        self.max_al = int(max_al)
+        self.max_al = positive_int("max_al", max_al)
         if displacement not in ("plate", "contact"):
             raise InputError(f"displacement must be 'plate' or 'contact', got {displacement!r}")
         self.displacement = displacement

@@ -19,13 +19,31 @@ class ConvergenceError(RuntimeError):
     """An iterative solver did not converge; the message carries diagnostics."""
 
 
+def show(value) -> str:
+    """One-line text of a parameter value for error messages (arrays summarised), so that
+    a command line can print the error as a single line."""
+    if isinstance(value, np.ndarray) and value.ndim > 0:
+        arr = np.asarray(value)
+        if arr.size <= 4:
+            return "[" + ", ".join(f"{v!r}" for v in arr.ravel().tolist()) + "]"
+        try:
+            bad = ~np.isfinite(arr.astype(float))
+            extra = f", {int(bad.sum())} not finite" if bad.any() else ""
+            good = arr.astype(float)[~bad]
+            rng = f" in [{good.min():.4g}, {good.max():.4g}]" if good.size else ""
+        except (TypeError, ValueError):
+            extra, rng = "", ""
+        return f"array of shape {arr.shape}{rng}{extra}"
+    return " ".join(repr(value).split())
+
+
 def _finite_array(name, value):
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a real number, got {value!r}") from None
+        raise InputError(f"{name} must be a real number, got {show(value)}") from None
     if not np.all(np.isfinite(arr)):
-        raise InputError(f"{name} must be finite, got {value!r}")
+        raise InputError(f"{name} must be finite, got {show(value)}")
     return arr
 
 
@@ -33,7 +51,7 @@ def positive(name, value):
     """Return ``value`` as float (or array) after checking ``0 < value < inf``."""
     arr = _finite_array(name, value)
     if np.any(arr <= 0):
-        raise InputError(f"{name} must be > 0 (finite), got {value!r}")
+        raise InputError(f"{name} must be > 0 (finite), got {show(value)}")
     return float(arr) if arr.ndim == 0 else arr
 
 
@@ -41,7 +59,7 @@ def nonnegative(name, value):
     """Return ``value`` after checking ``0 <= value < inf``."""
     arr = _finite_array(name, value)
     if np.any(arr < 0):
-        raise InputError(f"{name} must be >= 0 (finite), got {value!r}")
+        raise InputError(f"{name} must be >= 0 (finite), got {show(value)}")
     return float(arr) if arr.ndim == 0 else arr
 
 
@@ -59,7 +77,7 @@ def in_range(name, value, lo, hi, *, lo_open=False, hi_open=False):
     if bad_lo or bad_hi:
         left = "(" if lo_open else "["
         right = ")" if hi_open else "]"
-        raise InputError(f"{name} must be in {left}{lo:g}, {hi:g}{right}, got {value!r}")
+        raise InputError(f"{name} must be in {left}{lo:g}, {hi:g}{right}, got {show(value)}")
     return float(arr) if arr.ndim == 0 else arr
 
 
@@ -69,7 +87,7 @@ def positive_int(name, value, minimum=1):
         if isinstance(value, float) and math.isfinite(value) and value == int(value):
             value = int(value)
         else:
-            raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
+            raise InputError(f"{name} must be an integer >= {minimum}, got {show(value)}")
     if value < minimum:
         raise InputError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError, nonnegative, positive
+from .errors import InputError, finite, nonnegative, positive
 from .grid import DEFAULT_CELLS, SpringGrid, make_grid
 from .materials import Materials
 from .normal import approach_from_force
@@ -160,6 +160,8 @@ class MDRContact:
                 F_max = positive("F_max", F_max)
                 a_max = profile.g_inv(approach_from_force(profile, self.materials, F_max))
             a_min = None
+            if F_min is not None:
+                F_min = nonnegative("F_min", F_min)
             if F_min is not None and not isinstance(profile, FlatPunch) and np.all(np.asarray(F_min) > 0):
                 a_min = profile.g_inv(approach_from_force(profile, self.materials, F_min))
             grid = make_grid(profile, a_max, n=n, a_min=a_min, refine=refine)
@@ -267,6 +269,10 @@ class MDRContact:
             raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
         if (u is None) == (Fx is None):
             raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        if u is not None:
+            u = finite("u (tangential displacement)", u)
+        else:
+            Fx = finite("Fx (tangential force)", Fx)
         tr = self.prepare(state, d=d, F_N=F_N)
         if Fx is not None:
             u = state.u + self._solve_du(tr.phase, tr.v1, np.broadcast_to(np.asarray(Fx, dtype=float), self.batch))
@@ -283,6 +289,8 @@ class MDRContact:
             raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
         if d is None:
             d = self.approach(np.broadcast_to(F_N, self.batch))
+        else:
+            d = finite("d (approach)", d)
         phase = self.normal_phase(np.broadcast_to(np.asarray(d, dtype=float), self.batch))
         v = self._carry(state.v, state.ell, phase.ell)
         return Trial(self, state, phase, v, np.clip(v, -phase.vmax, phase.vmax))
@@ -319,12 +327,15 @@ class MDRContact:
             raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
         if (u is None) == (Fx is None):
             raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
-        drive = np.asarray(u if u is not None else Fx, dtype=float)
+        drive = np.asarray(finite("u (tangential displacement)" if u is not None else "Fx (tangential force)",
+                                  u if u is not None else Fx), dtype=float)
         T = drive.shape[-1]
         shape = self.batch + (T,)
         if d is None:
             F_N = np.broadcast_to(np.asarray(F_N, dtype=float), shape)
             d = self.approach(F_N)
+        else:
+            d = finite("d (approach)", d)
         d = np.broadcast_to(np.asarray(d, dtype=float), shape)
         drive = np.broadcast_to(drive, shape)
         if state is None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ConvergenceError
+from .errors import ConvergenceError, finite, nonnegative
 from .materials import Materials
 from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
 
@@ -46,7 +46,7 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
     otherwise a safeguarded Newton iteration on the contact radius a, using
     dF/da = 2 E* a g'(a) (monotone for nondecreasing g).
     """
-    F = np.asarray(F, dtype=float)
+    F = np.asarray(nonnegative("F_N (normal force; no adhesion, so >= 0)", F), dtype=float)
     if F.ndim < len(profile.batch_shape):
         F = np.broadcast_to(F, profile.batch_shape)
     Es = materials.E_star
@@ -108,8 +108,8 @@ def pressure(profile: Profile, materials: Materials, d, r):
     g and with a t^2 substitution at each segment's lower end, which absorbs
     the inverse-square-root slope of g just above a kink.
     """
-    d = float(d)
-    r = np.atleast_1d(np.asarray(r, dtype=float))
+    d = float(nonnegative("d (approach)", d))
+    r = np.atleast_1d(np.asarray(finite("r", r), dtype=float))
     a = float(contact_radius(profile, d))
     Es = materials.E_star
     p = np.zeros_like(r)
@@ -136,7 +136,7 @@ def pressure(profile: Profile, materials: Materials, d, r):
 
 def normal_energy(profile: Profile, materials: Materials, d):
     """Elastic energy of the normal contact U = E* int_0^a (d - g)^2 dx = int_0^d F dd'."""
-    d = float(d)
+    d = float(nonnegative("d (approach)", d))
     a = float(contact_radius(profile, d))
     edges = [0.0] + sorted(float(np.max(k)) for k in profile.kinks if float(np.max(k)) < a) + [a]
     total = 0.0

@@ -379,7 +379,21 @@ class GeneralProfile(Profile):
 
 
 def make_profile(kind: str, R=None, b=None, exact: bool = False) -> Profile:
-    """Build a profile from a command-line style name: sphere, truncated or flat."""
+    """Build a profile from a command-line style name: sphere, truncated or flat.
+
+    Parameters that the named profile does not use are conflicting input and
+    rejected (b for the sphere unless 0, R and the exact cap for the flat punch),
+    never silently ignored.
+    """
+    if kind not in ("sphere", "truncated", "flat"):
+        raise InputError(f"profile must be one of sphere, truncated, flat; got {kind!r}")
+    if kind == "sphere" and b is not None and b != 0:
+        raise InputError(f"b is not a parameter of profile 'sphere' (got b={b!r}); use profile 'truncated' "
+                         f"for a flat face of radius b")
+    if kind == "flat" and R is not None:
+        raise InputError(f"R is not a parameter of profile 'flat' (got R={R!r}); the flat punch has radius b only")
+    if kind == "flat" and exact:
+        raise InputError("exact (the exact spherical cap) does not apply to profile 'flat'")
     if kind == "sphere":
         if R is None:
             raise InputError("R must be given (> 0) for profile 'sphere'")

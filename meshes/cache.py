@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mdr.errors import InputError
 from mdr.io import write_bytes_atomic
 
 from .axisym import BODIES, MESH_FORMAT_VERSION, AxisymMesh, AxisymMeshParams, build_mesh
@@ -99,11 +100,16 @@ def load_mesh(path, expected: AxisymMeshParams | None = None) -> AxisymMesh:
         raise
     except Exception as exc:
         raise CacheError(f"unreadable mesh cache file {path}: {exc}") from exc
+    if not isinstance(header, dict):
+        raise CacheError(f"{path}: header is not a JSON object (corrupt file)")
     if header.get("format") != MESH_FORMAT_VERSION:
         raise CacheError(f"{path}: format {header.get('format')} != {MESH_FORMAT_VERSION}")
     if _digest(arrs) != header.get("digest"):
         raise CacheError(f"{path}: array digest mismatch (corrupt file)")
-    params = AxisymMeshParams(**header["params"])
+    try:
+        params = AxisymMeshParams(**header["params"])
+    except Exception as exc:  # missing, unknown or invalid stored parameters
+        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
     if expected is not None and params.as_dict() != expected.resolved().as_dict():
         raise CacheError(f"{path}: stored parameters differ from the request")
     bodies = {}
@@ -117,14 +123,18 @@ def load_mesh(path, expected: AxisymMeshParams | None = None) -> AxisymMesh:
 def cached_mesh(params: AxisymMeshParams, cache_dir=None, *, refresh: bool = False) -> AxisymMesh:
     """The mesh for ``params``: from the cache if present and valid, else built and stored.
 
-    ``info["cache"]`` tells what happened: ``"hit"``, ``"miss"`` or ``"rebuilt"``
-    (a stored file failed verification).
+    ``info["cache"]`` tells what happened: ``"hit"``, ``"miss"``, ``"rebuilt"``
+    (a stored file failed verification) or ``"unsaved"`` (built, but the cache
+    directory could not be written: warned, the mesh is still returned).
+    ``cache_dir`` naming an existing file is an InputError.
     """
     import time
 
     p = params.resolved()
     key = mesh_key(p)
     d = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    if d.exists() and not d.is_dir():
+        raise InputError(f"cache_dir must be a directory (mesh cache), got the file {str(d)!r}")
     path = d / f"axisym-{key[:24]}.npz"
     status = "miss"
     if path.exists() and not refresh:
@@ -141,6 +151,11 @@ def cached_mesh(params: AxisymMeshParams, cache_dir=None, *, refresh: bool = Fal
     amesh = build_mesh(p)
     amesh.key = key
     amesh.info = {"build_s": time.perf_counter() - t0}
-    save_mesh(amesh, path)
+    try:
+        save_mesh(amesh, path)
+    except OSError as exc:  # the cache is an optimisation: an unwritable one costs time, not the answer
+        warnings.warn(f"mesh cache not written ({exc}); the mesh will be rebuilt next time",
+                      RuntimeWarning, stacklevel=2)
+        status = "unsaved"
     amesh.info = dict(amesh.info, cache=status, path=str(path))
     return amesh
