@@ -51,7 +51,7 @@ from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError, nonnegative, positive
+from .errors import ConvergenceError, InputError, finite, nonnegative, positive, positive_int
 from .law import MDRContact
 from .loops import analyse_cycles, slip_index
 from .materials import Materials
@@ -59,11 +59,18 @@ from .profiles import Sphere
 from .solve import solve_increasing
 
 G_ACC = 9.81
+PLATE_MODELS = ("axial", "bending", "rigid")
 
 
 @dataclass(frozen=True)
 class Apparatus:
-    """Apparatus parameters (SI), defaults from Table 1 of Willert (2023)."""
+    """Apparatus parameters (SI), defaults from Table 1 of Willert (2023).
+
+    ``kx``, ``mu2``, ``R_bed`` and ``plate_model`` may be arrays of the batch
+    shape of the contact law (one apparatus per scene, run in one pass).
+    ``bedding=False`` (no bedding contacts) is the same as ``mu2 = 0``: a
+    frictionless bedding carries no tangential force.
+    """
 
     kx: float = 1.9e6          # tangential stiffness of the normal axis, N/m
     mu2: float = 0.1           # friction of the Si3N4 bedding
@@ -88,21 +95,22 @@ class Apparatus:
         for name in ("m1", "E_plate", "l", "B", "t", "l1", "l2", "h", "h2", "E_bed", "R_bed"):
             positive(name, getattr(self, name))
         kx = getattr(self, "kx")
-        if not (np.all(np.asarray(kx) > 0)):
+        if not (np.all(np.asarray(kx, dtype=float) > 0)):
             raise InputError(f"kx must be > 0 (inf allowed: rigid axis), got {kx!r}")
         nonnegative("mu2", self.mu2)
-        if self.plate_model not in ("axial", "bending", "rigid"):
+        if not np.all(np.isin(np.asarray(self.plate_model), PLATE_MODELS)):
             raise InputError(f"plate_model must be one of axial, bending, rigid; got {self.plate_model!r}")
 
     @property
-    def k_plates(self) -> float:
-        """Stiffness of the two plates between piezo and block (N/m)."""
-        if self.plate_model == "rigid":
-            return np.inf
-        if self.plate_model == "axial":
-            return 2.0 * self.E_plate * self.B * self.t / self.l
+    def k_plates(self):
+        """Stiffness of the two plates between piezo and block (N/m; array for a batch of plate models)."""
         I = self.B * self.t**3 / 12.0
-        return 2.0 * 12.0 * self.E_plate * I / self.l**3
+        k = {"axial": 2.0 * self.E_plate * self.B * self.t / self.l,
+             "bending": 2.0 * 12.0 * self.E_plate * I / self.l**3, "rigid": np.inf}
+        pm = np.asarray(self.plate_model)
+        if pm.ndim == 0:
+            return k[str(pm)]
+        return np.select([pm == name for name in PLATE_MODELS], [k[name] for name in PLATE_MODELS])
 
     def bedding_loads(self, FN, M):
         """Normal forces (front sphere, each rear sphere) for normal force FN and moment M."""
@@ -137,45 +145,60 @@ def _illinois(fun, lo, hi, f_lo, f_hi, xtol, max_iter=100):
                            f"(worst residual {float(np.max(np.abs(f))):.3e} m)")
 
 
+def _check_load(F0, dF, alpha, ua, cycles, steps):
+    """Validate the apparatus load (dF, alpha may be batch arrays); returns them normalised."""
+    F0 = positive("F0", F0)
+    dF = nonnegative("dF", dF)
+    if np.any(np.asarray(dF) > F0):
+        raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}")
+    alpha = finite("alpha", alpha)
+    ua = positive("ua", ua)
+    cycles = positive_int("cycles", cycles, minimum=2)
+    steps = positive_int("steps", steps, minimum=8)
+    if steps % 4:
+        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
+    return F0, dF, alpha, ua, cycles, steps
+
+
 def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
                   bed_law_factory=None, xtol=1e-15):
     """Run the apparatus with contact law ``law`` (any protocol law, batch allowed).
 
+    ``dF``, ``alpha`` and the array fields of ``app`` may be batch arrays (one
+    value per scene of the law's batch); ``F0`` and ``ua`` are scalars.
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
     """
-    F0 = positive("F0", F0)
-    dF = nonnegative("dF", dF)
-    if dF > F0:
-        raise InputError(f"dF must be in [0, F0], got dF={dF!r}")
-    ua = positive("ua", ua)
+    F0, dF, alpha, ua, cycles, steps = _check_load(F0, dF, alpha, ua, cycles, steps)
+    batch = getattr(law, "batch", ())
     t = np.arange(cycles * steps + 1) / steps
-    FN = F0 + dF * np.sin(2 * np.pi * t + alpha)
+    FN = F0 + np.asarray(dF)[..., None] * np.sin(2 * np.pi * t + np.asarray(alpha)[..., None])
+    if FN.ndim > 1:
+        FN = np.broadcast_to(FN, batch + t.shape)
     u3 = ua * np.sin(2 * np.pi * t)
     cx = 0.0 if np.all(np.isinf(app.kx)) else 1.0 / np.asarray(app.kx, dtype=float)
-    cp = 1.0 / app.k_plates
-    batch = getattr(law, "batch", ())
-    use_bed = app.bedding and app.mu2 > 0
+    cp = 1.0 / np.asarray(app.k_plates, dtype=float)
+    use_bed = bool(app.bedding and np.any(np.asarray(app.mu2) > 0))
     if use_bed:
-        N1max, N2max = app.bedding_loads(F0 + dF, 0.0)
-        Wmax = app.m1 * G_ACC + F0 + dF
+        Wmax = app.m1 * G_ACC + F0 + np.asarray(dF)
         bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
         bed_state = bed.rest_state()
     st = law.rest_state()
-    d_all = law.approach(np.broadcast_to(FN, batch + FN.shape)) if hasattr(law, "approach") else None
+    d_all = law.approach(np.broadcast_to(FN, batch + t.shape)) if hasattr(law, "approach") else None
     iters = 0
     du_prev = np.zeros(batch)
     out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "c")}
     M = np.zeros(batch)
     for k in range(t.size):
         if use_bed:
-            N1, N2 = app.bedding_loads(FN[k], M)
+            N1, N2 = app.bedding_loads(FN[..., k], M)
             N_b = np.stack(np.broadcast_arrays(N1, N2), axis=-1)  # batch + (2,)
             if np.any(N_b <= 0):
                 raise InputError("the block lifts off a bedding sphere: tangential moment too large for the bedding geometry")
             d_bed = bed.approach(N_b)
-        load = {"F_N": FN[k]} if d_all is None else {"d": d_all[..., k]}
-        span = (np.asarray(mu) * FN[k] + (app.mu2 * (app.m1 * G_ACC + FN[k]) if use_bed else 0.0)) * (cp + cx) + 1e-12
+        load = {"F_N": FN[..., k]} if d_all is None else {"d": d_all[..., k]}
+        span = (np.asarray(mu) * FN[..., k] + (app.mu2 * (app.m1 * G_ACC + FN[..., k]) if use_bed else 0.0)) \
+            * (cp + cx) + 1e-12
         lo = np.broadcast_to(u3[k] - span, batch).astype(float)
         hi = np.broadcast_to(u3[k] + span, batch).astype(float)
 
@@ -248,8 +271,9 @@ def _mdr_bedding(app: Apparatus, Wmax, batch=()):
     """Bedding: front sphere and one rear sphere (the second rear one is identical);
     Si3N4 half-spheres on the steel block (E = 200 GPa, nu = 0.29)."""
     mat = Materials(app.E_bed, app.nu_bed, 200e9, 0.29)
-    R = np.full(tuple(batch) + (2,), app.R_bed)
-    return MDRContact(Sphere(R), mat, app.mu2, F_max=np.full(R.shape, Wmax), n=100)
+    shape = tuple(batch) + (2,)
+    per_sphere = lambda v: np.array(np.broadcast_to(np.asarray(v, dtype=float)[..., None], shape))  # noqa: E731
+    return MDRContact(Sphere(per_sphere(app.R_bed)), mat, per_sphere(app.mu2), F_max=per_sphere(Wmax), n=100)
 
 
 def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
@@ -283,3 +307,59 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
                                  for k, v in asdict(app).items()},
                    "k_plates": app.k_plates},
     }
+
+
+def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
+                         steps=200, *, h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=None,
+                         al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
+    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
+
+    The law is ``fem.law.FEContact(..., F_max=F0 + dF, displacement="contact")``:
+    its displacement excludes the finite bodies' bulk compliance, so it stands
+    where the half-space law stands and the apparatus compliances are not counted
+    twice (see ``fem.law``). Keys: those of :func:`apparatus_result` (with
+    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
+    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
+    Input is validated before the (costly) FE set-up.
+    """
+    from fem.friction import DEFAULT_FRICTION_AL_TOL
+    from fem.law import FEContact
+    from fem.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+    from fem.run import H_CONTACT_RANGE
+
+    from .errors import in_range
+
+    penalty = DEFAULT_PENALTY if penalty is None else penalty
+    al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol
+    friction_al_tol = DEFAULT_FRICTION_AL_TOL if friction_al_tol is None else friction_al_tol
+    # validate everything before the set-up
+    nonnegative("mu", mu)
+    _check_load(F0, dF, alpha, ua, cycles, steps)
+    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
+    positive("penalty", penalty)
+    nonnegative("al_tol", al_tol)
+    nonnegative("friction_al_tol", friction_al_tol)
+    if block_size is not None:
+        positive("block_size", block_size)
+    if not (np.ndim(contact_extent) == 0 and np.isfinite(contact_extent) and contact_extent > 1):
+        raise InputError(f"contact_extent must be > 1 (finite), got {contact_extent!r}")
+    t0 = time.perf_counter()
+    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
+                    cache_dir=cache_dir, backend=backend, displacement="contact")
+    t1 = time.perf_counter()
+    out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
+    t2 = time.perf_counter()
+    nr = law.normal(F_N=F0)
+    st = law.stats
+    out["contact_radius"] = float(nr.contact_radius)
+    out["indentation"] = float(nr.indentation)
+    out["dofs"] = law.dofs
+    out["mesh"] = dict(law.amesh.params.as_dict(), key=law.amesh.key, cache=law.amesh.info.get("cache"))
+    out["solver"] = {"backend": law.model.backend, "pairs": law.n_pairs, "penalty": penalty, "al_tol": al_tol,
+                     "friction_al_tol": friction_al_tol, "steps": st["steps"],
+                     "newton_per_step": st["newton"] / max(st["steps"], 1),
+                     "al_per_step": st["al"] / max(st["steps"], 1), "friction_penalty_error": st["al_change_max"]}
+    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
+    out["inputs"]["law"] = law.describe()
+    return out

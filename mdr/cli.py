@@ -100,12 +100,19 @@ def _cmd_contact(args):
 
 
 def _cmd_apparatus(args):
-    from .apparatus import Apparatus, apparatus_result
+    from .apparatus import Apparatus, apparatus_result, fem_apparatus_result
 
     app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
                     bedding=not args.no_bedding)
-    return apparatus_result(profile_from_args(args), materials_from_args(args), app, args.mu, args.F0, args.dF,
-                            args.alpha, args.ua, cycles=args.cycles, steps=args.steps, n=args.cells)
+    prof, mat = profile_from_args(args), materials_from_args(args)
+    if args.law == "fem":
+        return fem_apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
+                                    cycles=args.cycles, steps=args.steps, h_contact=args.h_contact,
+                                    contact_extent=args.contact_extent, block_size=args.block_size,
+                                    penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=args.friction_al_tol,
+                                    cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
+    return apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles,
+                            steps=args.steps, n=args.cells)
 
 
 def _cmd_study(args):
@@ -162,14 +169,23 @@ def build_parser():
     g.add_argument("--plate-model", choices=["axial", "bending", "rigid"], default="axial",
                    help="brass plates loaded along their length (default), bent across their thickness, or rigid")
     g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
-    pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid")
+    pa.add_argument("--law", choices=["mdr", "fem"], default="mdr",
+                    help="contact law of the fretting contact: MDR (default) or the axisymmetric FE model "
+                         "(fem.law.FEContact with displacement='contact'; adds dofs, mesh, solver and "
+                         "runtime_s {setup, cycles, total} to the JSON)")
+    pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (--law mdr)")
+    from fem.cli import _add_fe_options  # the flags of python -m fem contact (used with --law fem)
+
+    _add_fe_options(pa)
     add_output_args(pa)
     pa.set_defaults(func=_cmd_apparatus)
 
-    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7)",
-                        description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, or the "
-                                    "four experiment loops of Figs. 4-7 (loops). Writes CSV/JSON and PNG to --out.")
-    ps.add_argument("name", help="fig8, fig9 or loops")
+    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity",
+                        description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, the "
+                                    "four experiment loops of Figs. 4-7 (loops), or the slip index at the Table 2 "
+                                    "point as each reconstructed apparatus quantity varies (sensitivity: CSV + "
+                                    "markdown table). Writes CSV/JSON and PNG to --out.")
+    ps.add_argument("name", help="fig8, fig9, loops or sensitivity")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
     ps.set_defaults(func=_cmd_study)

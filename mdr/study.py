@@ -4,6 +4,9 @@
 (1 um - 1 mm, log scale) for k_x = 1, 2, 10, 20 N/um, with the flat punch of
 radius b beside it. ``fig9``: slip index against k_x for b = 10, 50, 100 um.
 ``loops``: the four experiment cases of Figs. 4-7 (loop plots F_x-F_N, F_x-du).
+``sensitivity``: slip index at the Table 2 point as each reconstructed quantity
+(bedding radius, mu2, plate model, bedding on/off, dF, alpha) varies one at a
+time (CSV + markdown table).
 Table 2 values: F0 = 0.5 N, dF = 0.1 N, mu1 = 0.2, mu2 = 0.1, u_A = 150 nm.
 All points of a study run as one batch (one pass of the vectorised laws).
 Study resolution: 100 spring cells, 120 steps per cycle, 3 cycles (the slip
@@ -27,6 +30,7 @@ from .profiles import FlatPunch, Sphere, TruncatedSphere
 
 TABLE2 = dict(F0=0.5, dF=0.1, mu1=0.2, mu2=0.1, ua=150e-9)
 R_IND = 6e-3
+TABLE1_B, TABLE1_KX = 0.6e-3, 1.9e6   # Table 1: flat-face radius of the truncated indenter, axis stiffness
 RES = dict(cycles=3, steps=120, n=100)
 
 
@@ -59,6 +63,78 @@ def fig9(nk=30):
             for i in range(b.size) for j in range(nk)]
 
 
+# Sensitivity study. The Table 2 point needs b and k_x, which Table 2 does not give:
+# the reference column uses Table 1's (b = 0.6 mm, k_x = 1.9 N/um, the apparatus
+# of the experiments), the second column the sphere limit b = 10 um at the same k_x.
+SENS_POINTS = {"b600um": (TABLE1_B, TABLE1_KX), "b10um": (10e-6, TABLE1_KX)}
+SENS_BASE = dict(R_bed=5e-3, mu2=0.1, plate_model="axial", bedding=True, dF=0.1, alpha=0.0)
+SENS_VARY = (("R_bed", (1e-3, 2.5e-3, 5e-3, 10e-3)), ("mu2", (0.05, 0.1, 0.2)),
+             ("plate_model", ("axial", "bending", "rigid")), ("bedding", (True, False)),
+             ("dF", (0.0, 0.05, 0.1, 0.2)), ("alpha", (0.0, np.pi / 2, np.pi)))
+
+
+def sensitivity(points=SENS_POINTS, vary=SENS_VARY, res=RES):
+    """Slip index at the Table 2 point (F0 = 0.5 N, mu1 = 0.2, u_A = 150 nm) as each
+    reconstructed quantity of ``vary`` moves away from ``SENS_BASE`` one at a time.
+
+    All scenes (every value at every (b, k_x) point of ``points``) run as one batch:
+    the apparatus fields, dF and alpha are per-scene arrays. "bedding off" is run as
+    mu2 = 0 (a frictionless bedding carries no tangential force; identical to
+    ``Apparatus(bedding=False)``). Returns rows {quantity, value, point, b, kx, delta,
+    change (delta minus the reference delta of the same point), stationary}.
+    """
+    scenes = [(q, v) for q, values in vary for v in values]
+    cols = {k: [] for k in SENS_BASE}
+    for q, v in scenes:
+        for k in SENS_BASE:
+            cols[k].append(v if k == q else SENS_BASE[k])
+    mu2 = np.where(cols["bedding"], cols["mu2"], 0.0)
+    names = list(points)
+    nb = len(names)
+    shape = (nb, len(scenes))
+    per_scene = lambda v: np.array(np.broadcast_to(np.asarray(v), shape))  # noqa: E731
+    B = np.broadcast_to(np.array([points[p][0] for p in names])[:, None], shape)
+    K = np.broadcast_to(np.array([points[p][1] for p in names])[:, None], shape)
+    F0, mu1, ua = TABLE2["F0"], TABLE2["mu1"], TABLE2["ua"]
+    dF = per_scene(cols["dF"])
+    law = MDRContact(TruncatedSphere(np.full(shape, R_IND), B.copy()), Materials(), mu1, F_max=F0 + dF,
+                     F_min=F0 - np.maximum(dF, 0.05), n=res["n"])
+    app = Apparatus(kx=K.copy(), mu2=per_scene(mu2), R_bed=per_scene(cols["R_bed"]),
+                    plate_model=per_scene(np.array(cols["plate_model"])))
+    out = run_apparatus(law, app, mu1, F0, dF, per_scene(cols["alpha"]), ua, cycles=res["cycles"],
+                        steps=res["steps"])
+    delta = out["slip_index"]
+    # stationary: the last loop repeats the previous one (the dissipation test of
+    # analyse_cycles is void for a sticking contact whose dW is ~0)
+    stat = out["cycles"].loop_change[..., -1] <= 1e-3
+    rows = []
+    for j, (q, v) in enumerate(scenes):
+        base_j = scenes.index((q, SENS_BASE[q]))
+        value = ("on" if v else "off") if isinstance(v, bool) else v if isinstance(v, str) else float(v)
+        for i, p in enumerate(names):
+            rows.append({"quantity": q, "value": value, "reference": j == base_j, "point": p, "b": float(B[i, j]),
+                         "kx": float(K[i, j]), "delta": float(delta[i, j]),
+                         "change": float(delta[i, j] - delta[i, base_j]), "stationary": bool(stat[i, j])})
+    return rows
+
+
+def sensitivity_markdown(rows, points=SENS_POINTS):
+    """The sensitivity rows as a markdown table (one column pair per (b, k_x) point)."""
+    names = list(points)
+    head = "| quantity | value | " + " | ".join(
+        f"delta (b = {points[p][0] * 1e6:g} um, k_x = {points[p][1] / 1e6:g} N/um) | change" for p in names) + " |"
+    lines = [head, "|---|---|" + "---|---|" * len(names)]
+    keyed = {}
+    for r in rows:
+        keyed.setdefault((r["quantity"], r["value"]), {})[r["point"]] = r
+    fmt = {"R_bed": lambda v: f"{v * 1e3:g} mm", "alpha": lambda v: f"{v / np.pi:g} pi", "dF": lambda v: f"{v:g} N"}
+    for (q, v), by_point in keyed.items():
+        val = fmt.get(q, str)(v) + (" (ref.)" if by_point[names[0]]["reference"] else "")
+        cells = " | ".join(f"{by_point[p]['delta']:.4f} | {by_point[p]['change']:+.4f}" for p in names)
+        lines.append(f"| {q} | {val} | {cells} |")
+    return "\n".join(lines) + "\n"
+
+
 LOOP_CASES = {  # Figs. 4-7: profile, F0, u_A, mu1, mu2; b and k_x from Table 1
     "fig4": ("sphere", 0.35, 90e-9, 0.24, 0.06),
     "fig5": ("sphere", 0.61, 220e-9, 0.26, 0.10),
@@ -67,14 +143,27 @@ LOOP_CASES = {  # Figs. 4-7: profile, F0, u_A, mu1, mu2; b and k_x from Table 1
 }
 
 
-def loops():
+LOOP_RES = dict(cycles=4, steps=400, n=400)
+
+
+def loops(res=LOOP_RES, cases=None):
+    """The four experiment cases of Figs. 4-7 (``LOOP_CASES``; dF = 0.2 F0, alpha = 0,
+    b = 0.6 mm and k_x = 1.9 N/um from Table 1). Per case: the stationary last
+    cycle (Fx, FN, du), the slip index, ``friction_ratio_max`` = max |F_x| / (mu1 F_N)
+    and ``on_limit`` = the fraction of the cycle's steps with F_x on the friction
+    limit (|F_x| >= (1 - 1e-9) mu1 F_N): 0 in partial slip, finite in gross slip."""
     out = {}
-    for name, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
-        prof = Sphere(R_IND) if kind == "sphere" else TruncatedSphere(R_IND, 0.6e-3)
-        res = dict(cycles=4, steps=400, n=400)
-        delta, o = _slip_index(prof, 1.9e6, mu1=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5, ua=ua, res=res)
-        last = slice(3 * 400, 4 * 400 + 1)
+    cycles, steps = res["cycles"], res["steps"]
+    for name in cases or LOOP_CASES:
+        kind, F0, ua, mu1, mu2 = LOOP_CASES[name]
+        prof = Sphere(R_IND) if kind == "sphere" else TruncatedSphere(R_IND, TABLE1_B)
+        delta, o = _slip_index(prof, TABLE1_KX, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res)
+        last = slice((cycles - 1) * steps, cycles * steps + 1)
+        ratio = np.abs(o["Fx"][last]) / (mu1 * o["FN"][last])
         out[name] = {"profile": kind, "F0": F0, "ua": ua, "mu1": mu1, "mu2": mu2, "slip_index": float(delta),
+                     "friction_ratio_max": float(np.max(ratio)),
+                     "on_limit": float(np.mean(ratio[1:] >= 1 - 1e-9)),
+                     "stationary": bool(o["cycles"].last_is_stationary),
                      "Fx": o["Fx"][last], "FN": o["FN"][last], "du": o["du"][last]}
     return out
 
@@ -93,8 +182,12 @@ def _png(fig, path):
     write_bytes_atomic(path, buf.getvalue())
 
 
+STUDIES = ("fig8", "fig9", "loops", "sensitivity")
+
+
 def run_study(name: str, out_dir) -> dict:
-    """Run study ``name`` (fig8, fig9, loops) and write CSV/JSON + PNG into out_dir."""
+    """Run study ``name`` (fig8, fig9, loops, sensitivity) and write CSV/JSON + PNG
+    (sensitivity: CSV + markdown table) into out_dir."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -140,10 +233,15 @@ def run_study(name: str, out_dir) -> dict:
             row[1].plot(np.asarray(d["du"]) * 1e9, np.asarray(d["Fx"]) * 1e3, "r")
             row[1].set_xlabel("du (nm)")
             row[0].set_title(f"{key}: {d['profile']} F0 = {d['F0']} N, u_A = {d['ua'] * 1e9:g} nm, "
-                             f"delta = {d['slip_index']:.2f}", fontsize=8, loc="left")
+                             f"delta = {d['slip_index']:.2f}, on limit {100 * d['on_limit']:.0f} %",
+                             fontsize=8, loc="left")
         fig.tight_layout()
         _png(fig, out_dir / "loops.png")
         rows = [{k: v for k, v in d.items() if k not in ("Fx", "FN", "du")} | {"case": k} for k, d in data.items()]
+    elif name == "sensitivity":
+        rows = sensitivity()
+        write_bytes_atomic(out_dir / "sensitivity.csv", _csv(rows))
+        write_bytes_atomic(out_dir / "sensitivity.md", sensitivity_markdown(rows).encode())
     else:
-        raise InputError(f"study must be one of fig8, fig9, loops; got {name!r}")
+        raise InputError(f"study must be one of {', '.join(STUDIES)}; got {name!r}")
     return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0}

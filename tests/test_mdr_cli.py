@@ -82,3 +82,40 @@ def test_apparatus_json(tmp_path):
 def test_unknown_study_exit_2(tmp_path):
     proc = run(["study", "fig99", "--out", str(tmp_path)])
     assert proc.returncode == 2 and "study" in proc.stderr and not any(tmp_path.iterdir())
+
+
+def test_apparatus_fem_json(tmp_path):
+    out = tmp_path / "fe.json"
+    args = ["apparatus", "--law", "fem", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5",
+            "--dF", "0.1", "--ua", "150e-9", "--cycles", "2", "--steps", "16", "--h-contact", "0.05",
+            "--cache-dir", str(tmp_path / "meshes"), "--json", str(out)]
+    assert main(args) == 0
+    d = json.loads(out.read_text())
+    for key in ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index"):
+        assert np.isfinite(d[key])
+    assert d["dofs"] > 0 and d["mesh"]["key"] and set(d["runtime_s"]) == {"setup", "cycles", "total"}
+    assert d["inputs"]["law"]["law"] == "fem" and {"t", "du", "Fx", "FN", "u1", "u2", "u3"} <= set(d["loop"])
+    # the FE's own contact radius at F0 is Hertz's within the mesh error
+    assert d["contact_radius"] == pytest.approx(ref.hertz(0.5, 6e-3, STEEL.E_star)["a"], rel=0.02)
+
+
+FE_APP = ["apparatus", "--law", "fem", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5",
+          "--ua", "150e-9"]
+
+
+@pytest.mark.parametrize("extra,word", [
+    (["--h-contact", "0.5"], "h_contact"), (["--h-contact", "0"], "h_contact"),
+    (["--penalty", "-1"], "penalty"), (["--penalty", "nan"], "penalty"),
+    (["--al-tol=-1e-3"], "al_tol"), (["--friction-al-tol", "-1"], "friction_al_tol"),
+    (["--block-size", "0"], "block_size"), (["--contact-extent", "0.9"], "contact_extent"),
+    (["--steps", "42"], "steps"), (["--mu2", "-0.1"], "mu2"), (["--solver", "magic"], "solver"),
+])
+def test_apparatus_fem_bad_input_exit_2_before_setup(extra, word, tmp_path, capsys):
+    cache, out = tmp_path / "meshes", tmp_path / "x.json"
+    try:
+        code = main([*FE_APP, *extra, "--cache-dir", str(cache), "--json", str(out)])
+    except SystemExit as exc:  # argparse rejects the value itself
+        code = exc.code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and word in err[0]
+    assert not out.exists() and not cache.exists()  # failed before the FE set-up
