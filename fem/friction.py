@@ -137,11 +137,16 @@ def _projected_newton(M, fac, b, g, k, u, T, max_iter, it0):
     line search on the convex potential; monotone, so it cannot cycle."""
     gmax = float(np.max(g))
     c = g > 0
+    absM = np.abs(M)
     for it in range(1, 20 * max_iter + 1):
         grad = M @ T - b - u
         trial = T - k * grad
         resid = np.abs(T - np.clip(trial, -g, g))
-        if np.max(resid) <= 1e-10 * gmax:
+        # roundoff floor of the residual: grad is a difference of displacements of size
+        # |M||T| + |b| + |u|, amplified by k; with a very stiff penalty this floor exceeds
+        # 1e-10 gmax and the test could never be met (hard case "penalty too stiff")
+        floor = 64.0 * np.finfo(float).eps * k * (absM @ np.abs(T) + np.abs(b) + abs(u))
+        if np.all(resid <= 1e-10 * gmax + floor):
             return T, u, _signs(trial, g), it0 + it, trial
         eps = min(1e-9 * gmax, float(np.max(resid)))
         hold = ((T >= g - eps) & (grad < 0)) | ((T <= -g + eps) & (grad > 0)) | ~c

@@ -61,6 +61,7 @@ exact to O(r^6).
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -72,6 +73,8 @@ from .solvers import blas_threads
 
 DEFAULT_PENALTY = 100.0
 DEFAULT_AL_TOL = 1e-8
+#: pure penalty (al_tol = 0) with a relative penetration above this is warned (a too soft penalty)
+PENALTY_WARN = 1e-3
 
 
 @dataclass
@@ -204,6 +207,10 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
         else:
             raise ConvergenceError(f"augmented Lagrangian: penetration {rel_pen:.3g} (relative) above "
                                    f"al_tol={al_tol:g} after {max_al} iterations")
+    if al_tol == 0.0 and rel_pen > PENALTY_WARN:
+        warnings.warn(f"pure penalty (al_tol = 0): the penetration is {rel_pen:.3g} of the approach, above "
+                      f"{PENALTY_WARN:g}; raise the penalty (now {penalty:g}) or use the augmented Lagrangian "
+                      f"(al_tol > 0) to remove this error", RuntimeWarning, stacklevel=2)
     p = lam / it.w
     F = float(lam.sum())
     if getattr(model.profile, "edge_fixed", False):

@@ -1,0 +1,573 @@
+"""Hard cases of issue 7: numerical stability of the MDR and FE contact models, each held
+against an independent truth (closed forms of ``mdr.reference``, energy conservation,
+refinement), one row per case for the report's "hard cases" table.
+
+``hard_cases(quick=True)`` returns rows with keys
+
+- ``name``, ``model`` ("mdr" or "fem"),
+- ``status``: "ok" (error within the case's tolerance ``tol``), "flagged" (the model
+  itself warned or reported the case as doubtful: e.g. a too soft penalty, a too coarse
+  mesh; or the error is above ``tol``), "error" (an exception: ``note`` holds it),
+- ``iterations``: Newton (active-set) iterations per step of the FE friction solver
+  (``FEContact.stats``) or of the normal solve, ``None`` where not applicable (MDR is
+  explicit),
+- ``error`` (relative, against ``truth``, a text naming it), ``tol``, ``time_s``, ``note``.
+
+Every case is a function ``case_*(quick, cache_dir) -> list[row]`` so the tests
+(``tests/test_hard_cases.py``) can run them one by one. ``quick`` uses coarse meshes and
+few steps (the whole quick table takes well under a minute on 2 cores); ``quick=False``
+refines (finer meshes, the a/320 mesh, 50 FE cycles).
+
+Assumptions: steel on steel (E = 200 GPa, nu = 0.29) unless the case says otherwise,
+sphere R = 6 mm, F = 0.5 N, mu = 0.2 (Table 2 of Willert 2023), constant normal force
+where a closed form is used (Cattaneo-Mindlin and Mindlin-Deresiewicz hold for any nu
+with the two-body E*, G*, and for equal materials there is no normal-tangential coupling).
+The FE law uses ``displacement="contact"`` where a displacement-controlled closed form is
+the truth (the finite bodies' series compliance removed, see ``fem.law``).
+"""
+from __future__ import annotations
+
+import time
+import traceback
+import warnings
+
+import numpy as np
+
+from mdr import ConvergenceError, FlatPunch, Materials, MDRContact, Sphere, TruncatedSphere
+from mdr import reference as ref
+from mdr.drive import run_contact
+from mdr.loops import loop_integral
+from mdr.normal import approach_from_force, pressure
+
+R, F, MU = 6e-3, 0.5, 0.2
+STEEL = Materials()
+
+
+# ------------------------------------------------------------------------- helpers
+
+
+def _row(name, model, error, tol, truth, t0, iterations=None, note="", flagged=False, **extra):
+    err = None if error is None else float(abs(error))
+    ok = err is not None and np.isfinite(err) and err <= tol and not flagged
+    return {"name": name, "model": model, "status": "ok" if ok else "flagged",
+            "iterations": None if iterations is None else float(iterations), "error": err, "tol": float(tol),
+            "truth": truth, "time_s": time.perf_counter() - t0, "note": note, **extra}
+
+
+def _fe(profile, mu=MU, *, F_max=F, h=0.1, cache_dir=None, mat=STEEL, **kw):
+    from fem.law import FEContact
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the coarse-mesh warning is the point of some cases
+        return FEContact(profile, mat, mu, F_max=F_max, h_contact=h, cache_dir=cache_dir, **kw)
+
+
+def _newton_per_step(law, before=None):
+    st = law.stats
+    steps = st["steps"] - (before or {}).get("steps", 0)
+    return (st["newton"] - (before or {}).get("newton", 0)) / max(steps, 1)
+
+
+def _u_star(F_N=F, mu=MU, mat=STEEL):
+    return ref.gross_slip_displacement(ref.hertz(F_N, R, mat.E_star)["d"], mu, mat.E_star, mat.G_star)
+
+
+def _harmonic(cycles, steps):
+    t = np.arange(cycles * steps + 1) / steps
+    return t, np.sin(2 * np.pi * t)
+
+
+def _last(H, cycles, steps):
+    sl = slice((cycles - 1) * steps, cycles * steps + 1)
+    return H.u[sl], H.Fx[sl]
+
+
+def _work(H, cycles, steps):
+    """Friction work of the last cycle (summed over the springs/pairs: exact in time for a
+    constant normal force, unlike the trapezoidal loop area)."""
+    return float(np.sum(H.work[(cycles - 1) * steps + 1:cycles * steps + 1]))
+
+
+# ---------------------------------------------------------------------- flat punch
+
+
+def case_flat_punch(quick=True, cache_dir=None):
+    """Flat punch b = 30 um: Boussinesq pressure with its edge singularity, the contact radius
+    fixed at b (approach linear in F), full stick then sudden gross slip at u* = mu E* d/G*."""
+    rows = []
+    b = 30e-6
+    prof = FlatPunch(b)
+    t0 = time.perf_counter()
+    d = float(approach_from_force(prof, STEEL, F))
+    r = np.linspace(0, 0.99, 100) * b
+    p = pressure(prof, STEEL, d, r)
+    err = np.max(np.abs(p / ref.flat_punch_pressure(r, F, b) - 1))
+    err = max(err, abs(d / ref.flat_punch_approach(F, b, STEEL.E_star) - 1))
+    rows.append(_row("flat punch: pressure with edge singularity", "mdr", err, 1e-9,
+                     "Boussinesq p = F/(2 pi b sqrt(b^2-r^2)), d = F/(2 E* b)", t0))
+    # MDR: full stick then gross slip, exact
+    t0 = time.perf_counter()
+    law = MDRContact(prof, STEEL, MU, n=50)
+    us = MU * STEEL.E_star * d / STEEL.G_star
+    u = np.linspace(0, 2 * us, 101)
+    H = law.run(u=u, F_N=np.full(u.size, F))
+    truth = np.minimum(2 * STEEL.G_star * b * u, MU * F)
+    err = np.max(np.abs(H.Fx - truth)) / (MU * F)
+    rows.append(_row("flat punch: full stick then sudden gross slip", "mdr", err, 1e-9,
+                     "F_x = min(2 G* b u, mu F_N)", t0, stick_radius_before=float(H.c[40]),
+                     stick_radius_after=float(H.c[-1])))
+    # FE: normal stiffness at two forces (radius fixed), pressure inside, edge growth under refinement
+    from fem.run import run_normal
+
+    t0 = time.perf_counter()
+    hs = (1 / 20, 1 / 40) if quick else (1 / 20, 1 / 40, 1 / 80)
+    p_edge, errs, its = [], [], []
+    for h in hs:
+        outs = [run_normal("flat", b=b, F=f, h_contact=h, cache_dir=cache_dir) for f in (0.05 * F, F)]
+        o = outs[1]
+        rr, pp = np.asarray(o["pressure"]["r"]), np.asarray(o["pressure"]["p"])
+        inner = rr <= 0.8 * b
+        e_p = np.max(np.abs(pp[inner] / ref.flat_punch_pressure(rr[inner], F, b) - 1))
+        e_d = abs(o["indentation"] / ref.flat_punch_approach(F, b, STEEL.E_star) - 1)
+        e_lin = abs(outs[1]["approach"] / outs[0]["approach"] / 20.0 - 1)  # fixed radius: d proportional to F
+        errs.append((e_d, e_p, e_lin))
+        p_edge.append(float(pp[rr < b][-1]) / (F / (np.pi * b**2)))
+        its.append(o["solver"]["newton_iterations"] / o["solver"]["al_iterations"])
+    e_d, e_p, e_lin = errs[-1]
+    grows = all(p_edge[i + 1] > 1.2 * p_edge[i] for i in range(len(p_edge) - 1))
+    rows.append(_row("flat punch: normal stiffness, pressure, fixed radius", "fem", max(e_d, e_lin), 5e-3,
+                     "d = F/(2 E* b); d proportional to F (radius fixed at b)", t0, iterations=its[-1],
+                     note=f"h = b/{1 / hs[-1]:.0f}: p(r <= 0.8 b) within {e_p:.1%} of Boussinesq; edge pressure / "
+                          f"mean {', '.join(f'{x:.2f}' for x in p_edge)} grows with refinement (singular)",
+                     flagged=not grows, pressure_error=e_p, edge_pressure=p_edge))
+    # FE tangential: full stick then sudden gross slip (contact displacement measure)
+    t0 = time.perf_counter()
+    law = _fe(prof, h=1 / 20 if quick else 1 / 40, cache_dir=cache_dir, displacement="contact")
+    n0 = dict(law.stats)
+    u = np.linspace(0, 2 * us, 41)
+    H = law.run(u=u, F_N=np.full(u.size, F))
+    err = np.max(np.abs(H.Fx - np.minimum(2 * STEEL.G_star * b * u, MU * F))) / (MU * F)
+    # in full stick nothing slips (c = b) and beyond u* everything slides (c = 0)
+    stick = u < 0.9 * us
+    sharp = bool(np.all(H.c[1:][stick[1:]] >= 0.99 * b) and np.all(H.c[u > 1.1 * us] == 0))
+    rows.append(_row("flat punch: full stick then sudden gross slip", "fem", err, 0.03,
+                     "F_x = min(2 G* b u, mu F_N)", t0, iterations=_newton_per_step(law, n0),
+                     note="stick zone = b until u*, then 0" if sharp else "stick zone shrinks before u*",
+                     flagged=not sharp))
+    return rows
+
+
+# ------------------------------------------------------------------ truncated sphere
+
+
+def case_truncated_edge(quick=True, cache_dir=None):
+    """Truncated sphere with the flat face edge inside, at and beyond the sphere's contact
+    edge (b = 0.9 a, a, 1.05 a, a the Hertz radius at F): contact radius and approach against
+    the closed forms (the kink at r = b gives a weak pressure singularity)."""
+    from fem.run import run_normal
+
+    rows = []
+    a_h = ref.hertz(F, R, STEEL.E_star)["a"]
+    for q in (0.9, 1.0, 1.05):
+        b = q * a_h
+        prof = TruncatedSphere(R, b)
+        a_t = ref.truncated_contact_radius(F, R, b, STEEL.E_star)
+        d_t = ref.truncated_approach(a_t, R, b)
+        t0 = time.perf_counter()
+        d = float(approach_from_force(prof, STEEL, F))
+        err = max(abs(float(prof.g_inv(d)) / a_t - 1), abs(d / d_t - 1))
+        # gross slip at 3 u*: dW = 4 mu F u_A - 8 mu^2 (E*/G*) U (any profile)
+        ua = 3 * MU * STEEL.E_star * d / STEEL.G_star
+        res = run_contact(prof, STEEL, MU, F, ua=ua, cycles=3, steps=400)
+        U = ref.truncated_energy(a_t, R, b, STEEL.E_star)
+        e_w = abs(res["friction_work"] / ref.gross_slip_dissipation(ua, F, MU, U, STEEL.E_star, STEEL.G_star) - 1)
+        rows.append(_row(f"truncated b = {q:g} a: contact radius, approach, gross slip", "mdr", max(err, e_w), 1e-6,
+                         "a, d of the truncated sphere (closed form); dW = 4 mu F u_A - 8 mu^2 E*/G* U", t0,
+                         note=f"a/b = {a_t / b:.4f}"))
+        t0 = time.perf_counter()
+        h = 1 / 40 if quick else 1 / 160
+        o = run_normal("truncated", R=R, b=b, F=F, h_contact=h, cache_dir=cache_dir)
+        e_a = o["contact_radius"] / a_t - 1
+        e_d = o["indentation"] / d_t - 1
+        rr, pp = np.asarray(o["pressure"]["r"]), np.asarray(o["pressure"]["p"])
+        ok = bool(np.all(np.isfinite(pp)) and np.all(pp >= 0))
+        # pressure against the MDR (exact half-space) pressure away from the kink and the edge
+        sel = (np.abs(rr - b) > 0.1 * a_t) & (rr < 0.9 * a_t)
+        pm = pressure(prof, STEEL, d_t, rr[sel])
+        e_p = float(np.max(np.abs(pp[sel] - pm)) / np.max(pm))
+        rows.append(_row(f"truncated b = {q:g} a: contact radius, approach", "fem", max(abs(e_a), abs(e_d)), 0.01,
+                         "truncated-sphere closed forms a(F), d(a)", t0,
+                         iterations=o["solver"]["newton_iterations"] / o["solver"]["al_iterations"],
+                         note=f"h = a/{1 / h:.0f}: a {e_a:+.2e}, d {e_d:+.2e}, p off the kink within {e_p:.1%} of MDR",
+                         flagged=not ok, pressure_error=e_p))
+    return rows
+
+
+# -------------------------------------------------------------- gross slip, many cycles
+
+
+def case_gross_slip_many_cycles(quick=True, cache_dir=None):
+    """u_A = 10 u* for 50 cycles (MDR; FE fewer): every stationary cycle dissipates the
+    gross-slip value, the loop does not drift or ratchet."""
+    rows = []
+    us = _u_star()
+    ua = 10 * us
+    truth = ref.mindlin_deresiewicz_dissipation(ua, F, MU, us)
+    t0 = time.perf_counter()
+    cycles, steps = 50, 200
+    res = run_contact(Sphere(R), STEEL, MU, F, ua=ua, cycles=cycles, steps=steps)
+    t, s = _harmonic(cycles, steps)
+    H = MDRContact(Sphere(R), STEEL, MU, F_max=F).run(u=ua * s, F_N=np.full(t.size, F))
+    W = np.array([np.sum(H.work[k * steps + 1:(k + 1) * steps + 1]) for k in range(cycles)])
+    err = np.max(np.abs(W[1:] / truth - 1))
+    loops = H.Fx[:-1].reshape(cycles, steps)
+    drift = float(np.max(np.abs(loops[2:] - loops[1])) / (MU * F))
+    rows.append(_row("gross slip u_A = 10 u*, 50 cycles", "mdr", max(err, drift), 1e-6,
+                     "dW = 4 mu F u_A - 3.2 mu F u* every cycle (Mindlin-Deresiewicz), no drift", t0,
+                     note=f"loop area {res['dissipation'] / truth - 1:+.1e} (trapezoid over {steps} steps); "
+                          f"loop drift {drift:.1e} mu F", drift=drift))
+    t0 = time.perf_counter()
+    cycles, steps = (10, 40) if quick else (50, 80)
+    law = _fe(Sphere(R), h=0.1 if quick else 1 / 40, cache_dir=cache_dir, displacement="contact")
+    t, s = _harmonic(cycles, steps)
+    H = law.run(u=ua * s, F_N=np.full(t.size, F))
+    W = np.array([np.sum(H.work[k * steps + 1:(k + 1) * steps + 1]) for k in range(cycles)])
+    A = np.array([abs(loop_integral(H.u[k * steps:(k + 1) * steps + 1], H.Fx[k * steps:(k + 1) * steps + 1]))
+                  for k in range(cycles)])
+    loops = H.Fx[:-1].reshape(cycles, steps)
+    drift = float(np.max(np.abs(loops[2:] - loops[1])) / (MU * F))
+    err = np.max(np.abs(W[1:] / truth - 1))
+    rows.append(_row(f"gross slip u_A = 10 u*, {cycles} cycles", "fem", max(err, drift), 0.01,
+                     "dW = 4 mu F u_A - 3.2 mu F u* every cycle, no drift", t0, iterations=_newton_per_step(law),
+                     note=f"friction work {err:.1e}, loop area {np.max(np.abs(A[1:] / truth - 1)):.1e} "
+                          f"({steps} steps); drift {drift:.1e} mu F", drift=drift))
+    return rows
+
+
+# ------------------------------------------------------------------ vanishing contact
+
+
+def _energy_rows(name, model, H, steps, cycles, mu, t0, iterations=None, tol=0.05, note=""):
+    u, Fx = _last(H, cycles, steps)
+    FN = H.FN[(cycles - 1) * steps:]
+    finite = all(np.all(np.isfinite(getattr(H, k))) for k in ("Fx", "FN", "c", "a", "work"))
+    coulomb = float(np.max(np.abs(H.Fx) - mu * H.FN))
+    area = abs(loop_integral(u, Fx))
+    work = float(np.sum(H.work[(cycles - 1) * steps + 1:]))
+    err = abs(area / work - 1) if work > 0 else np.inf
+    return _row(name, model, err, tol, "loop area = friction work; |F_x| <= mu F_N; no NaN", t0,
+                iterations=iterations, flagged=not finite or coulomb > 1e-9 * mu * np.max(FN),
+                note=note or f"min F_N {np.min(FN):.3g} N, max |F_x| - mu F_N = {coulomb:.1e} N")
+
+
+def case_vanishing_contact(quick=True, cache_dir=None):
+    """F_N = F (1 + 0.99 sin(2 pi t + pi/2)) down to 1 % of its mean while u runs; and F_N = 0
+    (contact lost): a defined answer (F_x = 0, a = c = 0, history released), never NaN."""
+    rows = []
+    ua, q = 0.5 * _u_star(), 0.99
+    cycles, steps = 3, 800
+    t, s = _harmonic(cycles, steps)
+    FN = F * (1 + q * np.sin(2 * np.pi * t + np.pi / 2))
+    t0 = time.perf_counter()
+    H = MDRContact(Sphere(R), STEEL, MU, F_max=FN.max(), n=400).run(u=ua * s, F_N=FN)
+    rows.append(_energy_rows("normal force down to 1 % of its mean", "mdr", H, steps, cycles, MU, t0, tol=0.01))
+    t0 = time.perf_counter()
+    law = _fe(Sphere(R), F_max=FN.max(), h=0.05 if quick else 1 / 80, cache_dir=cache_dir, displacement="contact")
+    fe_steps = 200 if quick else 800
+    t2, s2 = _harmonic(cycles, fe_steps)
+    FN2 = F * (1 + q * np.sin(2 * np.pi * t2 + np.pi / 2))
+    H2 = law.run(u=ua * s2, F_N=FN2)
+    rows.append(_energy_rows("normal force down to 1 % of its mean", "fem", H2, fe_steps, cycles, MU, t0,
+                             iterations=_newton_per_step(law), tol=0.03 if quick else 0.01))
+    # contact lost: F_N reaches 0 (dF = F0) and a step at F_N = 0
+    for model in ("mdr", "fem"):
+        t0 = time.perf_counter()
+        lw = MDRContact(Sphere(R), STEEL, MU, F_max=2 * F) if model == "mdr" else \
+            _fe(Sphere(R), F_max=2 * F, h=0.1, cache_dir=cache_dir, displacement="contact")
+        st = lw.rest_state()
+        r1, st = lw.step(st, ua, F_N=F)
+        r0, st0 = lw.step(st, ua, F_N=0.0)
+        r2, _ = lw.step(st0, ua, F_N=F)
+        vals = [r0.Fx, r0.FN, r0.a, r0.c, r0.work, r2.Fx]
+        defined = all(np.isfinite(v) for v in vals) and float(r0.Fx) == 0 and float(r0.a) == 0 \
+            and float(r0.c) == 0 and abs(float(r2.Fx)) <= 1e-12 * MU * F
+        rows.append(_row("F_N = 0: contact lost", model, 0.0 if defined else None, 0.0,
+                         "F_x = 0, a = c = 0, history released (re-contact starts unstrained)", t0,
+                         note=f"step at F_N = 0: F_x = {float(r0.Fx):g}, a = {float(r0.a):g}; "
+                              f"re-contact F_x = {float(r2.Fx):.1e} N", flagged=not defined))
+    return rows
+
+
+# -------------------------------------------------------------------- friction extremes
+
+
+def case_friction_extremes(quick=True, cache_dir=None):
+    """mu = 0.01 and 1.0: Mindlin-Deresiewicz dissipation at u_A = u*/2 (u* scales with mu);
+    mu = 0: no tangential force, no dissipation, slip index undefined (None)."""
+    rows = []
+    for mu in (0.01, 1.0):
+        us = _u_star(mu=mu)
+        truth = ref.mindlin_deresiewicz_dissipation(0.5 * us, F, mu, us)
+        t0 = time.perf_counter()
+        res = run_contact(Sphere(R), STEEL, mu, F, ua=0.5 * us, cycles=3, steps=400)
+        rows.append(_row(f"mu = {mu:g}", "mdr", res["dissipation"] / truth - 1, 1e-3,
+                         "Mindlin-Deresiewicz dW at u_A = u*/2", t0))
+        t0 = time.perf_counter()
+        law = _fe(Sphere(R), mu, h=0.05 if quick else 1 / 80, cache_dir=cache_dir, displacement="contact")
+        steps = 100 if quick else 200
+        t, s = _harmonic(2, steps)
+        H = law.run(u=0.5 * us * s, F_N=np.full(t.size, F))
+        dW = _work(H, 2, steps)
+        area = abs(loop_integral(*_last(H, 2, steps)))
+        rows.append(_row(f"mu = {mu:g}", "fem", dW / truth - 1, 0.02 if quick else 5e-3,
+                         "Mindlin-Deresiewicz dW at u_A = u*/2", t0,
+                         iterations=_newton_per_step(law),
+                         note=f"friction work {dW / truth - 1:+.1e}, loop area {area / truth - 1:+.1e} "
+                              f"({steps} steps per cycle)"))
+    t0 = time.perf_counter()
+    res = run_contact(Sphere(R), STEEL, 0.0, F, ua=50e-9, cycles=2, steps=40)
+    ok = max(abs(x) for x in res["loop"]["Fx"]) == 0 and res["dissipation"] == 0 and res["slip_index"] is None
+    rows.append(_row("mu = 0 (frictionless)", "mdr", 0.0 if ok else None, 0.0, "F_x = 0, dW = 0, slip index undefined",
+                     t0, flagged=not ok))
+    t0 = time.perf_counter()
+    law = _fe(Sphere(R), 0.0, h=0.1, cache_dir=cache_dir)
+    t, s = _harmonic(2, 16)
+    H = law.run(u=50e-9 * s, F_N=np.full(t.size, F))
+    ok = np.all(H.Fx == 0) and np.all(H.work == 0) and np.all(np.isfinite(H.c))
+    rows.append(_row("mu = 0 (frictionless)", "fem", 0.0 if ok else None, 0.0, "F_x = 0, dW = 0", t0,
+                     flagged=not ok))
+    return rows
+
+
+# --------------------------------------------------------------------- penalty extremes
+
+
+def case_penalty_extremes(quick=True, cache_dir=None):
+    """Penalty too soft (alpha = 0.1) and too stiff (1e6), normal (Hertz) and tangential
+    (Mindlin-Deresiewicz). Pure penalty with a soft penalty: large error, warned (flagged);
+    the augmented Lagrangian removes it; a stiff penalty stays well conditioned because the
+    condensed interface solves for forces (M = Ct + diag(1/k) tends to Ct, not to infinity)."""
+    from fem.run import run_normal
+
+    rows = []
+    h_ = ref.hertz(F, R, STEEL.E_star)
+    h = 1 / 20
+    for pen, al in ((0.1, 0.0), (0.1, 1e-8), (1e6, 0.0), (1e6, 1e-8)):
+        t0 = time.perf_counter()
+        name = f"normal penalty {pen:g}, {'pure penalty' if al == 0 else 'augmented Lagrangian'}"
+        try:
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                o = run_normal("sphere", R=R, F=F, h_contact=h, penalty=pen, al_tol=al, cache_dir=cache_dir)
+        except ConvergenceError as exc:
+            rows.append(_row(name, "fem", None, 5e-3, "Hertz a, d", t0, note=f"detected: ConvergenceError: {exc}",
+                             converged=False))
+            continue
+        warned = any("penalty" in str(x.message) for x in w)
+        err = max(abs(o["contact_radius"] / h_["a"] - 1), abs(o["indentation"] / h_["d"] - 1))
+        rows.append(_row(name, "fem", err, 5e-3, "Hertz a, d", t0,
+                         iterations=o["solver"]["newton_iterations"] / o["solver"]["al_iterations"],
+                         note=f"penetration {o['penalty_error']:.1e} of d, {o['solver']['al_iterations']} AL passes"
+                              + ("; warned" if warned else ""), flagged=warned, warned=warned,
+                         penalty_error=o["penalty_error"], converged=True))
+    us = _u_star()
+    truth = ref.mindlin_deresiewicz_dissipation(0.5 * us, F, MU, us)
+    steps = 100
+    t, s = _harmonic(2, steps)
+    for pen, al in ((0.1, 0.0), (0.1, 1e-7), (1e6, 1e-7)):
+        t0 = time.perf_counter()
+        name = f"friction penalty {pen:g}, {'pure penalty' if al == 0 else 'augmented Lagrangian'}"
+        try:
+            law = _fe(Sphere(R), h=0.05, cache_dir=cache_dir, displacement="contact", penalty=pen,
+                      friction_al_tol=al)
+            H = law.run(u=0.5 * us * s, F_N=np.full(t.size, F))
+        except ConvergenceError as exc:
+            rows.append(_row(name, "fem", None, 0.01, "Mindlin-Deresiewicz dW at u_A = u*/2", t0,
+                             note=f"detected: ConvergenceError: {exc}", converged=False))
+            continue
+        dW = _work(H, 2, steps)
+        rows.append(_row(name, "fem", dW / truth - 1, 0.02, "Mindlin-Deresiewicz dW at u_A = u*/2 (h = a/20)", t0,
+                         iterations=_newton_per_step(law), converged=True,
+                         note=f"{law.stats['al'] / max(law.stats['steps'], 1):.1f} AL passes per step"))
+    return rows
+
+
+# ---------------------------------------------------------------- near-incompressible
+
+
+def case_incompressible(quick=True, cache_dir=None):
+    """nu = 0.49 in both bodies (P2 triangles must not lock): Hertz and Mindlin-Deresiewicz
+    with the two-body E*, G*, errors no worse than at nu = 0.29 on the same mesh."""
+    from fem.run import run_normal
+
+    rows = []
+    h = 1 / 20 if quick else 1 / 80
+    errs = {}
+    for nu in (0.29, 0.49):
+        mat = Materials(200e9, nu, 200e9, nu)
+        h_ = ref.hertz(F, R, mat.E_star)
+        t0 = time.perf_counter()
+        o = run_normal("sphere", R=R, F=F, materials=mat, h_contact=h, cache_dir=cache_dir)
+        e = max(abs(o["contact_radius"] / h_["a"] - 1), abs(o["indentation"] / h_["d"] - 1),
+                abs(o["p0"] / h_["p0"] - 1))
+        errs[nu] = e
+        us = _u_star(mat=mat)
+        truth = ref.mindlin_deresiewicz_dissipation(0.5 * us, F, MU, us)
+        law = _fe(Sphere(R), h=h, cache_dir=cache_dir, mat=mat, displacement="contact")
+        steps = 100
+        t, s = _harmonic(2, steps)
+        H = law.run(u=0.5 * us * s, F_N=np.full(t.size, F))
+        e_w = _work(H, 2, steps) / truth - 1
+        errs[("w", nu)] = e_w
+        if nu == 0.49:
+            locked = e > 3 * errs[0.29] + 1e-4 or abs(e_w) > 3 * abs(errs[("w", 0.29)]) + 1e-3
+            rows.append(_row("nu = 0.49 (near-incompressible)", "fem", max(e, abs(e_w)), 0.02 if quick else 5e-3,
+                             "Hertz a, d, p0 and Mindlin-Deresiewicz dW (two-body E*, G*)", t0,
+                             iterations=_newton_per_step(law),
+                             note=f"Hertz error {e:.1e} (nu = 0.29: {errs[0.29]:.1e}), dW {e_w:+.1e} "
+                                  f"(nu = 0.29: {errs[('w', 0.29)]:+.1e}); "
+                                  f"E*/G* = {mat.E_star / mat.G_star:.3f}", flagged=locked,
+                             hertz_error=e, hertz_error_029=errs[0.29], dissipation_error=float(e_w),
+                             dissipation_error_029=float(errs[("w", 0.29)])))
+    return rows
+
+
+# ------------------------------------------------------------------------- apparatus
+
+
+def _contact_truth(out, mu, F0, steps, cycles, mat=STEEL):
+    """Independent truth for the contact loop inside the apparatus (sphere, constant F_N):
+    Mindlin-Deresiewicz at the measured force amplitude (partial slip) or at the measured
+    contact displacement amplitude (gross slip)."""
+    sl = slice((cycles - 1) * steps, cycles * steps + 1)
+    Fx, du = out["Fx"][..., sl], out["du"][..., sl]
+    FA = 0.5 * np.ptp(Fx, axis=-1)
+    uA = 0.5 * np.ptp(du, axis=-1)
+    us = _u_star(F0, mu, mat)
+    truth = np.array([ref.mindlin_deresiewicz_dissipation_force(fa, F0, mu, us) if fa < mu * F0 * (1 - 1e-6)
+                      else ref.mindlin_deresiewicz_dissipation(ua, F0, mu, us)
+                      for fa, ua in zip(np.atleast_1d(FA), np.atleast_1d(uA))])
+    return truth, FA
+
+
+def case_apparatus_stiffness(quick=True, cache_dir=None):
+    """Sphere in the apparatus with k_x = 0.1 .. 100 N/um (dF = 0): the contact's loop
+    dissipates the Mindlin-Deresiewicz energy of its own force (or displacement) amplitude;
+    at 0.1 N/um the contact sticks (slip index ~ 0, F_x far below mu F_N)."""
+    from mdr.apparatus import Apparatus, run_apparatus
+
+    rows = []
+    kx = np.array([0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0]) * 1e6
+    cycles, steps = 3, 200
+    t0 = time.perf_counter()
+    law = MDRContact(Sphere(np.full(kx.size, R)), STEEL, MU, F_max=F, n=400)
+    out = run_apparatus(law, Apparatus(kx=kx), MU, F, dF=0.0, ua=150e-9, cycles=cycles, steps=steps)
+    truth, FA = _contact_truth(out, MU, F, steps, cycles)
+    dW = out["dissipation"]
+    err = np.abs(dW - truth) / (4 * MU * F * 150e-9)  # as a slip-index difference (dW -> 0 when sticking)
+    delta = np.asarray(out["slip_index"])
+    mono = bool(np.all(np.diff(delta) > 0))
+    sticking = bool(delta[0] < 0.01 and FA[0] < 0.2 * MU * F)
+    rows.append(_row("apparatus k_x = 0.1 .. 100 N/um", "mdr", float(np.max(err)), 2e-3,
+                     "Mindlin-Deresiewicz dW at the contact's own amplitude (slip-index difference)", t0,
+                     iterations=out["evaluations_per_step"],
+                     note="slip index " + ", ".join(f"{d:.3f}" for d in delta) + " (k_x = 0.1 .. 100 N/um); "
+                          + ("sticks at 0.1 N/um" if sticking else "does NOT stick at 0.1 N/um"),
+                     flagged=not (mono and sticking), slip_index=delta.tolist()))
+    # FE law (contact displacement measure) in the same apparatus, at the two extremes
+    t0 = time.perf_counter()
+    ks = (0.1e6, 100e6)
+    fe_steps = 40 if quick else 100
+    errs, deltas, its = [], [], []
+    for k in ks:
+        fe = _fe(Sphere(R), h=0.05 if quick else 1 / 40, cache_dir=cache_dir, displacement="contact")
+        o = run_apparatus(fe, Apparatus(kx=k), MU, F, dF=0.0, ua=150e-9, cycles=cycles, steps=fe_steps)
+        tr, _ = _contact_truth(o, MU, F, fe_steps, cycles)
+        errs.append(abs(float(o["dissipation"]) - float(tr[0])) / (4 * MU * F * 150e-9))
+        deltas.append(float(o["slip_index"]))
+        its.append(_newton_per_step(fe))
+    rows.append(_row("apparatus k_x = 0.1 and 100 N/um", "fem", max(errs), 0.01,
+                     "Mindlin-Deresiewicz dW at the contact's own amplitude (slip-index difference)", t0, iterations=float(np.mean(its)),
+                     note=f"slip index {deltas[0]:.3f} (0.1 N/um, sticks), {deltas[1]:.3f} (100 N/um); "
+                          f"errors {errs[0]:.1e}, {errs[1]:.1e}", flagged=not deltas[0] < 0.01,
+                     slip_index=deltas))
+    return rows
+
+
+# ----------------------------------------------------------------------------- meshes
+
+
+def case_mesh_extremes(quick=True, cache_dir=None):
+    """h = a/5: the contact holds ~10 pairs; the model warns and the error (Cattaneo-Mindlin
+    stick radius, Mindlin-Deresiewicz dissipation) is large but reported (flagged).
+    h = a/320 (~44k DOFs): Newton still converges in a few iterations, Hertz to 1e-3."""
+    from fem.run import run_normal
+
+    rows = []
+    a = ref.hertz(F, R, STEEL.E_star)["a"]
+    us = _u_star()
+    fx = np.linspace(0.0, 0.95, 40) * MU * F
+    FA = float(ref.cattaneo_mindlin_force(0.5 * us, F, MU, us))
+    truth = ref.mindlin_deresiewicz_dissipation_force(FA, F, MU, us)
+    for h in (1 / 5, 1 / 80):
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            from fem.law import FEContact
+            law = FEContact(Sphere(R), STEEL, MU, F_max=F, h_contact=h, cache_dir=cache_dir)
+        warned = any("coarse contact mesh" in str(x.message) for x in w)
+        H = law.run(Fx=fx, F_N=np.full(fx.size, F))
+        e_c = float(np.max(np.abs(H.c[1:] - ref.cattaneo_mindlin_stick_radius(fx[1:], F, MU, a))) / a)
+        steps = 40
+        t, s = _harmonic(2, steps)
+        H = law.run(Fx=FA * s, F_N=np.full(t.size, F))
+        e_w = _work(H, 2, steps) / truth - 1
+        rows.append(_row(f"mesh h = a/{1 / h:.0f}", "fem", max(e_c, abs(e_w)), 0.01,
+                         "Cattaneo-Mindlin stick radius, Mindlin-Deresiewicz dW", t0,
+                         iterations=_newton_per_step(law),
+                         note=f"{law.dofs} DOFs; stick radius {e_c:.1e} of a, dW {e_w:+.1e}"
+                              + ("; warned: coarse contact mesh" if warned else ""),
+                         flagged=warned, warned=warned, stick_radius_error=e_c, dissipation_error=float(e_w)))
+    if not quick:
+        t0 = time.perf_counter()
+        h_ = ref.hertz(F, R, STEEL.E_star)
+        o = run_normal("sphere", R=R, F=F, h_contact=1 / 320, cache_dir=cache_dir)
+        e = max(abs(o["contact_radius"] / h_["a"] - 1), abs(o["indentation"] / h_["d"] - 1),
+                abs(o["p0"] / h_["p0"] - 1))
+        rows.append(_row("mesh h = a/320 (normal)", "fem", e, 1e-3, "Hertz a, d, p0", t0,
+                         iterations=o["solver"]["newton_iterations"] / o["solver"]["al_iterations"],
+                         note=f"{o['dofs']} DOFs, {o['solver']['newton_iterations']} Newton / "
+                              f"{o['solver']['al_iterations']} AL"))
+    return rows
+
+
+CASES = (case_flat_punch, case_truncated_edge, case_gross_slip_many_cycles, case_vanishing_contact,
+         case_friction_extremes, case_penalty_extremes, case_incompressible, case_apparatus_stiffness,
+         case_mesh_extremes)
+
+
+def hard_cases(quick: bool = True, cache_dir=None) -> list[dict]:
+    """Run every hard case; one row per case and model (see the module docstring). A case
+    that raises becomes a row with status "error" and the exception in ``note``."""
+    rows = []
+    for case in CASES:
+        t0 = time.perf_counter()
+        try:
+            rows += case(quick, cache_dir)
+        except Exception as exc:  # a hard case must report, not abort the table
+            rows.append({"name": case.__name__.removeprefix("case_").replace("_", " "), "model": "-",
+                         "status": "error", "iterations": None, "error": None, "tol": None, "truth": "",
+                         "time_s": time.perf_counter() - t0,
+                         "note": f"{type(exc).__name__}: {exc}".splitlines()[0][:300],
+                         "traceback": traceback.format_exc(limit=3)})
+    return rows
+
+
+if __name__ == "__main__":  # pragma: no cover
+    import sys
+
+    for r in hard_cases(quick="--full" not in sys.argv):
+        err = "-" if r["error"] is None else f"{r['error']:.2e}"
+        it = "-" if r["iterations"] is None else f"{r['iterations']:.3g}"
+        print(f"{r['status']:8s} {r['model']:4s} {r['name'][:55]:55s} err {err:9s} it {it:5s} "
+              f"{r['time_s']:6.2f}s  {r['note']}")
