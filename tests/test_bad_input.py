@@ -147,8 +147,6 @@ def test_output_path_that_is_a_directory_is_an_input_error(tmp_path, capsys):
     assert code == 2 and len(lines) == 1 and "--vtu" in lines[0] and not (tmp_path / "o.json").exists()
 
 
-@pytest.mark.xfail(strict=False, reason="pending fix in mdr/apparatus.py (cycles, steps, alpha validated in the "
-                                        "apparatus engineer's uncommitted work; make strict when it lands)")
 def test_mdr_apparatus_loading_bad_input(tmp_path, capsys):
     for extra, word in ((["--cycles", "0", "--steps", "40"], "cycles"), (["--cycles", "2", "--steps", "0"], "steps"),
                         (["--cycles", "2", "--steps", "42"], "steps"), (["--alpha", "nan"], "alpha")):
@@ -305,8 +303,6 @@ def test_api_bad_input_names_the_parameter(call, word):
     assert "\n" not in str(exc.value)  # one line, also for array parameters
 
 
-@pytest.mark.xfail(strict=False, reason="pending fix in mdr/apparatus.py (cycles, steps, alpha validated in the "
-                                        "apparatus engineer's uncommitted work; make strict when it lands)")
 def test_apparatus_loading_bad_input():
     for kw, word in ((dict(cycles=0, steps=40), "cycles"), (dict(cycles=2, steps=0), "steps"),
                      (dict(alpha=NAN, cycles=2, steps=40), "alpha")):
