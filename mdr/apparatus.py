@@ -170,6 +170,11 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
     """
     F0, dF, alpha, ua, cycles, steps = _check_load(F0, dF, alpha, ua, cycles, steps)
+    mu = nonnegative("mu", mu)
+    law_mu = getattr(law, "mu", None)
+    if law_mu is not None and not np.allclose(np.asarray(law_mu, dtype=float), mu, rtol=1e-12, atol=0.0):
+        # the law's mu sets the physics, this mu the slip index: they must agree
+        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law_mu!r}; give the same value")
     batch = getattr(law, "batch", ())
     t = np.arange(cycles * steps + 1) / steps
     FN = F0 + np.asarray(dF)[..., None] * np.sin(2 * np.pi * t + np.asarray(alpha)[..., None])

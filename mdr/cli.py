@@ -80,7 +80,9 @@ def _cmd_normal(args):
     F = positive("F", args.F)
     d = float(approach_from_force(prof, mat, F))
     a = float(contact_radius(prof, d))
-    n = max(int(args.points), 8)
+    from .errors import positive_int
+
+    n = positive_int("points", args.points, minimum=8)
     # radii avoid r = a (and r = b) where the pressure may be singular
     r = (np.arange(n) + 0.5) / n * a
     p = pressure(prof, mat, d, r)

@@ -48,6 +48,9 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
         ua = positive("ua", ua)
     if fa is not None:
         fa = positive("fa", fa)
+        if mu == 0:
+            raise InputError("fa (force control) needs mu > 0: a frictionless contact carries no tangential "
+                             "force; use ua (displacement control) with mu = 0")
     cycles = positive_int("cycles", cycles, minimum=2)
     steps = positive_int("steps", steps, minimum=8)
     if steps % 4:
@@ -77,6 +80,9 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     t_start = time.perf_counter()
     if law is None:
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
+    elif hasattr(law, "mu") and np.ndim(law.mu) == 0 and float(law.mu) != mu:
+        # the law's own mu sets the physics, mu the slip index: they must agree
+        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={float(law.mu)!r}; give the same value")
     t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
     s = np.sin(2.0 * np.pi * t)
     drive = ua * s if ua is not None else fa * s

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import InputError
+
 
 def _to_jsonable(obj):
     if isinstance(obj, dict):
@@ -33,9 +35,24 @@ def _umask() -> int:
 _MODE = 0o666 & ~_umask()  # the mode open() would give a new file (mkstemp gives 0600)
 
 
-def write_bytes_atomic(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file and ``os.replace``."""
+def check_output_path(path, name="output path") -> Path:
+    """Raise InputError (naming ``name``) unless ``path`` can be written as a file: it must not
+    be a directory, and no parent may be an existing file. Call it before a costly run."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{name} {str(path)!r} is a directory; give a file name")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(f"{name} {str(path)!r}: {str(parent)!r} is a file, not a directory")
+            break
+    return path
+
+
+def write_bytes_atomic(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file and ``os.replace``
+    (InputError if ``path`` cannot be a file, see :func:`check_output_path`)."""
+    path = check_output_path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:

@@ -131,8 +131,13 @@ class AxisymMeshParams:
         if self.profile != "flat":
             zc = math.sqrt(self.R**2 - self.b**2)
             H1 = min(H1, zc)
-        z0 = self.probe_depth if self.probe_depth is not None else 20.0 * self.a_ref
-        hmax = self.h_max if self.h_max is not None else min(1e-3, max(L_r, L_h, H1) / 8.0)
+        if self.probe_depth is not None:
+            z0 = self.probe_depth
+        else:  # 20 a_ref, or midway in the allowed range when the bodies are shallower (short cap)
+            z0 = min(20.0 * self.a_ref, 0.5 * (self.contact_extent * self.a_ref + 0.8 * min(L_h, H1)))
+        # far-field element size: 1 mm, or 5 a_ref for large contacts (a 0.6 mm flat face would
+        # otherwise fill a 120 mm block with 1 mm elements), at most an eighth of the body
+        hmax = self.h_max if self.h_max is not None else min(max(1e-3, 5.0 * self.a_ref), max(L_r, L_h, H1) / 8.0)
         p = AxisymMeshParams(self.profile, None if self.profile == "flat" else float(self.R), float(self.b),
                              float(self.a_ref), float(self.h_contact), float(self.contact_extent),
                              float(L_r), float(L_h), float(H1), float(z0), float(self.growth), float(hmax))

@@ -154,8 +154,7 @@ def test_mdr_apparatus_loading_bad_input(tmp_path, capsys):
         assert_clean_failure(*run_cli(mdr_main, argv, tmp_path, capsys), word)
 
 
-@pytest.mark.xfail(strict=True, reason="pending fix in mdr/cli.py (--points is clamped to 8 silently)")
-def test_mdr_normal_points_pending(tmp_path, capsys):
+def test_mdr_normal_points(tmp_path, capsys):
     assert_clean_failure(*run_cli(mdr_main, ["normal", *SPH, "--F", "0.5", "--points", "-3"], tmp_path, capsys),
                          "points")
 
@@ -222,8 +221,7 @@ def test_fem_solver_failure_is_exit_3_with_diagnostics(cache, tmp_path, capsys):
                     reason="validation.compare not written yet (issue 6)")
 @pytest.mark.parametrize("extra,word", [
     (["--scenes", "no_such_scene"], "no_such_scene"),
-    pytest.param(["--no-such-option"], "no-such-option", marks=pytest.mark.xfail(
-        strict=True, reason="pending fix in validation/compare.py: argparse prints its usage (5 lines on stderr)")),
+    (["--no-such-option"], "no-such-option"),
 ])
 def test_validation_compare_bad_input(extra, word, tmp_path):
     out = tmp_path / "report"
@@ -310,16 +308,14 @@ def test_apparatus_loading_bad_input():
             run_apparatus(_law(), Apparatus(), MU, F0, ua=1e-7, **kw)
 
 
-API_PENDING = [
+API_MU = [
     (lambda: run_apparatus(_law(), Apparatus(), NAN, F0, ua=1e-7, cycles=2, steps=40), "mu"),
     (lambda: run_apparatus(_law(), Apparatus(), 0.5, F0, ua=1e-7, cycles=2, steps=40), "mu"),  # law has mu = 0.2
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="pending fix in mdr/apparatus.py (run_apparatus does not check mu: NaN "
-                                       "gives a ConvergenceError, a mu other than the law's a silent wrong slip index)")
-@pytest.mark.parametrize("call,word", API_PENDING, ids=["mu-nan", "mu-conflict"])
-def test_apparatus_api_bad_input_pending(call, word):
+@pytest.mark.parametrize("call,word", API_MU, ids=["mu-nan", "mu-conflict"])
+def test_apparatus_api_mu(call, word):
     with pytest.raises(InputError, match=word):
         call()
 

@@ -97,6 +97,7 @@ def test_vtu_has_fields(quick_report):
     assert np.all(np.isfinite(m.point_data["mises"])) and np.max(m.point_data["mises"]) > 1e7  # ~0.6 p0
 
 
+@pytest.mark.filterwarnings("ignore:coarse contact mesh")
 def test_rerun_skips_unchanged_and_force_reruns(tmp_path, capsys):
     s = tiny()
     st = compare.run_all([s], tmp_path, fields=False)
@@ -125,6 +126,7 @@ def test_interrupted_scene_leaves_nothing(tmp_path, monkeypatch):
     assert list((tmp_path / "scenes").iterdir()) == []
 
 
+@pytest.mark.filterwarnings("ignore:coarse contact mesh")
 def test_custom_executor_and_failure_isolation(tmp_path):
     """Any concurrent.futures executor runs the scenes; a failing scene does not stop the others."""
     good = tiny()

@@ -102,7 +102,9 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    from mdr.cli import OneLineParser
+
+    p = OneLineParser(
         prog="python -m validation.compare",
         description="Run the scene catalogue through the MDR and FE contact models and write a report "
                     "(report.md, results.json, figures, VTU) saying where the half-space model holds.")

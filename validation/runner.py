@@ -354,6 +354,7 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
 
 def _run_validity(s: Scene, out_dir, log) -> dict:
     """Half-space validity: FE with the block or the cap shrunk (multiples of a_ref), one mesh level."""
+    t0 = time.perf_counter()
     h = s.fe_levels[-1]
     a = a_ref(s)
     mdr = run_mdr(s, s.mdr_cells[-1])
@@ -381,7 +382,7 @@ def _run_validity(s: Scene, out_dir, log) -> dict:
         rows.append(row)
         log(f"  {row['variant']}: a {row['contact_radius']:.4g} m (MDR-FE {row['contact_radius_mdr_minus_fe']:+.2%})")
     result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": base, "validity": rows,
-              "errors": {"a_ref": a}, "files": {}}
+              "errors": {"a_ref": a}, "files": {}, "runtime_s": time.perf_counter() - t0}
     if out_dir is not None:
         from . import figures
 
