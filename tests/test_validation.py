@@ -208,3 +208,22 @@ def test_metrics():
     assert metrics.own_error([1.0]) is None
     assert metrics.rel(1.0, 0.0) is None
     assert metrics.dissipation_error(1e-3, 0.0, 0.2, 0.5, 1e-7) == pytest.approx(1e-3 / (4 * 0.2 * 0.5 * 1e-7))
+
+
+def test_report_renders_hard_cases_table(quick_report, tmp_path):
+    """The hard-cases rows (validation.hard_cases) become a table; cell text cannot break it."""
+    import shutil
+
+    from validation import report
+
+    _, out = quick_report
+    dst = tmp_path / "copy"
+    shutil.copytree(out, dst)
+    row = {"name": "flat punch", "model": "fem", "status": "flagged", "iterations": 3.0, "error": 1e-3,
+           "truth": "|F_x| <= mu F_N", "time_s": 0.5, "note": "a|b"}
+    path = report.write_report(dst, ["sphere-md"], {"sphere-md": "ok"}, hard_cases=[row])
+    text = path.read_text()
+    assert "## Hard cases" in text
+    line = [ln for ln in text.splitlines() if ln.startswith("| flat punch")][0]
+    assert line.replace("\\|", "").count("|") == 9  # 8 columns
+    assert json.loads((dst / "results.json").read_text())["hard_cases"] == [row]

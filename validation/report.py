@@ -147,11 +147,14 @@ def _validity_table(res):
 
 def _hard_table(rows):
     lines = ["| case | model | status | iterations | error | truth | time (s) | note |", "|---|---|---|---|---|---|---|---|"]
+    def cell(x):
+        return str(x).replace("|", "\\|").replace("\n", " ")
+
     for r in rows:
         err = r.get("error")
-        lines.append(f"| {r.get('name')} | {r.get('model')} | {r.get('status')} | {_num(r.get('iterations'), '.3g')} | "
-                     f"{'-' if err is None else f'{err:.2e}'} | {r.get('truth', '')} | {_num(r.get('time_s'), '.3g')} | "
-                     f"{r.get('note', '')} |")
+        lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_num(r.get('iterations'), '.3g')} | "
+                     f"{'-' if err is None else f'{err:.2e}'} | {cell(r.get('truth', ''))} | {_num(r.get('time_s'), '.3g')} | "
+                     f"{cell(r.get('note', ''))} |")
     return lines
 
 
