@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import multiprocessing
 import sys
 import time
 import traceback
@@ -54,7 +55,8 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
 
     ``executor``: any ``concurrent.futures.Executor`` (e.g. a cluster executor);
-    default: in-process for ``jobs == 1``, else a ``ProcessPoolExecutor(jobs)``.
+    default: in-process for ``jobs == 1``, else a ``ProcessPoolExecutor(jobs)`` of spawned
+    processes.
     """
     out = Path(out)
     version = code_version()
@@ -71,7 +73,9 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
     t0 = time.perf_counter()
     own = None
     if executor is None and jobs > 1 and n > 1:
-        executor = own = cf.ProcessPoolExecutor(max_workers=jobs)
+        # spawn, not fork: a forked child of a process whose BLAS, gmsh or VTK threads hold a
+        # lock deadlocks (seen under pytest); spawned workers import afresh (~1 s each)
+        executor = own = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
     try:
         if executor is None:
             for i, (s, fp) in enumerate(todo, 1):
