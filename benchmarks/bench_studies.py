@@ -14,12 +14,16 @@ time. Compare ratios, not absolute numbers: the machine is shared and noisy.
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout without installing
+
 from mdr.profiles import TruncatedSphere
-from mdr.study import R_IND, _slip_index, fig8, fig9, sensitivity
+from mdr.study import R_IND, _slip_index, fig8, fig9, run_studies, sensitivity
 
 
 def median_time(fn, repeat):
@@ -48,6 +52,14 @@ def main(argv=None):
     print(f"fig8 + fig9: {n} scenes in {t:.2f} s = {t / t_single:.1f} single-scene times "
           f"(scene by scene: {n} single-scene times; batch speed-up {n * t_single / t:.1f}x)")
     print(f"sensitivity: {ns} scenes in {t_sens:.2f} s = {t_sens / t_single:.1f} single-scene times")
+    # the command as a user runs it: python -m mdr study fig8,fig9 --jobs 2 (files written, spawned workers)
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        t_par, _ = median_time(lambda: run_studies(["fig8", "fig9"], tmp, jobs=2), args.repeat)
+        t_seq, _ = median_time(lambda: run_studies(["fig8", "fig9"], tmp, jobs=1), args.repeat)
+    print(f"python -m mdr study fig8,fig9 (CSV + PNG): {t_seq:.2f} s in one process, {t_par:.2f} s with --jobs 2 "
+          f"= {t_par / t_single:.1f} single-scene times")
 
 
 if __name__ == "__main__":

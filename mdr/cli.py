@@ -118,11 +118,16 @@ def _cmd_apparatus(args):
 
 
 def _cmd_study(args):
-    from .study import run_study
+    from .study import run_studies, study_names
 
-    res = run_study(args.name, args.out)
-    sys.stderr.write(f"study {args.name}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
-    return res
+    names = study_names(args.name)
+    t0 = time.perf_counter()
+    out = run_studies(names, args.out, jobs=args.jobs)
+    for res in out:
+        sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
+    if len(out) > 1:
+        sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s on {args.jobs} process(es)\n")
+    return out[0] if len(out) == 1 else {"studies": out}
 
 
 def build_parser():
@@ -187,7 +192,9 @@ def build_parser():
                                     "four experiment loops of Figs. 4-7 (loops), or the slip index at the Table 2 "
                                     "point as each reconstructed apparatus quantity varies (sensitivity: CSV + "
                                     "markdown table). Writes CSV/JSON and PNG to --out.")
-    ps.add_argument("name", help="fig8, fig9, loops or sensitivity")
+    ps.add_argument("name", help="fig8, fig9, loops or sensitivity, a comma list of them, or all")
+    ps.add_argument("--jobs", type=int, default=1, metavar="N",
+                    help="run several studies in N parallel processes (default 1)")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
     ps.set_defaults(func=_cmd_study)

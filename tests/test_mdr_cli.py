@@ -119,3 +119,18 @@ def test_apparatus_fem_bad_input_exit_2_before_setup(extra, word, tmp_path, caps
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and word in err[0]
     assert not out.exists() and not cache.exists()  # failed before the FE set-up
+
+
+def test_studies_in_parallel_processes_equal_sequential(tmp_path):
+    """python -m mdr study fig9,sensitivity --jobs 2: same rows as one process, both files written."""
+    from mdr.study import run_studies, study_names
+
+    par = run_studies("fig9,sensitivity", tmp_path / "par", jobs=2)
+    seq = run_studies(["fig9", "sensitivity"], tmp_path / "seq", jobs=1)
+    assert [r["study"] for r in par] == ["fig9", "sensitivity"]
+    for a, b in zip(par, seq):
+        assert a["rows"] == b["rows"]
+    assert (tmp_path / "par" / "fig9.csv").is_file() and (tmp_path / "par" / "sensitivity.md").is_file()
+    assert study_names("all") == ["fig8", "fig9", "loops", "sensitivity"]
+    rc = main(["study", "fig9,nope", "--out", str(tmp_path / "x")])
+    assert rc == 2 and not (tmp_path / "x").exists()
