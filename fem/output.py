@@ -12,9 +12,92 @@ from skfem import Basis, ElementTriP2
 
 from meshes import export_vtu
 
-from .axisym import node_dofs, stress_mode0
+from .axisym import lame, node_dofs, stress_mode0
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
+
+
+def _nodal_average(mesh, quadrature, values: dict) -> dict:
+    """Volume-weighted average of element quadrature values {key: (nelem, nqp)} to the P2 nodes."""
+    sb = Basis(mesh, ElementTriP2(), quadrature=quadrature)
+    wts = np.abs(sb.dx)  # (nelem, nqp) quadrature weights * |J|
+    edofs = sb.element_dofs  # (6, nelem)
+    vol = np.zeros(sb.N)
+    np.add.at(vol, edofs, np.broadcast_to(wts.sum(1), edofs.shape))
+    out = {}
+    for k, v in values.items():
+        acc = np.zeros(sb.N)
+        np.add.at(acc, edofs, np.broadcast_to((v * wts).sum(1), edofs.shape))
+        out[k] = acc / vol
+    return out
+
+
+def stress_mode1(basis, u, E, nu) -> dict:
+    """Mode-1 stress amplitudes at the quadrature points: ``srr, szz, stt, srz`` multiply
+    cos(theta), ``srt, stz`` sin(theta) (Pa per unit load of the field ``u`` = (S, D, W))."""
+    from .mode1 import strain_mode1
+
+    lam, mu = lame(E, nu)
+    uf = basis.interpolate(u)
+    r = basis.mapping.F(basis.quadrature[0])[0]
+    err, ezz, ett, erz, ert, etz = strain_mode1(uf, r)
+    tr = err + ezz + ett
+    return {"srr": lam * tr + 2 * mu * err, "szz": lam * tr + 2 * mu * ezz, "stt": lam * tr + 2 * mu * ett,
+            "srz": 2 * mu * erz, "srt": 2 * mu * ert, "stz": 2 * mu * etz}
+
+
+def _mises(srr, szz, stt, srz):
+    return np.sqrt(0.5 * ((srr - szz) ** 2 + (szz - stt) ** 2 + (stt - srr) ** 2) + 3.0 * srz**2)
+
+
+def fretting_fields(law, state, F_N) -> dict:
+    """Displacements and von Mises stress in the plane of the tangential load (FE contact law).
+
+    Superposes mode 0 (normal force ``F_N``) and mode 1 (the pair forces ``state.T``
+    of an ``fem.law.FEState``; indenter top moved by the plate displacement) on the
+    x-z plane: theta = 0 (the +x half) and theta = pi (the -x half), where the
+    sin(theta) stresses vanish. Returns point data over each body's P2 nodes (for
+    ``meshes.export_vtu``): ``u_x0``/``u_x180`` ((n, 3): x, z, 0 of each half, the
+    x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa).
+    Assumes linear elasticity (superposition) and the law's small-sliding pairing.
+    """
+    from .axisym import node_dofs
+    from .mode1 import node_dofs_mode1
+
+    model = law.model
+    it = model.interface
+    res = law.normal(F_N=float(F_N))
+    base = nodal_fields(model, res)
+    T = np.asarray(state.T, dtype=float)
+    u_plate = float(state.u) + law.c_bulk * float(T.sum())  # law.u may exclude the bulk compliance
+    out = {k: {} for k in ("u_x0", "u_x180", "mises_x0", "mises_x180")}
+    for name in ("indenter", "block"):
+        _, basis, dofs, cond = law.mode1[name]
+        body = model.bodies[name]
+        if name == "indenter":
+            rigid = np.zeros(basis.N)
+            rigid[dofs[0]] = u_plate  # S = u_plate: a rigid translation along x
+            u1 = cond.displacement(-T, u_fixed=rigid)
+        else:
+            u1 = cond.displacement(it.N.T @ T)
+        nd = node_dofs_mode1(basis)
+        U, W = u1[nd[0]] + u1[nd[1]], u1[nd[2]]  # U = S + D
+        s1 = stress_mode1(basis, u1, body.E, body.nu)
+        a1 = _nodal_average(body.mesh, basis.quadrature, {k: s1[k] for k in ("srr", "szz", "stt", "srz")})
+        ur0, uz0 = base["u"][name][:, 0], base["u"][name][:, 1]
+        z = np.zeros_like(U)
+        # theta = 0: u_r = ur0 + U, u_z = uz0 + W; theta = pi: u_r = ur0 - U, u_z = uz0 - W
+        out["u_x0"][name] = np.column_stack([ur0 + U, uz0 + W, z])
+        out["u_x180"][name] = np.column_stack([ur0 - U, uz0 - W, z])
+        for key, sg in (("mises_x0", 1.0), ("mises_x180", -1.0)):
+            out[key][name] = _mises(*(base[k][name] + sg * a1[k] for k in ("srr", "szz", "stt", "srz")))
+    out.update({k: base[k] for k in ("u", "mises")})
+    return out
+
+
+def write_fretting_vtu(law, state, F_N, path):
+    """VTU of :func:`fretting_fields` plus the mode-0 fields (``u``, ``mises``) at ``F_N``."""
+    return export_vtu(law.model.amesh, path, point_data=fretting_fields(law, state, F_N))
 
 
 def nodal_fields(model, res) -> dict:
@@ -34,15 +117,9 @@ def nodal_fields(model, res) -> dict:
         nd = node_dofs(body.basis)
         out["u"][name] = np.column_stack([u[nd[0]], u[nd[1]], np.zeros(nd.shape[1])])
         s = stress_mode0(body.basis, u, body.E, body.nu)
-        sb = Basis(body.mesh, ElementTriP2(), quadrature=body.basis.quadrature)
-        wts = np.abs(sb.dx)  # (nelem, nqp) quadrature weights * |J|
-        edofs = sb.element_dofs  # (6, nelem)
-        vol = np.zeros(sb.N)
-        np.add.at(vol, edofs, np.broadcast_to(wts.sum(1), edofs.shape))
+        avg = _nodal_average(body.mesh, body.basis.quadrature, {k: s[k] for k in STRESS_KEYS})
         for k in STRESS_KEYS:
-            acc = np.zeros(sb.N)
-            np.add.at(acc, edofs, np.broadcast_to((s[k] * wts).sum(1), edofs.shape))
-            out[k][name] = acc / vol
+            out[k][name] = avg[k]
     return out
 
 

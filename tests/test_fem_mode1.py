@@ -62,3 +62,44 @@ def test_unknown_mode_is_not_implemented(block):
     am = block[0]
     with pytest.raises(NotImplementedError):
         stiffness(am.block, MAT.E2, MAT.nu2, mode=2)
+
+
+def test_fretting_fields_cerruti_far_field_and_rigid_plate():
+    """Field recovery of the FE law's tangential state (fem.output.fretting_fields).
+
+    - A tangential force Q on the block's surface: its surface displacement along x
+      falls off as Cerruti's u_x(rho) = Q (1 + nu) / (pi E rho) at theta = 0 (Cerruti 1882;
+      Johnson, Contact Mechanics, 1985, eq. 2.19). The finite block adds a nearly uniform
+      shear offset (its bulk compliance), so the decay between 3a and 10a is compared.
+    - A plate displacement alone (no pair forces) is a rigid translation: no mode-1 stress.
+    """
+    from fem.axisym import node_coords
+    from fem.law import FEContact
+    from fem.output import fretting_fields
+    from mdr import Materials
+    from mdr.profiles import Sphere
+
+    m = Materials()
+    law = FEContact(Sphere(6e-3), m, 0.2, F_max=0.5, h_contact=1 / 20)
+    res, st = law.step(law.rest_state(), F_N=0.5, Fx=0.05)
+    f = fretting_fields(law, st, 0.5)
+    r, z = node_coords(law.model.bodies["block"].mesh)
+    top = np.isclose(z, z.max())
+    ux = f["u_x0"]["block"][:, 0] - f["u"]["block"][:, 0]
+    a, Q = res.a, res.Fx
+
+    def at(rho):
+        i = np.flatnonzero(top)[np.argmin(np.abs(r[top] - rho))]
+        return ux[i], Q * (1 + m.nu2) / (np.pi * m.E2 * r[i])
+
+    (u3, c3), (u10, c10) = at(3 * a), at(10 * a)
+    assert (u3 - u10) / (c3 - c10) == pytest.approx(1.0, abs=0.03)
+    # theta = 0 and theta = pi halves average to the mode-0 field
+    for body in ("indenter", "block"):
+        mean = 0.5 * (f["u_x0"][body] + f["u_x180"][body])
+        assert np.allclose(mean, f["u"][body], atol=1e-15)
+    # rigid plate displacement without pair forces: no mode-1 stress anywhere
+    st0 = type(st)(T=np.zeros_like(st.T), p=st.p, lam=st.lam, sgn=st.sgn, u=1e-8, d=st.d)
+    f0 = fretting_fields(law, st0, 0.5)
+    assert np.allclose(f0["u_x0"]["indenter"][:, 0] - f0["u"]["indenter"][:, 0], 1e-8, rtol=1e-12)
+    assert np.allclose(f0["mises_x0"]["indenter"], f0["mises_x180"]["indenter"], rtol=1e-9, atol=1.0)

@@ -93,7 +93,7 @@ def test_vtu_has_fields(quick_report):
 
     _, out = quick_report
     m = meshio.read(out / "scenes" / "sphere-md" / "fields.vtu")
-    assert {"mises", "u"} <= set(m.point_data)
+    assert {"mises", "u", "mises_x0", "mises_x180", "u_x0", "u_x180"} <= set(m.point_data)
     assert np.all(np.isfinite(m.point_data["mises"])) and np.max(m.point_data["mises"]) > 1e7  # ~0.6 p0
 
 

@@ -2,9 +2,11 @@
 
 One PNG with three panels:
 
-1. the r-z section near the contact (mirrored to -r), both bodies, coloured by
-   the von Mises stress of the normal contact at F_N = F0 (mode 0, from the
-   scene's VTU), on the deformed shape (displacements scaled up, factor shown);
+1. the x-z section near the contact (the r-z mesh at theta = 0 and, mirrored, at
+   theta = pi), both bodies, coloured by the von Mises stress at the peak of the
+   last tangential cycle (modes 0 + 1 superposed, ``fem.output.fretting_fields``,
+   from the scene's VTU), on the deformed shape (displacements scaled up, factor
+   shown);
 2. the contact disk coloured by the contact pressure at F0;
 3. the contact disk at the peak of the last tangential cycle: stick (pairs that
    did not slip), slip, and out of contact.
@@ -60,12 +62,21 @@ def _disk(pv, r, values, n_theta=96):
 
 
 def section(pv, vtu_path, a):
-    """Mirrored, clipped and warped r-z section; returns (mesh, scale)."""
+    """The x-z section (r-z mesh mirrored to -r), clipped near the contact and warped;
+    returns (mesh, scale, tangential). With the fields of ``fem.output.fretting_fields``
+    (``u_x0``/``mises_x0`` for theta = 0, ``u_x180``/``mises_x180`` for theta = pi) the two
+    halves show modes 0 + 1 at the peak of F_x; else the mode-0 ``u``/``mises`` on both."""
     m = pv.read(str(vtu_path))
-    if "mises" not in m.point_data or "u" not in m.point_data:
+    tangential = {"u_x0", "u_x180", "mises_x0", "mises_x180"} <= set(m.point_data)
+    if not tangential and ("mises" not in m.point_data or "u" not in m.point_data):
         raise RenderError(f"{vtu_path} lacks the 'mises' or 'u' point data")
     m = m.extract_cells(np.arange(m.n_cells)).cast_to_unstructured_grid()
     mirror = m.copy()
+    if tangential:
+        m.point_data["u"] = m.point_data["u_x0"]
+        m.point_data["mises"] = m.point_data["mises_x0"]
+        mirror.point_data["u"] = mirror.point_data["u_x180"]
+        mirror.point_data["mises"] = mirror.point_data["mises_x180"]
     mirror.points[:, 0] *= -1.0
     u = mirror.point_data["u"].copy()
     u[:, 0] *= -1.0
@@ -77,7 +88,7 @@ def section(pv, vtu_path, a):
     scale = 0.06 * a / umax if umax > 0 else 1.0
     clip.point_data["mises_MPa"] = clip.point_data["mises"] / 1e6
     warped = clip.warp_by_vector("u", factor=scale)
-    return warped, scale
+    return warped, scale, tangential
 
 
 def field_figure(vtu_path, field: dict, result: dict, png_path, window=(1650, 560)) -> str:
@@ -87,7 +98,7 @@ def field_figure(vtu_path, field: dict, result: dict, png_path, window=(1650, 56
     r = np.asarray(field["r"], float)
     p = np.asarray(field["p"], float) / 1e6
     state = np.where(~np.asarray(field["contact"]), 0.0, np.where(np.asarray(field["slip"]), 2.0, 1.0))
-    sec, scale = section(pv, vtu_path, a)
+    sec, scale, tangential = section(pv, vtu_path, a)
     try:
         pl = pv.Plotter(off_screen=True, shape=(1, 3), window_size=list(window), border=False)
     except Exception as e:  # pragma: no cover - depends on the OpenGL stack
@@ -96,19 +107,20 @@ def field_figure(vtu_path, field: dict, result: dict, png_path, window=(1650, 56
     try:
         pl.subplot(0, 0)
         pl.add_mesh(sec, scalars="mises_MPa", cmap="viridis", show_edges=False,
-                    scalar_bar_args={"title": "von Mises (MPa)", "vertical": False, "fmt": "%.0f"})
-        pl.add_text(f"section at F0, displacement x{scale:.3g}", font_size=9)
+                    scalar_bar_args={"title": "von Mises (MPa)", "vertical": False, "fmt": "%.3g"})
+        pl.add_text(("x-z section at the peak of F_x (F_x to +x)" if tangential else "r-z section at F0")
+                    + f", displacement x{scale:.3g}", font_size=9)
         pl.view_xy()
         pl.camera.zoom(1.25)
         pl.subplot(0, 1)
         pl.add_mesh(_disk(pv, r, p), scalars="v", cmap="plasma",
-                    scalar_bar_args={"title": "pressure (MPa)", "vertical": False, "fmt": "%.0f"})
+                    scalar_bar_args={"title": "pressure (MPa)", "vertical": False, "fmt": "%.3g"})
         pl.add_text("contact pressure at F0", font_size=9)
         pl.view_xy()
         pl.subplot(0, 2)
         cmap = ["#d9d9d9", "#1f77b4", "#d62728"]
         pl.add_mesh(_disk(pv, r, state), scalars="v", cmap=cmap, clim=[0, 2], n_colors=3,
-                    scalar_bar_args={"title": "out / stick / slip", "vertical": False, "n_labels": 3, "fmt": "%.0f"})
+                    scalar_bar_args={"title": "out / stick / slip", "vertical": False, "n_labels": 3, "fmt": "%.3g"})
         pl.add_text("stick (blue) / slip (red) at the peak of F_x", font_size=9)
         pl.view_xy()
         img = pl.screenshot(return_img=True)

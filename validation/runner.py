@@ -144,7 +144,7 @@ def _fe_law(s: Scene, h, **mesh_kw):
 def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     """One FE run at mesh level h (element size / a_ref); result dict + profiles, and the
     field data for plots (pair radii, pressure, traction and slip flags at the peak)."""
-    from fem.output import write_vtu
+    from fem.output import write_fretting_vtu, write_vtu
 
     t0 = time.perf_counter()
     law = _fe_law(s, h, **mesh_kw)
@@ -173,7 +173,12 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     field = {"r": it.r, "p": nr.lam / it.w, "tau": T / it.w, "contact": lam > 0,
              "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(it.n, bool)}
     if vtu_path is not None:
-        write_vtu(law.model, nr, vtu_path)
+        if st is not None:  # modes 0 + 1 at the peak of the last cycle, in the x-z plane
+            k = peak_index(s)
+            FN_peak = s.F0 + s.dF * np.sin(2 * np.pi * k / s.steps + s.alpha)
+            write_fretting_vtu(law, st, FN_peak, vtu_path)
+        else:
+            write_vtu(law.model, nr, vtu_path)
     return out, field
 
 
