@@ -136,6 +136,11 @@ def test_custom_executor_and_failure_isolation(tmp_path):
     assert st[good.name] == "ok"
     assert st[bad.name].startswith("InputError") and "fa" in st[bad.name]
     assert not (tmp_path / "scenes" / bad.name).exists()
+    from validation import report
+
+    text = report.write_report(tmp_path, [good.name, bad.name], st).read_text()
+    row = [ln for ln in text.splitlines() if ln.startswith(f"| {bad.name} |")][0]
+    assert "failed: InputError" in row
 
 
 def test_cli_bad_input(capsys, tmp_path):
@@ -227,3 +232,15 @@ def test_report_renders_hard_cases_table(quick_report, tmp_path):
     line = [ln for ln in text.splitlines() if ln.startswith("| flat punch")][0]
     assert line.replace("\\|", "").count("|") == 9  # 8 columns
     assert json.loads((dst / "results.json").read_text())["hard_cases"] == [row]
+
+
+def test_json_to_stdout_keeps_stdout_clean(quick_report, capsys):
+    """--json - : stdout holds only the JSON (progress goes to stderr); the stored scene is reused."""
+    _, out = quick_report
+    capsys.readouterr()
+    rc = compare.main(["--quick", "--scenes", "sphere-md", "--out", str(out), "--no-hard-cases", "--json", "-"])
+    cap = capsys.readouterr()
+    assert rc == 0
+    data = json.loads(cap.out)
+    assert data["status"] == {"sphere-md": "skipped"} and "sphere-md" in data["scenes"]
+    assert "[skip] sphere-md" in cap.err

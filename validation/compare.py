@@ -35,7 +35,8 @@ def _work(scene, out, fingerprint, fields, verbose):
     """One scene in a worker process (top level: picklable for any executor)."""
     from fem.solvers import blas_threads
 
-    log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", flush=True)) if verbose else None
+    stream = sys.stderr if verbose == "stderr" else sys.stdout
+    log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
     with blas_threads(1):
         res = write_scene(scene, out, fingerprint, fields=fields, log=log)
     return _summary(res)
@@ -51,7 +52,7 @@ def _summary(res) -> str:
 
 
 def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, force: bool = False,
-            fields: bool = True, log=print) -> dict:
+            fields: bool = True, log=print, detail=True) -> dict:
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
 
     ``executor``: any ``concurrent.futures.Executor`` (e.g. a cluster executor);
@@ -82,7 +83,7 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
                 log(f"[{i}/{n}] {s.name}: {s.title}")
                 try:
                     status[s.name] = "ok"
-                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, True)}")
+                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, detail)}")
                 except (InputError, ConvergenceError, RuntimeError, ValueError, ArithmeticError) as e:
                     status[s.name] = f"{type(e).__name__}: {e}"
                     log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
@@ -142,17 +143,23 @@ def main(argv=None) -> int:
         print(f"error: {e}", file=sys.stderr)
         return 2
     t0 = time.perf_counter()
-    print(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/", flush=True)
-    status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields,
-                     log=lambda m: print(m, flush=True))
+    # progress goes to stderr when the JSON goes to stdout
+    stream = sys.stderr if args.json == "-" else sys.stdout
+
+    def say(m):
+        print(m, file=stream, flush=True)
+
+    say(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/")
+    status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields, log=say,
+                     detail="stderr" if stream is sys.stderr else True)
     hard = None
     if not args.no_hard_cases:
-        hard = report.hard_cases_cached(out, quick=args.quick, log=lambda m: print(m, flush=True))
+        hard = report.hard_cases_cached(out, quick=args.quick, log=say)
     path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
                                quick=args.quick)
     failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
-    print(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
-          + (f"; FAILED: {', '.join(failed)}" if failed else ""), flush=True)
+    say(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
+          + (f"; FAILED: {', '.join(failed)}" if failed else ""))
     return 1 if failed else 0
 
 

@@ -204,6 +204,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
             continue
         e = r["errors"]
         ok, why = verdict(r)
+        if st not in ("ok", "skipped", "stored"):
+            why, ok = f"this run failed ({st}); the row shows the previous result", None
         mr = r["mdr"]["runtime_s"]
         fr = r["fem"]["runtime_s"]["total"]
         L.append(f"| [{n}](#{n}) | {r['fem']['dofs']} | {_pct(e['dissipation']['mdr_minus_fe'])} | "
