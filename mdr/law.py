@@ -236,8 +236,11 @@ class MDRContact:
 
         Cells slip where the trial displacement reaches the slip limit. The
         zero of the slack vmax - |trial| is extrapolated linearly from the last
-        two sticking cells (second-order accurate); c = a when nothing slips
-        and c = 0 when the centre slips (gross slip).
+        two sticking cells (second-order accurate where the slack falls
+        smoothly); where it does not fall (a flat face, whose cells all carry the
+        same slack), it is interpolated between the last sticking and the first
+        slipping cell. c = a when nothing slips and c = 0 when the centre slips
+        (gross slip).
         """
         slack = phase.vmax - np.abs(trial)
         incontact = phase.ell > 0
@@ -249,10 +252,14 @@ class MDRContact:
         take = lambda arr, idx: np.take_along_axis(arr, np.clip(idx, 0, n - 1)[..., None], axis=-1)[..., 0]
         x1, s1 = take(mid, k0 - 1), take(slack, k0 - 1)
         x2, s2 = take(mid, k0 - 2), take(slack, k0 - 2)
-        xs = take(mid, k0)
+        xs, ss = take(mid, k0), take(slack, k0)
         with np.errstate(divide="ignore", invalid="ignore"):
             root = x1 + s1 * (x1 - x2) / (s2 - s1)
-        root = np.where((k0 >= 2) & np.isfinite(root), root, 0.5 * (x1 + xs))
+            # where the slack does not fall towards the edge (a flat face: equal slack in
+            # its cells), extrapolation says nothing: interpolate to the first slipping cell
+            interp = x1 + s1 * (xs - x1) / (s1 - ss)
+        ext = (k0 >= 2) & (s2 > s1) & np.isfinite(root)
+        root = np.where(ext, root, np.where(np.isfinite(interp), interp, 0.5 * (x1 + xs)))
         c = np.clip(root, x1, xs)
         c = np.where(k0 == 0, 0.0, c)
         return np.where(any_slip, np.minimum(c, phase.a), phase.a)

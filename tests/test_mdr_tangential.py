@@ -171,3 +171,19 @@ def test_bad_input_names_parameter():
         run_contact(Sphere(R), STEEL, MU, F0, dF=0.6, ua=1e-9)
     with pytest.raises(InputError, match="grid"):
         law.step(law.rest_state(), 0.0, F_N=5.0)
+
+
+def test_stick_radius_of_a_flat_face_reaches_its_edge():
+    """Truncated sphere with a - b of nanometres (b = 100 um) under the Table 2 normal load
+    and a force amplitude below the friction limit: the flat face sticks as a flat punch
+    does below mu F_N (Mindlin 1949: traction and pressure share the edge singularity) and
+    only the thin rim beyond b slips, so b <= c <= a on every grid (the flat face's cells
+    all carry the same slack, so the stick edge cannot be extrapolated from them)."""
+    from mdr import Materials
+    from mdr.drive import run_contact
+    from mdr.profiles import TruncatedSphere
+
+    b = 100e-6
+    for n in (100, 1600):
+        r = run_contact(TruncatedSphere(6e-3, b), Materials(), 0.2, 0.5, 0.1, 0.0, fa=0.06, cycles=3, steps=80, n=n)
+        assert b * (1 - 1e-9) <= r["stick_radius"] <= r["contact_radius"], n
