@@ -55,7 +55,7 @@ def test_quick_report_structure(quick_report):
     # every figure the report embeds exists
     for line in report.splitlines():
         if line.startswith("!["):
-            assert (out / line.split("(")[1].rstrip(")")).is_file(), line
+            assert (out / line.rsplit("(", 1)[1].rstrip(")")).is_file(), line
 
 
 def test_quick_report_physics(quick_report):

@@ -88,3 +88,8 @@ def test_half_space_breaks_for_a_small_block(full):
     assert small > 3 * big and small > 0.002
     # a block of 30 contact radii is already a half-space for the contact radius
     assert abs(rows["block 30 a"]["contact_radius_vs_default"]) < 0.002
+    # the size effect on the dissipation (mesh error cancelled) falls as the body grows
+    for kind in ("block", "cap"):
+        eff = [abs(rows[f"{kind} {s} a"]["dissipation_vs_default"]) for s in (3, 5, 10, 30)]
+        assert all(x > y for x, y in zip(eff, eff[1:])), (kind, eff)
+        assert eff[-1] < 0.001
