@@ -39,21 +39,14 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     t1 = time.perf_counter()
     out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
-    st = law.stats
     nr = law.normal(F_N=F0)  # the FE's own normal contact at the mean force
     out["contact_radius"] = nr.contact_radius
     out["indentation"] = nr.indentation
     out["approach"] = nr.approach
     out["dofs"] = law.dofs
-    out["mesh"] = dict(law.amesh.params.as_dict(), key=law.amesh.key, cache=law.amesh.info.get("cache"))
+    out["mesh"] = law.mesh_summary()
     out["bulk_compliance"] = law.bulk_compliance(F0)
-    out["solver"] = {"backend": law.model.backend, "pairs": law.n_pairs, "penalty": penalty, "al_tol": al_tol,
-                     "friction_al_tol": friction_al_tol, "steps": st["steps"],
-                     "newton_per_step": st["newton"] / max(st["steps"], 1),
-                     "al_per_step": st["al"] / max(st["steps"], 1), "normal_solves": st["normal_solves"],
-                     # tangential penalty error: last multiplier change / largest slip limit (pure
-                     # penalty: the relative size of the penalty's elastic slip)
-                     "friction_penalty_error": st["al_change_max"]}
+    out["solver"] = law.solver_summary()
     out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
     if return_law:
         return out, law

@@ -197,6 +197,21 @@ class FEContact:
                 "displacement": self.displacement, "c_bulk": self.c_bulk,
                 "mesh": dict(p.as_dict(), key=self.amesh.key), "backend": self.model.backend}
 
+    def solver_summary(self) -> dict:
+        """Solver settings and counters of the steps run so far (the ``solver`` key of results).
+
+        ``friction_penalty_error``: the largest last multiplier change / largest slip limit
+        (pure penalty: the relative size of the penalty's elastic slip)."""
+        st, n = self.stats, max(self.stats["steps"], 1)
+        return {"backend": self.model.backend, "pairs": self.n_pairs, "penalty": self.penalty,
+                "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol, "steps": st["steps"],
+                "newton_per_step": st["newton"] / n, "al_per_step": st["al"] / n,
+                "normal_solves": st["normal_solves"], "friction_penalty_error": st["al_change_max"]}
+
+    def mesh_summary(self) -> dict:
+        """The mesh parameters, cache key and cache use (the ``mesh`` key of results)."""
+        return dict(self.amesh.params.as_dict(), key=self.amesh.key, cache=self.amesh.info.get("cache"))
+
     # ----------------------------------------------------------------- state
     def rest_state(self) -> FEState:
         n = self.n_pairs

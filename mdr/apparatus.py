@@ -356,15 +356,11 @@ def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alp
     out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
     nr = law.normal(F_N=F0)
-    st = law.stats
     out["contact_radius"] = float(nr.contact_radius)
     out["indentation"] = float(nr.indentation)
     out["dofs"] = law.dofs
-    out["mesh"] = dict(law.amesh.params.as_dict(), key=law.amesh.key, cache=law.amesh.info.get("cache"))
-    out["solver"] = {"backend": law.model.backend, "pairs": law.n_pairs, "penalty": penalty, "al_tol": al_tol,
-                     "friction_al_tol": friction_al_tol, "steps": st["steps"],
-                     "newton_per_step": st["newton"] / max(st["steps"], 1),
-                     "al_per_step": st["al"] / max(st["steps"], 1), "friction_penalty_error": st["al_change_max"]}
+    out["mesh"] = law.mesh_summary()
+    out["solver"] = law.solver_summary()
     out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
     out["inputs"]["law"] = law.describe()
     return out

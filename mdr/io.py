@@ -33,6 +33,7 @@ def _umask() -> int:
 
 
 _MODE = 0o666 & ~_umask()  # the mode open() would give a new file (mkstemp gives 0600)
+DIR_MODE = 0o777 & ~_umask()  # the mode mkdir() would give a new directory (mkdtemp gives 0700)
 
 
 def check_output_path(path, name="output path") -> Path:

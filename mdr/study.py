@@ -275,7 +275,7 @@ def run_studies(names, out_dir, jobs: int = 1) -> list:
     import multiprocessing
 
     # longest first, so that the pool balances (fig8 holds two batches)
-    order = sorted(names, key=lambda n: {"fig8": 0, "fig9": 1, "loops": 2, "sensitivity": 3}[n])
+    order = sorted(names, key=STUDIES.index)
     with cf.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
                                 mp_context=multiprocessing.get_context("spawn")) as ex:
         futs = {n: ex.submit(run_study, n, out_dir) for n in order}

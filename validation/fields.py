@@ -70,7 +70,6 @@ def section(pv, vtu_path, a):
     tangential = {"u_x0", "u_x180", "mises_x0", "mises_x180"} <= set(m.point_data)
     if not tangential and ("mises" not in m.point_data or "u" not in m.point_data):
         raise RenderError(f"{vtu_path} lacks the 'mises' or 'u' point data")
-    m = m.extract_cells(np.arange(m.n_cells)).cast_to_unstructured_grid()
     mirror = m.copy()
     if tangential:
         m.point_data["u"] = m.point_data["u_x0"]

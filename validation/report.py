@@ -260,7 +260,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     path = out / "report.md"
     write_bytes_atomic(path, "\n".join(L).encode())
     payload = {"code_version": code_version(), "quick": quick, "status": status,
-               "scenes": {n: {k: v for k, v in r.items()} for n, r in results.items()},
+               "scenes": results,
                "hard_cases": hard_cases}
     write_json(out / "results.json", payload)
     if json_path:

@@ -30,7 +30,7 @@ import numpy as np
 
 from mdr.apparatus import Apparatus, apparatus_result
 from mdr.drive import run_contact
-from mdr.io import write_json
+from mdr.io import DIR_MODE, write_json
 from mdr.law import MDRContact
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure
@@ -41,8 +41,6 @@ from . import metrics
 from .scenes import Scene, a_ref
 
 QUANTITIES = ("contact_radius", "stick_radius", "dissipation", "slip_index")
-_UMASK = os.umask(0o022)
-os.umask(_UMASK)
 
 
 def materials_of(s: Scene) -> Materials:
@@ -111,7 +109,7 @@ def _timed_median(fun, budget=0.3, repeats=5):
     return val, statistics.median(times)
 
 
-def _r_profile(s: Scene, a_max):
+def _r_profile(a_max):
     return np.linspace(0.0, 1.2 * a_max, 241)
 
 
@@ -126,7 +124,7 @@ def run_mdr(s: Scene, n: int) -> dict:
 
     (law, out, st), t = _timed_median(once)
     out["runtime_s"] = t
-    r = _r_profile(s, a_ref(s))
+    r = _r_profile(a_ref(s))
     d0 = float(approach_from_force(prof, mat, s.F0))
     out["profiles"] = {"r": r.tolist(), "pressure": np.asarray(pressure(prof, mat, d0, r), float).tolist(),
                        "traction": law.traction(st, r).tolist() if st is not None else None}
@@ -155,17 +153,8 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     out["contact_radius"] = nr.contact_radius
     out["indentation"] = nr.indentation
     it = law.model.interface
-    stats = law.stats
-    out.update({
-        "dofs": law.dofs, "h_contact": h,
-        "mesh": dict(law.amesh.params.as_dict(), key=law.amesh.key),
-        "bulk_compliance": law.c_bulk,
-        "solver": {"backend": law.model.backend, "pairs": law.n_pairs, "steps": stats["steps"],
-                   "newton_per_step": stats["newton"] / max(stats["steps"], 1),
-                   "al_per_step": stats["al"] / max(stats["steps"], 1),
-                   "normal_solves": stats["normal_solves"], "friction_penalty_error": stats["al_change_max"]},
-        "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0},
-    })
+    out.update({"dofs": law.dofs, "h_contact": h, "mesh": law.mesh_summary(), "bulk_compliance": law.c_bulk,
+                "solver": law.solver_summary(), "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}})
     T = np.asarray(st.T) if st is not None else np.zeros(it.n)
     lam = np.asarray(st.lam) if st is not None else np.zeros(it.n)
     out["profiles"] = {"r": nr.r.tolist(), "pressure": nr.pressure.tolist(),
@@ -190,7 +179,7 @@ def closed_forms(s: Scene) -> dict | None:
     mat = materials_of(s)
     Es, Gs = mat.E_star, mat.G_star
     fa, FN, mu = s.amplitude, s.F0, s.mu
-    r = _r_profile(s, a_ref(s))
+    r = _r_profile(a_ref(s))
     if cf == "hertz-mindlin":
         h = ref.hertz(FN, s.R, Es)
         a, d = float(h["a"]), float(h["d"])
@@ -419,7 +408,7 @@ def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, lo
     final = scene_dir(out_root, s.name)
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{s.name}.", dir=final.parent))
-    os.chmod(tmp, 0o777 & ~_UMASK)
+    os.chmod(tmp, DIR_MODE)
     try:
         result = run_scene(s, tmp, fields=fields, log=log)
         result["fingerprint"] = fingerprint
