@@ -52,6 +52,7 @@ from mdr.errors import InputError, nonnegative, positive, positive_int
 from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
+from mdr.stick import at_limit, per_step
 
 from .axisym import boundary_nodes
 from .condense import Condensation
@@ -311,7 +312,8 @@ class FEContact:
             z = np.zeros(n)
             new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
                           sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
-            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0), new, 0.0
+            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0, slack=z,
+                              slipping=np.ones(n, dtype=bool)), new, 0.0
         k = self.k
         if self.friction_al_tol > 0:
             lbar = np.clip(T_old, -g, g)
@@ -340,7 +342,10 @@ class FEContact:
                                                check_finite=False))) if np.any(free) else 0.0
         p_new = np.where(contact, s - (T - lbar) / k, s)
         work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
-        c = self._stick_radius(np.abs(trial) - g, contact, a)
+        w = self.model.interface.w
+        slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
+        slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
+        c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
         self.stats["steps"] += 1
         self.stats["newton"] += newton
         self.stats["al"] += n_al
@@ -348,27 +353,21 @@ class FEContact:
         new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
                       u=float(uu), d=float(dd))
         return StepResult(Fx=float(T.sum()), FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
-                          work=work), new, slope
+                          work=work, slack=slack, slipping=slipping), new, slope
 
-    def _stick_radius(self, phi, contact, a):
-        """Outer edge of the central zone of pairs that did not slip in the step: the zero of
-        phi = |trial| - g (negative in stick) between the last sticking and first slipping pair."""
-        r = self.model.interface.r
-        slipping = (phi >= 0) | ~contact
-        if not np.any(slipping):
-            return float(a)
-        j = int(np.argmax(slipping))
-        if j == 0:
-            return 0.0
-        if not contact[j]:
-            return float(min(a, r[j]))
-        f0, f1 = phi[j - 1], phi[j]
-        x = r[j - 1] + (r[j] - r[j - 1]) * (-f0) / (f1 - f0) if f1 != f0 else r[j]
-        return float(min(x, a))
+    #: the traction slack mu p - |tau| falls as sqrt(c - r) towards a stick edge (``mdr.stick``)
+    stick_onset = 0.5
+
+    @property
+    def stick_nodes(self):
+        """Radii of the contact pairs, the nodes the stick radius is resolved on."""
+        return self.model.interface.r
 
     # ------------------------------------------------------------------ runs
-    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FEState | None = None) -> History:
-        """Run a load history (arrays of shape (T,)); returns mdr.law.History."""
+    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FEState | None = None,
+            record_from: int | None = None) -> History:
+        """Run a load history (arrays of shape (T,)); returns mdr.law.History. ``record_from``
+        (a step index): keep the pairs' slack and slip flags from there on (``mdr.stick``)."""
         if (d is None) == (F_N is None):
             raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
         if (u is None) == (Fx is None):
@@ -378,19 +377,23 @@ class FEContact:
         normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
         state = state if state is not None else self.rest_state()
         out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+        rec0 = nT if record_from is None else int(record_from)
+        if not 0 <= rec0 <= nT:
+            raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
+        rec = {"slack": np.empty((nT - rec0, self.n_pairs)), "slipping": np.empty((nT - rec0, self.n_pairs), bool)}
         with blas_threads(1):
-            return self._run(drive, normal, u is not None, F_N is not None, state, out)
-
-    def _run(self, drive, normal, displacement, force, state, out):
-        for t in range(drive.shape[-1]):
-            kw = {"F_N": normal[t]} if force else {"d": normal[t]}
-            if displacement:
-                res, state = self.step(state, u=drive[t], **kw)
-            else:
-                res, state = self.step(state, Fx=drive[t], **kw)
-            for key in out:
-                out[key][t] = getattr(res, key)
-        return History(state=state, **out)
+            for t in range(nT):
+                kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
+                if u is not None:
+                    res, state = self.step(state, u=drive[t], **kw)
+                else:
+                    res, state = self.step(state, Fx=drive[t], **kw)
+                for key in out:
+                    out[key][t] = getattr(res, key)
+                if t >= rec0:
+                    rec["slack"][t - rec0] = res.slack
+                    rec["slipping"][t - rec0] = res.slipping
+        return History(state=state, **out, **(rec if record_from is not None else {}))
 
 
 class FETrial:

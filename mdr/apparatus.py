@@ -57,6 +57,7 @@ from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .profiles import Sphere
 from .solve import solve_increasing
+from .stick import stick_radius
 
 G_ACC = 9.81
 PLATE_MODELS = ("axial", "bending", "rigid")
@@ -192,7 +193,9 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
     d_all = law.approach(np.broadcast_to(FN, batch + t.shape)) if hasattr(law, "approach") else None
     iters = 0
     du_prev = np.zeros(batch)
-    out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "c")}
+    out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c")}
+    first = (cycles - 1) * steps  # the last (stationary) cycle, whose stick radius is reported
+    window = []
     M = np.zeros(batch)
     for k in range(t.size):
         if use_bed:
@@ -261,8 +264,17 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
         out["u2"][..., k] = u2
         out["du"][..., k] = du
         out["Fbed"][..., k] = Fbed
+        out["a"][..., k] = res.a
         out["c"][..., k] = res.c
+        if k >= first and getattr(res, "slack", None) is not None:
+            window.append((res.slack, res.slipping))
     cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0)
+    last_a = out["a"][..., first:]
+    if window and len(window) == last_a.shape[-1]:
+        out["stick_radius"] = stick_radius(law.stick_nodes, np.stack([w[0] for w in window], axis=-2),
+                                           np.stack([w[1] for w in window], axis=-2), last_a, law.stick_onset)
+    else:  # a law without slip state per node: smallest instantaneous stick radius of the cycle
+        out["stick_radius"] = np.min(out["c"][..., first:], axis=-1)
     out["t"] = t
     out["u3"] = u3
     out["cycles"] = cyc
@@ -297,7 +309,7 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
     delta = float(out["slip_index"])
     return {
         "contact_radius": float(profile.g_inv(d0)), "indentation": d0, "normal_force": F0,
-        "stick_radius": float(np.min(out["c"][last])),
+        "stick_radius": float(out["stick_radius"]),
         "dissipation": float(out["dissipation"]),
         "slip_index": None if not np.isfinite(delta) else delta,
         "dissipation_per_cycle": cyc.dissipation.tolist(),

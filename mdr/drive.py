@@ -88,19 +88,21 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     drive = ua * s if ua is not None else fa * s
     key = "u" if ua is not None else "Fx"
     kept = None
+    first = cycles * steps - steps  # the last (stationary) cycle: steps first .. first + steps
     if state_at is None:
-        H = law.run(**{key: drive}, F_N=FN)
+        H = law.run(**{key: drive}, F_N=FN, record_from=first)
     else:
         k = int(state_at)
         if not 0 <= k < t.size - 1:
             raise InputError(f"state_at must be a step index in [0, {t.size - 2}], got {state_at!r}")
-        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1])
-        H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state)
+        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1))
+        H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state, record_from=max(first - k - 1, 0))
         kept = H1.state
         H = type(H2)(state=H2.state, **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-1)
-                                        for f in ("u", "Fx", "FN", "d", "a", "c", "work")})
+                                        for f in ("u", "Fx", "FN", "d", "a", "c", "work")},
+                     **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-2) for f in ("slack", "slipping")})
     cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0)
-    last = slice(cycles * steps - steps, cycles * steps + 1)
+    last = slice(first, cycles * steps + 1)
     dW = float(cyc.dissipation[-1])
     u_amp = ua if ua is not None else 0.5 * float(np.ptp(H.u[last]))
     d0 = float(approach_from_force(profile, materials, F0))
@@ -114,7 +116,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         "contact_radius": float(profile.g_inv(d0)),
         "indentation": d0,
         "normal_force": F0,
-        "stick_radius": float(np.min(H.c[last])),
+        "stick_radius": float(H.window_stick_radius(law)),
         "dissipation": dW,
         "friction_work": float(np.sum(H.work[last][1:])),
         "slip_index": None if not np.isfinite(delta) else delta,

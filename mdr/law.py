@@ -40,6 +40,7 @@ from .materials import Materials
 from .normal import approach_from_force
 from .profiles import FlatPunch, Profile, _bcast
 from .solve import solve_increasing
+from .stick import at_limit, per_step, stick_radius
 
 
 @dataclass(frozen=True)
@@ -70,7 +71,9 @@ class NormalPhase:
 @dataclass(frozen=True)
 class StepResult:
     """Outputs of one step (SI): forces, approach, contact and stick radii, the
-    tangential relative displacement and the friction work done in the step."""
+    tangential relative displacement and the friction work done in the step;
+    per node of the law's ``stick_nodes``, the slack to the slip limit and whether
+    the node slipped or was out of contact in the step (``mdr.stick``)."""
 
     Fx: np.ndarray
     FN: np.ndarray
@@ -79,6 +82,8 @@ class StepResult:
     c: np.ndarray
     u: np.ndarray
     work: np.ndarray
+    slack: np.ndarray | None = field(default=None, compare=False, repr=False)
+    slipping: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -106,8 +111,10 @@ class Trial:
         v2 = np.clip(trial, -ph.vmax, ph.vmax)
         slip = np.abs(self.v - self.v1) + np.abs(trial - v2)
         work = 2.0 * np.sum(self.law.G_star * ph.ell * ph.vmax * slip, axis=-1)
+        slack, slipping = self.law._slack(ph, trial, self.v)
         res = StepResult(Fx=self.law._tangential_force(ph.ell, v2), FN=ph.FN, d=ph.d, a=ph.a,
-                         c=self.law.stick_radius(ph, trial), u=st.u + du, work=work)
+                         c=per_step(self.law.stick_nodes, slack, slipping, ph.a, self.law.stick_onset),
+                         u=st.u + du, work=work, slack=slack, slipping=slipping)
         return res, LawState(v=v2, ell=ph.ell, u=st.u + du, d=ph.d)
 
 
@@ -123,6 +130,15 @@ class History:
     c: np.ndarray
     work: np.ndarray
     state: LawState = field(repr=False)
+    slack: np.ndarray | None = field(default=None, repr=False)
+    slipping: np.ndarray | None = field(default=None, repr=False)
+
+    def window_stick_radius(self, law):
+        """Stick radius (``mdr.stick``) over the recorded steps (``run(record_from=...)``)."""
+        if self.slack is None:
+            raise InputError("the history has no recorded slip state: run it with record_from=<first step>")
+        T = self.slack.shape[-2]
+        return stick_radius(law.stick_nodes, self.slack, self.slipping, self.a[..., -T:], law.stick_onset)
 
 
 class MDRContact:
@@ -231,38 +247,20 @@ class MDRContact:
     def _tangential_force(self, ell, v):
         return 2.0 * self.G_star * np.sum(ell * v, axis=-1)
 
-    def stick_radius(self, phase: NormalPhase, trial):
-        """Stick radius c: outer edge of the central zone of cells that did not slip.
+    #: slack of a spring cell falls linearly towards the stick edge (``mdr.stick``)
+    stick_onset = 1.0
 
-        Cells slip where the trial displacement reaches the slip limit. The
-        zero of the slack vmax - |trial| is extrapolated linearly from the last
-        two sticking cells (second-order accurate where the slack falls
-        smoothly); where it does not fall (a flat face, whose cells all carry the
-        same slack), it is interpolated between the last sticking and the first
-        slipping cell. c = a when nothing slips and c = 0 when the centre slips
-        (gross slip).
-        """
+    @property
+    def stick_nodes(self):
+        """Radii of the nodes the stick radius is resolved on: the cell midpoints (batch + (n,))."""
+        return self.grid.mid
+
+    @staticmethod
+    def _slack(phase: NormalPhase, trial, carried):
+        """Per cell: slack vmax - |trial| to the slip limit, and slipping (at the limit, clipped
+        in the normal update, or out of contact); the input of ``mdr.stick``."""
         slack = phase.vmax - np.abs(trial)
-        incontact = phase.ell > 0
-        slipping = (slack <= 0) & incontact
-        n = slack.shape[-1]
-        any_slip = np.any(slipping, axis=-1)
-        k0 = np.argmax(slipping, axis=-1)
-        mid = np.broadcast_to(self.grid.mid.reshape(self.batch + (1,) * (slack.ndim - 1 - len(self.batch)) + (n,)), slack.shape)
-        take = lambda arr, idx: np.take_along_axis(arr, np.clip(idx, 0, n - 1)[..., None], axis=-1)[..., 0]
-        x1, s1 = take(mid, k0 - 1), take(slack, k0 - 1)
-        x2, s2 = take(mid, k0 - 2), take(slack, k0 - 2)
-        xs, ss = take(mid, k0), take(slack, k0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            root = x1 + s1 * (x1 - x2) / (s2 - s1)
-            # where the slack does not fall towards the edge (a flat face: equal slack in
-            # its cells), extrapolation says nothing: interpolate to the first slipping cell
-            interp = x1 + s1 * (xs - x1) / (s1 - ss)
-        ext = (k0 >= 2) & (s2 > s1) & np.isfinite(root)
-        root = np.where(ext, root, np.where(np.isfinite(interp), interp, 0.5 * (x1 + xs)))
-        c = np.clip(root, x1, xs)
-        c = np.where(k0 == 0, 0.0, c)
-        return np.where(any_slip, np.minimum(c, phase.a), phase.a)
+        return slack, at_limit(slack, phase.vmax) | (np.abs(carried) > phase.vmax) | (phase.ell <= 0)
 
     def step(self, state: LawState, u=None, *, d=None, F_N=None, Fx=None):
         """Advance the contact by one step; pure (``state`` is not modified).
@@ -323,12 +321,15 @@ class MDRContact:
                                 what="MDR tangential force control")
 
     # ---------------------------------------------------------------- runs
-    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: LawState | None = None, block: int | None = None) -> History:
+    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: LawState | None = None, block: int | None = None,
+            record_from: int | None = None) -> History:
         """Run a whole load history (arrays of shape (T,) or batch + (T,)).
 
         Starts from ``state`` (default: at rest, bodies apart). Displacement
         control is the fast path: the normal phases of a block of time steps are
         computed at once, then only the tangential update loops over time.
+        ``record_from`` (a step index): keep the per-cell slack and slip flags of
+        the steps from there on (``History.window_stick_radius``).
         """
         if (d is None) == (F_N is None):
             raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
@@ -348,12 +349,20 @@ class MDRContact:
         if state is None:
             state = self.rest_state()
         out = {k: np.empty(shape) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+        rec0 = T if record_from is None else int(record_from)
+        if not 0 <= rec0 <= T:
+            raise InputError(f"record_from must be a step index in [0, {T}], got {record_from!r}")
+        rec = {k: np.empty(self.grid.width.shape[:-1] + (T - rec0,) + self.grid.width.shape[-1:], dtype=dt)
+               for k, dt in (("slack", float), ("slipping", bool))}
         if Fx is not None:
             for t in range(T):
                 res, state = self.step(state, d=d[..., t], Fx=drive[..., t])
                 for key in out:
                     out[key][..., t] = getattr(res, key)
-            return History(state=state, **out)
+                if t >= rec0:
+                    rec["slack"][..., t - rec0, :] = res.slack
+                    rec["slipping"][..., t - rec0, :] = res.slipping
+            return History(state=state, **out, **(rec if record_from is not None else {}))
         v, ell, u_prev = state.v.copy(), state.ell, state.u
         if block is None:  # bound the block arrays (batch x block x cells) to ~1e6 numbers
             block = int(np.clip(1_000_000 // max(v.size, 1), 1, 256))
@@ -402,13 +411,19 @@ class MDRContact:
             out["FN"][..., sl] = ph.FN
             out["d"][..., sl] = ph.d
             out["a"][..., sl] = ph.a
-            out["c"][..., sl] = self.stick_radius(ph, trial)
+            slack, slipping = self._slack(ph, trial, carried)
+            out["c"][..., sl] = per_step(self.stick_nodes[..., None, :], slack, slipping, ph.a, self.stick_onset)
+            if t1 > rec0:
+                k0 = max(rec0, t0)
+                rec["slack"][..., k0 - rec0:t1 - rec0, :] = slack[..., k0 - t0:, :]
+                rec["slipping"][..., k0 - rec0:t1 - rec0, :] = slipping[..., k0 - t0:, :]
             out["work"][..., sl] = 2.0 * self.G_star * np.sum(ph.ell * ph.vmax * slip, axis=-1)
             ell = ph.ell[..., -1, :]
             v = v.copy()
             u_prev = drive[..., t1 - 1]
         out["u"][...] = drive
-        return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out)
+        return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out,
+                       **(rec if record_from is not None else {}))
 
     # ------------------------------------------------------------ tractions
     def line_loads(self, state: LawState):
@@ -441,6 +456,10 @@ class MDRContact:
             q_a = qf[-1] + (qf[-1] - qf[-2]) * (a - xf[-1]) / (xf[-1] - xf[-2])
         else:
             q_a = qs[-1]
+        # Coulomb at the edge spring: |q_x(a)| <= mu E* (d - g(a)), zero where the profile meets
+        # the surface smoothly (the extrapolation overshoots where q_x drops steeply in slip)
+        q_lim = float(np.asarray(self.mu)) * self.E_star * max(float(state.d) - float(self.profile.g(a)), 0.0)
+        q_a = float(np.clip(q_a, -q_lim, q_lim))
         nodes = np.concatenate([xf, [a]])
         vals = np.concatenate([qf, [q_a]])
         slopes = np.diff(vals) / np.diff(nodes)

@@ -43,12 +43,13 @@ def _work(scene, out, fingerprint, fields, verbose):
 
 
 def _summary(res) -> str:
-    e = res.get("errors", {}).get("dissipation")
-    if not e or e.get("mdr_minus_fe") is None:
+    v = res.get("verdicts")
+    if not v:
         return f"{res.get('runtime_s', 0):.1f} s"
-    fe = e.get("fe_error")
-    return (f"{res['runtime_s']:.1f} s, dissipation MDR-FE {e['mdr_minus_fe']:+.2%}"
-            + (f" (FE error {fe:.2%})" if fe is not None else ""))
+    h = res.get("holds")
+    failed = [q for q, x in v.items() if x["holds"] is False]
+    return (f"{res['runtime_s']:.1f} s, MDR holds: " + {True: "yes", None: "undetermined"}.get(h, "no")
+            + (f" ({', '.join(failed)} beyond error bars + tolerance)" if failed else ""))
 
 
 def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, force: bool = False,

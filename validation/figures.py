@@ -136,6 +136,41 @@ def validity_figure(result: dict, out_dir) -> dict:
     return {"validity": save(fig, Path(out_dir) / "validity.png")}
 
 
+def curvature_figure(result: dict, out_dir) -> dict:
+    """Curvature effect (FE extrapolated - MDR, with its error bar) against a/R, one line per nu,
+    for the dissipation and the radii, with the tolerances of the verdicts."""
+    rows = result["curvature"]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for ax, qs in zip(axes, (("dissipation",), ("contact_radius", "stick_radius"))):
+        for q in qs:
+            for nu, mk in ((0.1, "^"), (0.29, "o"), (0.45, "s")):
+                sel = sorted([r for r in rows if abs(r["nu"] - nu) < 1e-9 and r.get(f"{q}_effect") is not None],
+                             key=lambda r: r["a_over_R"])
+                if not sel:
+                    continue
+                x = [100 * r["a_over_R"] for r in sel]
+                y = [100 * r[f"{q}_effect"] for r in sel]
+                e = [100 * (r[f"{q}_effect_error"] or 0.0) for r in sel]
+                ax.errorbar(x, y, yerr=e, marker=mk, capsize=3, ls="-" if q != "stick_radius" else "--",
+                            label=f"{q.replace('_', ' ')}, nu = {nu:g}")
+            tol = rows[0]["verdicts"][q]["tolerance"]
+            ref_q = abs(rows[0]["verdicts"][q]["fem"]) if q == "dissipation" else None
+            if ref_q:
+                ax.axhspan(-100 * tol / ref_q, 100 * tol / ref_q, color="0.9", zorder=0)
+        ax.set_xscale("log")
+        ax.set_xlabel("a / R (%)")
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        ax.grid(alpha=0.3, which="both")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
+    axes[0].set_ylabel("FE - MDR, dissipation (% of the FE dissipation)")
+    axes[1].set_ylabel("FE - MDR, radius (% of the contact radius)")
+    axes[0].set_title("Dissipation (grey: tolerance)", fontsize=10)
+    axes[1].set_title("Contact and stick radius", fontsize=10)
+    fig.tight_layout()
+    return {"curvature": save(fig, Path(out_dir) / "curvature.png")}
+
+
 def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
     """Slip index against a scene parameter: ``points = {"mdr": [(x, delta)], "fem": [...]}``."""
     fig, ax = plt.subplots(figsize=(6, 4))

@@ -1,8 +1,8 @@
 """Distances between two results of the same scene (plain arrays in, plain numbers out).
 
 Conventions: a *relative difference* is (test - ref) / |ref| (signed); a
-profile error is the area-weighted L2 norm of the difference over the disk
-r <= r_max, divided by the reference's peak on that disk; loop distances
+profile error is the relative L2 norm of the difference over the disk
+r <= r_max; loop distances
 compare two loops sampled at the same phases (the same time steps).
 """
 from __future__ import annotations
@@ -24,36 +24,110 @@ def rel(test, ref):
     return (test - ref) / abs(ref)
 
 
-def own_error(values):
-    """Error estimate of the finest of a refinement ladder: |Q_finest - Q_next| / |Q_finest|.
+#: safety factor of the grid convergence index for a three-level study (Roache 1998,
+#: Verification and Validation in Computational Science and Engineering, Hermosa)
+GCI_SAFETY = 1.25
+#: observed orders outside this range are not taken as asymptotic
+ORDER_RANGE = (0.5, 4.0)
 
-    Assumes the ladder converges monotonically, so the difference to the next
-    coarser level bounds the finest level's error (it overestimates it by the
-    factor 2^p - 1 for a halved mesh size and order p). None for fewer than two levels.
+
+def ladder_error(sizes, values, *, floor=0.0) -> dict:
+    """Error bar of the finest value of a refinement ladder (coarse to fine).
+
+    ``sizes``: the resolution parameter of each level, decreasing (element size, or
+    1/cells); ``values``: the quantity at each level (None or non-finite: dropped).
+    Over the three finest levels q0, q1, q2 (refinement ratios r10 = h0/h1, r21 =
+    h1/h2) with e10 = q1 - q0, e21 = q2 - q1:
+
+    - ``converged``: |e21|, |e10| <= ``floor`` (round-off or an exact answer on both
+      levels): error = max(|e21|, |e10|);
+    - ``asymptotic``: e10, e21 of one sign and an observed order p (Celik et al.
+      2008, J. Fluids Eng. 130, 078001: fixed point of p = ln|e10/e21 (r21^p - 1)/
+      (r10^p - 1)| / ln r21) inside ``ORDER_RANGE``: Richardson extrapolation
+      q2 + e21/(r21^p - 1), error = GCI_SAFETY |e21| / (r21^p - 1) (Roache's grid
+      convergence index);
+    - ``non-monotone`` (e10, e21 of opposite signs) or ``order p outside ...``: the
+      ladder is not in its asymptotic range; error = the spread max - min of the
+      three levels (never the last difference alone);
+    - ``two levels``: error = |e21| (no order can be observed; flagged);
+    - ``one level`` / ``no value``: error None (undetermined).
+
+    Returns {value, extrapolated, error, order, status, levels}.
     """
-    vals = [v for v in values if v is not None]
-    if len(vals) < 2:
-        return None
-    q1, q0 = float(vals[-1]), float(vals[-2])
-    if q1 == 0.0:
-        return None if q0 == 0.0 else float("inf")
-    return abs(q1 - q0) / abs(q1)
+    pts = [(float(h), float(v)) for h, v in zip(sizes, values)
+           if v is not None and np.isfinite(float(v)) and h is not None]
+    out = {"value": pts[-1][1] if pts else None, "extrapolated": None, "error": None, "order": None,
+           "status": "no value" if not pts else "one level", "levels": len(pts)}
+    if len(pts) < 2:
+        return out
+    (h1, q1), (h2, q2) = pts[-2], pts[-1]
+    e21 = q2 - q1
+    if len(pts) == 2:
+        out.update(error=abs(e21), status="two levels")
+        return out
+    h0, q0 = pts[-3]
+    e10 = q1 - q0
+    if abs(e21) <= floor and abs(e10) <= floor:
+        out.update(error=max(abs(e21), abs(e10)), extrapolated=q2, status="converged")
+        return out
+    spread = max(q0, q1, q2) - min(q0, q1, q2)
+    if e21 == 0.0 or e10 == 0.0 or np.sign(e21) != np.sign(e10):
+        out.update(error=float(spread), status="non-monotone")
+        return out
+    r21, r10 = h1 / h2, h0 / h1
+    ratio = abs(e10 / e21)
+    p = _observed_order(ratio, r21, r10)
+    out["order"] = float(p) if np.isfinite(p) else None
+    if not (np.isfinite(p) and ORDER_RANGE[0] <= p <= ORDER_RANGE[1]):
+        out.update(error=float(spread), status=f"order {p:.2g} outside {ORDER_RANGE[0]:g}-{ORDER_RANGE[1]:g}")
+        return out
+    g = r21 ** p - 1.0
+    out.update(extrapolated=float(q2 + e21 / g), error=float(GCI_SAFETY * abs(e21) / g), status="asymptotic")
+    return out
+
+
+def _observed_order(ratio, r21, r10) -> float:
+    """Order p of Q = Q* + C h^p from e10/e21 = r21^p (r10^p - 1)/(r21^p - 1) (Celik et al. 2008);
+    NaN where no p in (0.01, 30) fits."""
+    from scipy.optimize import brentq
+
+    if abs(r21 - r10) < 1e-12 * r21:
+        return float(np.log(ratio) / np.log(r21))
+    f = lambda p: np.log(ratio) - p * np.log(r21) - np.log((r10 ** p - 1.0) / (r21 ** p - 1.0))  # noqa: E731
+    lo, hi = 0.01, 30.0
+    if not (np.isfinite(f(lo)) and np.isfinite(f(hi))) or f(lo) * f(hi) > 0:
+        return float("nan")
+    return float(brentq(f, lo, hi, xtol=1e-12))
 
 
 def profile_error(r_test, f_test, r_ref, f_ref, r_max, n=400):
-    """Area-weighted L2 error of profile f(r) on the disk r <= r_max, over the reference peak.
+    """Relative L2 error of a profile f(r) on the disk r <= r_max: ||f_t - f_r|| / ||f_r||.
 
-    sqrt(int (f_t - f_r)^2 r dr / int r dr) / max|f_r|; both profiles are
-    interpolated linearly on n points (zero beyond their last sample).
+    ||f||^2 = int f^2 r dr. Both profiles are linear between their samples (zero beyond
+    the last) and integrated exactly on the union of both sample sets and n uniform
+    points, so an integrable peak (the pressure's log singularity at the kink of a
+    truncated sphere) is weighed by its area, not by how a sample happens to hit it.
+    None when the reference is zero.
     """
-    r = np.linspace(0.0, float(r_max), n)
-    ft = np.interp(r, np.asarray(r_test, float), np.asarray(f_test, float), right=0.0)
-    fr = np.interp(r, np.asarray(r_ref, float), np.asarray(f_ref, float), right=0.0)
-    peak = float(np.max(np.abs(fr)))
-    if peak == 0.0:
+    r_max = float(r_max)
+    rt, rr = np.asarray(r_test, float), np.asarray(r_ref, float)
+    r = np.unique(np.concatenate([np.linspace(0.0, r_max, n), rt[rt < r_max], rr[rr < r_max]]))
+    ft = np.interp(r, rt, np.asarray(f_test, float), right=0.0)
+    fr = np.interp(r, rr, np.asarray(f_ref, float), right=0.0)
+    norm = _l2_disk(r, fr)
+    if norm == 0.0:
         return None
-    l2 = np.sqrt(_trapz((ft - fr) ** 2 * r, r) / _trapz(r, r))
-    return float(l2 / peak)
+    return float(_l2_disk(r, ft - fr) / norm)
+
+
+def _l2_disk(r, f):
+    """sqrt(int f^2 r dr) of a piecewise-linear f on nodes r (exact per segment)."""
+    r0, r1, f0, f1 = r[:-1], r[1:], f[:-1], f[1:]
+    # int_{r0}^{r1} (f0 + (f1 - f0) t)^2 (r0 + (r1 - r0) t) (r1 - r0) dt, t in [0, 1]
+    h, df, dr = r1 - r0, f1 - f0, r1 - r0
+    val = h * (r0 * (f0 * f0 + f0 * df + df * df / 3.0)
+               + dr * (f0 * f0 / 2.0 + 2.0 * f0 * df / 3.0 + df * df / 4.0))
+    return float(np.sqrt(max(np.sum(val), 0.0)))
 
 
 def loop_distance(test: dict, ref: dict, mu, F0) -> dict:
@@ -88,3 +162,38 @@ def dissipation_error(test, ref, mu, F0, u_A):
     if abs(ref) >= 0.01 * scale or scale == 0:
         return rel(test, ref)
     return (float(test) - float(ref)) / scale
+
+
+def _finite(*xs):
+    return all(x is not None and np.isfinite(float(x)) for x in xs)
+
+
+def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=True, unit="") -> dict:
+    """One metric's verdict: ``holds`` is |MDR - FE| <= FE error + MDR error + tolerance.
+
+    ``mdr``, ``fem``: the finest values (for a distance metric ``signed=False``: ``mdr`` is
+    the distance between the finest results and ``fem`` None); ``fem_ladder`` and
+    ``mdr_ladder``: ``ladder_error`` dicts of each side (the error bars); ``tolerance``:
+    absolute, in the metric's unit. Any non-finite input makes ``holds`` None
+    (undetermined), never True.
+    """
+    diff = (None if not _finite(mdr, fem) else float(mdr) - float(fem)) if signed else \
+        (None if not _finite(mdr) else float(mdr))
+    fe_err, mdr_err = fem_ladder.get("error"), mdr_ladder.get("error")
+    holds = None
+    if _finite(diff, fe_err, mdr_err, tolerance):
+        holds = bool(abs(diff) <= fe_err + mdr_err + tolerance)
+    return {"mdr": None if mdr is None or not signed else float(mdr), "fem": None if fem is None else float(fem),
+            "difference": diff, "fem_error": fe_err, "mdr_error": mdr_err,
+            "tolerance": None if tolerance is None else float(tolerance), "holds": holds, "unit": unit,
+            "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder}
+
+
+def conjunction(verdicts: dict):
+    """Scene verdict: False if any metric fails, None (undetermined) if any is undetermined, else True."""
+    hs = [v["holds"] for v in verdicts.values()]
+    if any(h is False for h in hs):
+        return False
+    if not hs or any(h is None for h in hs):
+        return None
+    return True

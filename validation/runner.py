@@ -11,8 +11,9 @@ For each scene (``validation.scenes.Scene``):
    the result keys are those of ``python -m mdr contact`` / ``apparatus``;
 4. profiles at the mean normal force (pressure) and at the peak of the last
    cycle (tangential traction), closed forms where they exist;
-5. differences (finest MDR against finest FE), each beside the FE's own error
-   estimate (finest against next coarser level) and the MDR's own.
+5. a verdict per metric (``scene_verdicts``): the difference of the finest MDR and
+   FE results beside each side's error bar, extrapolated over its ladder
+   (``metrics.ladder_error``), and the scene's tolerance.
 
 The result is plain data (JSON); ``write_scene`` stores it with its figures
 atomically in one directory per scene.
@@ -40,7 +41,6 @@ from mdr import reference as ref
 from . import metrics
 from .scenes import Scene, a_ref
 
-QUANTITIES = ("contact_radius", "stick_radius", "dissipation", "slip_index")
 
 
 def materials_of(s: Scene) -> Materials:
@@ -206,72 +206,95 @@ def _u_amp(res):
     return float(res.get("displacement_amplitude") or 0.5 * np.ptp(res["loop"]["du"]))
 
 
-def compare(s: Scene, mdr: dict, fe: dict, fe_ladder: list, mdr_ladder: list, cf: dict | None) -> dict:
-    """Differences MDR - FE (finest of each), the FE and MDR own error estimates, closed-form errors."""
-    u_A = _u_amp(fe)
-    err = {}
-    for q in QUANTITIES:
-        if q == "slip_index":
-            a, b = mdr.get(q), fe.get(q)
-            diff = None if a is None or b is None else float(a) - float(b)
-            fe_err = metrics.own_error([x.get(q) for x in fe_ladder])
-            fe_err = None if fe_err is None or b is None else fe_err * abs(float(b))
-            mdr_err = metrics.own_error([x.get(q) for x in mdr_ladder])
-            mdr_err = None if mdr_err is None or a is None else mdr_err * abs(float(a))
-            err[q] = {"mdr_minus_fe": diff, "fe_error": fe_err, "mdr_error": mdr_err, "kind": "absolute"}
-            continue
-        if q == "dissipation":
-            diff = metrics.dissipation_error(mdr[q], fe[q], s.mu, s.F0, u_A)
-            fe_err = metrics.dissipation_error(fe_ladder[-1][q], fe_ladder[-2][q], s.mu, s.F0, u_A) \
-                if len(fe_ladder) > 1 else None
-            mdr_err = metrics.dissipation_error(mdr_ladder[-1][q], mdr_ladder[-2][q], s.mu, s.F0, u_A) \
-                if len(mdr_ladder) > 1 else None
-            fe_err = None if fe_err is None else abs(fe_err)
-            mdr_err = None if mdr_err is None else abs(mdr_err)
-        else:
-            diff = metrics.rel(mdr[q], fe[q])
-            fe_err = metrics.own_error([x[q] for x in fe_ladder])
-            mdr_err = metrics.own_error([x[q] for x in mdr_ladder])
-        err[q] = {"mdr_minus_fe": diff, "fe_error": fe_err, "mdr_error": mdr_err, "kind": "relative"}
-    a_max = a_ref(s)
+#: a number below this fraction of its natural scale is a numerical zero (reported as 0)
+ZERO = 1e-9
+
+
+def _zero(x, scale):
+    """x, or 0.0 where it is a numerical zero against ``scale`` (None stays None)."""
+    if x is None:
+        return None
+    x = float(x)
+    return 0.0 if np.isfinite(x) and abs(x) <= ZERO * scale else x
+
+
+def _distances(s: Scene, mdr: dict, fe: dict) -> dict:
+    """Distance metrics between an MDR and an FE result of the scene (profiles, loops)."""
+    out = {}
     pm, pf = mdr["profiles"], fe["profiles"]
     r_edge = 0.95 * min(float(mdr["contact_radius"]), float(fe["contact_radius"]))
-    err["pressure_profile"] = {"mdr_minus_fe": metrics.profile_error(pm["r"], pm["pressure"], pf["r"], pf["pressure"],
-                                                                    r_edge)}
-    if len(fe_ladder) > 1:
-        p2 = fe_ladder[-2]["profiles"]
-        err["pressure_profile"]["fe_error"] = metrics.profile_error(p2["r"], p2["pressure"], pf["r"], pf["pressure"],
-                                                                    r_edge)
+    out["pressure_profile"] = metrics.profile_error(pm["r"], pm["pressure"], pf["r"], pf["pressure"], r_edge)
     if pm.get("traction") is not None and pf.get("traction") is not None:
-        err["traction_profile"] = {"mdr_minus_fe": metrics.profile_error(pm["r"], pm["traction"], pf["r_pairs"],
-                                                                        pf["traction"], r_edge)}
-        if len(fe_ladder) > 1 and fe_ladder[-2]["profiles"].get("traction") is not None:
-            p2 = fe_ladder[-2]["profiles"]
-            err["traction_profile"]["fe_error"] = metrics.profile_error(p2["r_pairs"], p2["traction"], pf["r_pairs"],
-                                                                        pf["traction"], r_edge)
-    err["loop"] = metrics.loop_distance(mdr["loop"], fe["loop"], s.mu, s.F0)
-    if len(fe_ladder) > 1:
-        own = metrics.loop_distance(fe_ladder[-2]["loop"], fe["loop"], s.mu, s.F0)
-        err["loop"] = {k: {"mdr_minus_fe": v, "fe_error": own[k]} for k, v in err["loop"].items()}
-    else:
-        err["loop"] = {k: {"mdr_minus_fe": v} for k, v in err["loop"].items()}
-    if cf is not None:
-        cfe = {}
-        for side, res in (("mdr", mdr), ("fem", fe)):
-            cfe[side] = {q: metrics.rel(res[q], cf[q]) for q in ("contact_radius", "stick_radius")}
-            cfe[side]["dissipation"] = metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0,
-                                                                 _u_amp(res))
-            p = res["profiles"]
-            cfe[side]["pressure_profile"] = metrics.profile_error(p["r"], p["pressure"], cf["profiles"]["r"],
-                                                                  cf["profiles"]["pressure"], 0.95 * cf["contact_radius"])
-            if p.get("traction") is not None:
-                rr = p["r_pairs"] if side == "fem" else p["r"]
-                cfe[side]["traction_profile"] = metrics.profile_error(rr, p["traction"], cf["profiles"]["r"],
-                                                                      cf["profiles"]["traction"],
-                                                                      0.95 * cf["contact_radius"])
-        err["closed_form"] = cfe
-    err["a_ref"] = a_max
-    return err
+        out["traction_profile"] = metrics.profile_error(pm["r"], pm["traction"], pf["r_pairs"], pf["traction"], r_edge)
+    lp = metrics.loop_distance(mdr["loop"], fe["loop"], s.mu, s.F0)
+    # the prescribed component of a loop is equal on both sides: compare the other one
+    if s.drive != "force":
+        out["loop_Fx"] = lp["Fx"]
+    if s.drive != "displacement":
+        out["loop_du"] = lp["du"]
+    return out
+
+
+def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list) -> dict:
+    """Per metric: MDR, FE, difference, each side's error bar (``metrics.ladder_error`` over
+    its ladder), the scene's tolerance and ``holds`` (``metrics.verdict``).
+
+    Scalars (``contact_radius``, ``stick_radius``, ``dissipation``, ``slip_index``) compare
+    the finest levels; their error bars come from the ladders of the quantity. Distance
+    metrics (profiles, loops) compare the finest profiles; their error bars come from the
+    ladders of the distance between one side's levels and the other side's finest level.
+    Tolerances (``Scene.tolerances``) are absolute in the verdict: radii relative to the FE
+    contact radius (so a stick radius of 0 compares in absolute terms), dissipation relative
+    to the FE dissipation with a floor of ``DISSIPATION_FLOOR`` x 4 mu F0 u_A.
+    """
+    from .scenes import DISSIPATION_FLOOR
+
+    tol = s.tolerances()
+    fe_h = [float(x["h_contact"]) for x in fe_ladder]
+    md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
+    mdr, fe = mdr_ladder[-1], fe_ladder[-1]
+    a = float(fe["contact_radius"])
+    scale_W = 4.0 * s.mu * s.F0 * _u_amp(fe)
+    V = {}
+
+    def scalar(q, scale, tolerance, unit):
+        fv = [_zero(x.get(q), scale) for x in fe_ladder]
+        mv = [_zero(x.get(q), scale) for x in mdr_ladder]
+        fl = metrics.ladder_error(fe_h, fv, floor=ZERO * scale)
+        ml = metrics.ladder_error(md_h, mv, floor=ZERO * scale)
+        V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit)
+
+    scalar("contact_radius", a, tol["contact_radius"] * a, "m")
+    scalar("stick_radius", a, tol["stick_radius"] * a, "m")
+    dW = abs(float(fe["dissipation"]))
+    scalar("dissipation", scale_W, max(tol["dissipation"] * dW, DISSIPATION_FLOOR * scale_W), "J")
+    scalar("slip_index", 1.0, tol["slip_index"], "")
+    d_fe = [_distances(s, mdr, x) for x in fe_ladder]
+    d_md = [_distances(s, x, fe) for x in mdr_ladder]
+    for q, dist in d_fe[-1].items():
+        fl = metrics.ladder_error(fe_h, [d.get(q) for d in d_fe], floor=ZERO)
+        ml = metrics.ladder_error(md_h, [d.get(q) for d in d_md], floor=ZERO)
+        V[q] = metrics.verdict(_zero(dist, 1.0), None, fl, ml, tol[q], signed=False,
+                               unit="relative L2" if q.endswith("profile") else ("mu F0" if q == "loop_Fx" else "u_A"))
+    return V
+
+
+def closed_form_errors(s: Scene, mdr: dict, fe: dict, cf: dict) -> dict:
+    """Errors of the finest MDR and FE results against the scene's closed forms."""
+    cfe = {}
+    for side, res in (("mdr", mdr), ("fem", fe)):
+        cfe[side] = {q: metrics.rel(res[q], cf[q]) for q in ("contact_radius", "stick_radius")}
+        cfe[side]["dissipation"] = metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0,
+                                                             _u_amp(res))
+        p = res["profiles"]
+        cfe[side]["pressure_profile"] = metrics.profile_error(p["r"], p["pressure"], cf["profiles"]["r"],
+                                                              cf["profiles"]["pressure"], 0.95 * cf["contact_radius"])
+        if p.get("traction") is not None:
+            rr = p["r_pairs"] if side == "fem" else p["r"]
+            cfe[side]["traction_profile"] = metrics.profile_error(rr, p["traction"], cf["profiles"]["r"],
+                                                                  cf["profiles"]["traction"],
+                                                                  0.95 * cf["contact_radius"])
+    return cfe
 
 
 def speed_error(s: Scene, fe_ladder: list, mdr_ladder: list, cf: dict | None) -> list:
@@ -304,6 +327,8 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     written there (the caller makes the directory atomic, see ``write_scene``)."""
     log = log or (lambda msg: None)
     t0 = time.perf_counter()
+    if s.variants and "a_over_R" in s.variants[0]:
+        return _run_curvature(s, out_dir, log)
     if s.variants:
         return _run_validity(s, out_dir, log)
     out_dir = Path(out_dir) if out_dir is not None else None
@@ -323,8 +348,12 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             f"{res['runtime_s']['setup']:.2f} s, cycles {res['runtime_s']['cycles']:.2f} s")
     cf = closed_forms(s)
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
+    verdicts = scene_verdicts(s, fe_ladder, mdr_ladder)
+    errors = {"a_ref": a_ref(s)}
+    if cf is not None:
+        errors["closed_form"] = closed_form_errors(s, mdr, fe, cf)
     result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": fe,
-              "errors": compare(s, mdr, fe, fe_ladder, mdr_ladder, cf),
+              "verdicts": verdicts, "holds": metrics.conjunction(verdicts), "errors": errors,
               "ladder": {"mdr": [_strip(x) for x in mdr_ladder], "fem": [_strip(x) for x in fe_ladder]},
               "speed_error": speed_error(s, fe_ladder, mdr_ladder, cf),
               "files": {}}
@@ -343,6 +372,59 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 result["files"]["fields_error"] = str(e)
                 log(f"  field plot skipped: {e}")
     result["runtime_s"] = time.perf_counter() - t0
+    return result
+
+
+def curvature_variant(s: Scene, v: dict) -> Scene:
+    """The sphere of scene ``s`` loaded to the contact radius a = a_over_R R (Hertz:
+    F0 = 4 E* a^3 / (3 R)), both bodies of Poisson ratio ``nu``, force amplitude mu F0 / 2.
+
+    For the parabolic profile only a/R matters, and the FE body's shape in units of a is
+    the same for a given a/R whether F0 or R is varied; the sphere's cap is at most R high
+    (20 a at a/R = 5 %), so at large a/R the real sphere is also a small body."""
+    from dataclasses import replace
+
+    nu = float(v.get("nu", s.nu1))
+    E_star = Materials(s.E1, nu, s.E2, nu).E_star
+    a = float(v["a_over_R"]) * s.R
+    F0 = 4.0 * E_star * a ** 3 / (3.0 * s.R)
+    return replace(s, name=f"{s.name}[a/R={v['a_over_R']:g},nu={nu:g}]", F0=F0, dF=0.0,
+                   amplitude=0.5 * s.mu * F0, nu1=nu, nu2=nu, variants=())
+
+
+def _run_curvature(s: Scene, out_dir, log) -> dict:
+    """Half-space validity against the curvature a/R: every variant through both ladders
+    (``curvature_variant``), so the curvature effect (FE extrapolated - MDR) stands with its
+    error bar beside the tolerance, separated from the mesh error."""
+    t0 = time.perf_counter()
+    rows = []
+    for v in s.variants:
+        sv = curvature_variant(s, v)
+        mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
+        fe_ladder = [run_fe(sv, h)[0] for h in sv.fe_levels]
+        ver = scene_verdicts(sv, fe_ladder, mdr_ladder)
+        row = {"a_over_R": float(v["a_over_R"]), "nu": sv.nu1, "F0": sv.F0, "dofs": fe_ladder[-1]["dofs"],
+               "holds": metrics.conjunction(ver), "verdicts": ver,
+               "runtime_s": sum(x["runtime_s"]["total"] for x in fe_ladder)}
+        for q in ("contact_radius", "stick_radius", "dissipation"):
+            x = ver[q]
+            ref_q = abs(x["fem"]) if q == "dissipation" else mdr_ladder[-1]["contact_radius"]
+            # FE extrapolated where its ladder is asymptotic, else its finest level (error bar: the spread)
+            fe_q = x["fem_ladder"].get("extrapolated")
+            fe_q = x["fem"] if fe_q is None else fe_q
+            row[f"{q}_effect"] = None if fe_q is None or x["mdr"] is None else (fe_q - x["mdr"]) / ref_q
+            row[f"{q}_effect_error"] = None if x["fem_error"] is None else (x["fem_error"] + x["mdr_error"]) / ref_q
+        rows.append(row)
+        d = ver["dissipation"]
+        log(f"  a/R = {row['a_over_R']:.2%}, nu = {row['nu']:g}: dissipation MDR - FE "
+            f"{d['difference'] / abs(d['fem']):+.3%} (error bars {(d['fem_error'] + d['mdr_error']) / abs(d['fem']):.3%}, "
+            f"tolerance {d['tolerance'] / abs(d['fem']):.2%}): {'holds' if row['holds'] else 'does not hold'}")
+    result = {"scene": s.as_dict(), "closed_form": None, "curvature": rows, "errors": {"a_ref": a_ref(s)},
+              "files": {}, "runtime_s": time.perf_counter() - t0}
+    if out_dir is not None:
+        from . import figures
+
+        result["files"].update(figures.curvature_figure(result, Path(out_dir)))
     return result
 
 

@@ -48,10 +48,31 @@ from mdr.study import LOOP_CASES
 R_IND = 6e-3
 STEEL = {"E1": 200e9, "nu1": 0.29, "E2": 200e9, "nu2": 0.29}
 FE_LEVELS = (1 / 20, 1 / 40, 1 / 80)          # h_contact = element size / a_ref
-FE_LEVELS_QUICK = (1 / 10, 1 / 20, 1 / 40)
+FE_LEVELS_QUICK = (1 / 20, 1 / 40, 1 / 80)
 MDR_CELLS = (25, 100, 400, 1600)
-MDR_CELLS_QUICK = (25, 100, 400)
+MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
+
+#: What "MDR holds" claims, beyond both models' own error bars (the verdict of a metric is
+#: |MDR - FE| <= FE error + MDR error + tolerance). The half-space assumptions themselves
+#: cost less than this where they hold: for R = 6 mm (a/R ~ 0.5 %) the cap's curvature
+#: changes the dissipation by about +0.15 % and the contact radius by < 0.05 %; bodies of
+#: 10 contact radii or more by < 0.1 %. Radii are relative to the FE contact radius (a stick
+#: radius of 0 compares in absolute terms), the dissipation relative to the FE dissipation,
+#: profiles as relative L2 norm, loops as the largest difference over mu F0 (F_x) or u_A (du).
+TOLERANCES = {
+    "contact_radius": 0.002,
+    "stick_radius": 0.01,
+    "dissipation": 0.005,
+    "slip_index": 0.005,
+    "pressure_profile": 0.01,
+    "traction_profile": 0.02,
+    "loop_Fx": 0.01,
+    "loop_du": 0.01,
+}
+#: a loop that hardly dissipates compares its dissipation in absolute terms: the tolerance
+#: is at least this fraction of the gross-slip scale 4 mu F0 u_A
+DISSIPATION_FLOOR = 1e-4
 PROFILES = ("sphere", "truncated", "flat")
 
 
@@ -63,9 +84,7 @@ class Scene:
     axisymmetric body under a tangential load with linear elasticity and
     Mindlin's uncoupled friction). ``variants`` (validity scenes only): mesh
     size overrides as multiples of a_ref, e.g. ``{"block": 5.0}``.
-    ``expect``: the agreement the physics predicts, checked by the slow tests
-    and shown in the report (e.g. ``{"dissipation": 0.01}``: MDR within the FE
-    error estimate plus 1 %).
+    ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
 
     name: str
@@ -93,7 +112,7 @@ class Scene:
     variants: tuple = ()
     group: str = "geometry"
     quick: bool = False
-    expect: dict = field(default_factory=dict)
+    tolerance: dict = field(default_factory=dict)
     notes: str = ""
 
     def __post_init__(self):
@@ -105,6 +124,14 @@ class Scene:
             raise InputError(f"scene {self.name}: kx must be > 0 for drive='apparatus', got {self.kx!r}")
         if len(self.fe_levels) < 1 or len(self.mdr_cells) < 1:
             raise InputError(f"scene {self.name}: fe_levels and mdr_cells must not be empty")
+        unknown = set(self.tolerance) - set(TOLERANCES)
+        if unknown:
+            raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
+                             f"valid: {', '.join(TOLERANCES)}")
+
+    def tolerances(self) -> dict:
+        """The tolerance of every metric (``TOLERANCES`` with this scene's overrides)."""
+        return {**TOLERANCES, **self.tolerance}
 
     @property
     def closed_form(self) -> str | None:
@@ -144,12 +171,10 @@ def _catalogue() -> dict:
     # closed-form anchor: Hertz + Cattaneo-Mindlin + Mindlin-Deresiewicz (constant F_N)
     sc.append(Scene("sphere-md", "Sphere, constant F_N, partial slip (closed forms)", "sphere", dF=0.0,
                     amplitude=0.5 * 0.2 * 0.5, group="anchor", quick=True,
-                    expect={"dissipation": 0.01, "contact_radius": 0.01, "stick_radius": 0.01},
                     notes="Force amplitude mu F0 / 2. Hertz (1882), Mindlin & Deresiewicz (1953, J. Appl. Mech.) "
                           "hold exactly for this half-space problem."))
     sc.append(Scene("flat-md", "Flat punch b = 50 um, constant F_N (closed forms)", "flat", b=50e-6, dF=0.0,
                     amplitude=0.5 * 0.2 * 0.5, group="anchor",
-                    expect={"slip_index_abs": 0.01},
                     notes="Pressure and traction share the profile 1/sqrt(b^2 - r^2) below mu F_N: full stick, "
                           "no dissipation in the half-space (Mindlin 1949, J. Appl. Mech.)."))
     # geometry series at the Table 2 normal load
@@ -157,31 +182,37 @@ def _catalogue() -> dict:
         kind = "sphere" if b == 0 else "truncated"
         name = "geom-sphere" if b == 0 else f"geom-b{b * 1e6:g}um"
         sc.append(Scene(name, f"{'Sphere' if b == 0 else 'Truncated sphere b = ' + _um(b)}, Table 2 load",
-                        kind, b=b, quick=(b == 20e-6), group="geometry",
-                        expect={"dissipation": 0.02}))
-    sc.append(Scene("geom-flat", "Flat punch b = 50 um, Table 2 load", "flat", b=50e-6, group="geometry", quick=True,
-                    expect={"slip_index_abs": 0.01}))
+                        kind, b=b, quick=(b == 20e-6), group="geometry"))
+    sc.append(Scene("geom-flat", "Flat punch b = 50 um, Table 2 load", "flat", b=50e-6, group="geometry", quick=True))
     # the paper's experiments (Figs. 4-7) in the apparatus
     for fig, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
         b = 0.0 if kind == "sphere" else 0.6e-3
         sc.append(Scene(f"exp-{fig}", f"Experiment {fig[3:]}: {kind}, F0 = {F0} N, u_A = {ua * 1e9:g} nm, "
                         f"mu1 = {mu1}, mu2 = {mu2}", kind, b=b, mu=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5,
                         drive="apparatus", amplitude=ua, kx=1.9e6, cycles=4, steps=120, group="experiments",
-                        quick=(fig == "fig4"),
-                        expect={"slip_index_abs": 0.02}))
+                        quick=(fig == "fig4")))
     # apparatus stiffness series at the Table 2 point
     for kx in (1e6, 2e6, 10e6, 20e6):
         sc.append(Scene(f"app-kx{kx / 1e6:g}", f"Apparatus k_x = {kx / 1e6:g} N/um, b = 10 um, Table 2 point",
                         "truncated", b=10e-6, drive="apparatus", amplitude=150e-9, kx=kx, cycles=4, steps=120,
-                        quick=(kx == 2e6), group="apparatus", expect={"slip_index_abs": 0.02}))
+                        quick=(kx == 2e6), group="apparatus"))
     # half-space validity: shrink the block and the cap towards the contact
     variants = tuple({"block": s} for s in (3.0, 5.0, 10.0, 30.0)) + \
         tuple({"cap": s} for s in (3.0, 5.0, 10.0, 30.0))
     sc.append(Scene("validity", "Half-space validity: block and cap size against the contact radius", "sphere",
                     dF=0.0, amplitude=0.5 * 0.2 * 0.5, fe_levels=(1 / 40,), mdr_cells=(400,), variants=variants,
-                    group="validity", expect={"contact_radius_large": 0.01},
+                    group="validity",
                     notes="Sizes as multiples of the Hertz contact radius; every variant at h = a/40 against "
                           "the default FE model (200 a) at the same mesh size."))
+    # half-space validity: the curvature a/R of the sphere (F0 from Hertz at R = 6 mm), three nu
+    curvature = tuple({"a_over_R": x, "nu": 0.29} for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2, 5e-2)) + \
+        tuple({"a_over_R": x, "nu": nu} for nu in (0.1, 0.45) for x in (4.6e-3, 5e-2))
+    sc.append(Scene("validity-curvature", "Half-space validity: curvature a/R of the sphere", "sphere", dF=0.0,
+                    cycles=2, steps=40, variants=curvature, group="validity",
+                    notes="The sphere (R = 6 mm) at constant F_N loaded to a/R = 0.05 .. 5 % (F0 = 4 E* a^3 / (3 R)), "
+                          "force amplitude mu F0 / 2 (the closed-form case of sphere-md), both bodies of Poisson "
+                          "ratio nu; every variant through the full FE and MDR ladders, so the curvature effect "
+                          "(FE extrapolated - MDR) stands with its error bar beside the tolerance."))
     out = {}
     for s in sc:
         if s.name in out:
