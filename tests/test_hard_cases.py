@@ -59,7 +59,9 @@ def test_flat_punch_singular_edge_fixed_radius_stick_then_gross_slip(cache):
     assert pe[1] > 1.2 * pe[0]
     mdr = rows[("flat punch: full stick then sudden gross slip", "mdr")]
     assert mdr["error"] < 1e-12 and mdr["stick_radius_before"] == pytest.approx(30e-6) and mdr["stick_radius_after"] == 0
-    assert "stick zone = b until u*" in rows[("flat punch: full stick then sudden gross slip", "fem")]["note"]
+    fe_t = rows[("flat punch: full stick then sudden gross slip", "fem")]
+    # measured at b/20: stick radius 0.977 b, slip index 4.7e-4 (at b/40: 0.989 b, 1.9e-4)
+    assert fe_t["stick_radius_min"] > 0.94 * 30e-6 and fe_t["slip_index"] < 1.2e-3
 
 
 def test_truncated_sphere_edge_inside_at_and_beyond_the_contact_edge(cache):
