@@ -10,7 +10,8 @@ import pytest
 
 from validation import hard_cases as hc
 
-KEYS = {"name", "model", "status", "iterations", "error", "truth", "time_s", "note"}
+KEYS = {"name", "model", "status", "iterations", "error", "tol", "truth", "time_s", "note"}
+MARGIN = 3.0  # a row's tolerance is at most 3x its measured error (issue 11: margins 2-3x, not 10x)
 
 
 @pytest.fixture(scope="module")
@@ -18,12 +19,27 @@ def cache(tmp_path_factory):
     return tmp_path_factory.mktemp("hard_case_meshes")
 
 
+def check_row(r):
+    """Every row: its own measured error (a real number, never a 0/1 pass flag; None only
+    with a note saying why), its tolerance, and a status that is the pass/fail."""
+    assert KEYS <= set(r), r
+    assert r["model"] in ("mdr", "fem") and r["status"] in ("ok", "flagged")
+    assert r["time_s"] >= 0 and r["truth"]
+    assert isinstance(r["tol"], float) and r["tol"] > 0, r
+    if r["error"] is None:
+        assert r["status"] == "flagged" and r["note"], r
+    else:
+        assert isinstance(r["error"], float) and not isinstance(r["error"], bool) and r["error"] >= 0, r
+        assert (r["status"] == "ok") <= (r["error"] <= r["tol"]), r
+    if r["status"] == "ok" and r["error"] >= hc.ROUNDOFF:
+        # the tolerance is no looser than 3x what is measured (rows exact to rounding excepted)
+        assert r["tol"] <= MARGIN * r["error"], (r["name"], r["model"], r["error"], r["tol"])
+
+
 def rows_of(case, cache, quick=True):
     rows = case(quick, cache)
     for r in rows:
-        assert KEYS <= set(r), r
-        assert r["model"] in ("mdr", "fem") and r["status"] in ("ok", "flagged")
-        assert r["time_s"] >= 0 and r["truth"]
+        check_row(r)
     return {(r["name"], r["model"]): r for r in rows}
 
 
@@ -42,8 +58,10 @@ def test_flat_punch_singular_edge_fixed_radius_stick_then_gross_slip(cache):
     pe = fe["edge_pressure"]
     assert pe[1] > 1.2 * pe[0]
     mdr = rows[("flat punch: full stick then sudden gross slip", "mdr")]
-    assert mdr["error"] < 1e-12 and mdr["stick_radius_before"] == pytest.approx(30e-6) and mdr["stick_radius_after"] == 0
-    assert "stick zone = b until u*" in rows[("flat punch: full stick then sudden gross slip", "fem")]["note"]
+    assert mdr["error"] < 1e-12 and mdr["stick_radius_before"] == pytest.approx(30e-6, rel=1e-12, abs=0) and mdr["stick_radius_after"] == 0
+    fe_t = rows[("flat punch: full stick then sudden gross slip", "fem")]
+    # measured at b/20: stick radius 0.977 b, slip index 4.7e-4 (at b/40: 0.989 b, 1.9e-4)
+    assert fe_t["stick_radius_min"] > 0.94 * 30e-6 and fe_t["slip_index"] < 1.2e-3
 
 
 def test_truncated_sphere_edge_inside_at_and_beyond_the_contact_edge(cache):
@@ -59,7 +77,7 @@ def test_gross_slip_ten_times_u_star_many_cycles_without_drift(cache):
     rows = rows_of(hc.case_gross_slip_many_cycles, cache)
     for r in rows.values():
         assert_ok(r)
-        assert r["drift"] < 1e-9
+        assert r["drift"] < 6e-13  # README: drift 2e-13 mu F_N (measured 2.3e-13 MDR, 3.4e-14 FE)
     assert ("gross slip u_A = 10 u*, 50 cycles", "mdr") in rows
 
 
@@ -68,6 +86,9 @@ def test_vanishing_contact_and_contact_lost(cache):
     for r in rows.values():
         assert_ok(r)
     assert {("F_N = 0: contact lost", m) for m in ("mdr", "fem")} <= set(rows)
+    for m in ("mdr", "fem"):  # it was in partial slip before the contact was lost
+        lost = rows[("F_N = 0: contact lost", m)]
+        assert lost["error"] <= hc.ROUNDOFF and "before: F_x = 0.06" in lost["note"]
 
 
 def test_vanishing_contact_energy_gap_is_a_time_step_error():
@@ -91,18 +112,27 @@ def test_friction_extremes(cache):
     for r in rows.values():
         assert_ok(r)
     assert {n for n, _ in rows} == {"mu = 0.01", "mu = 1", "mu = 0 (frictionless)"}
+    assert rows[("mu = 0 (frictionless)", "mdr")]["error"] == 0.0 == rows[("mu = 0 (frictionless)", "fem")]["error"]
 
 
 def test_penalty_extremes_are_flagged_detected_or_handled(cache):
     rows = rows_of(hc.case_penalty_extremes, cache)
     soft = rows[("normal penalty 0.1, pure penalty", "fem")]
-    # too soft: a large error that the model reports (penetration) and warns about
-    assert soft["status"] == "flagged" and soft["warned"] and soft["error"] > 0.05
-    assert soft["penalty_error"] > 0.05
+    # too soft: a large error (README: 20 %, measured 20.2 %) that the model reports
+    # (penetration) and warns about
+    assert soft["status"] == "flagged" and soft["warned"] and 0.1 < soft["error"] < 0.4
+    assert 0.1 < soft["penalty_error"] < 0.4
+    # tangential penalty too soft: the stick radius is off by 10 % of a (dW only 0.5 %)
+    fsoft = rows[("friction penalty 0.1, pure penalty", "fem")]
+    assert fsoft["status"] == "flagged" and 0.05 < fsoft["stick_radius_error"] < 0.2
+    assert abs(fsoft["dissipation_error"]) < 0.015
     for name in ("normal penalty 0.1, augmented Lagrangian", "friction penalty 0.1, augmented Lagrangian"):
         r = rows[(name, "fem")]
         # handled (converged to the truth) or detected (ConvergenceError), never a silent answer
         assert (r["converged"] and r["status"] == "ok") or (not r["converged"] and "ConvergenceError" in r["note"])
+    # each row reports its own solve: the friction rows' failure is the tangential one
+    assert "friction augmented Lagrangian" in rows[("friction penalty 0.1, augmented Lagrangian", "fem")]["note"]
+    assert "ConvergenceError" not in rows[("friction penalty 0.1, pure penalty", "fem")]["note"]
     # too stiff: the condensed (force) formulation stays well conditioned
     for name in ("normal penalty 1e+06, pure penalty", "normal penalty 1e+06, augmented Lagrangian",
                  "friction penalty 1e+06, augmented Lagrangian"):
@@ -112,10 +142,14 @@ def test_penalty_extremes_are_flagged_detected_or_handled(cache):
 
 
 def test_near_incompressible_does_not_lock(cache):
+    """Force controlled: the dissipation at a force amplitude and the stick radius do not
+    depend on the bodies' series compliance, so no calibration of the FE law enters."""
     r = rows_of(hc.case_incompressible, cache)[("nu = 0.49 (near-incompressible)", "fem")]
     assert_ok(r)
+    assert r["hertz_error"] < 1.5e-3  # README: Hertz error 6.1e-4 at a/20 (nu = 0.29: 6.8e-4)
     assert r["hertz_error"] < 3 * r["hertz_error_029"] + 1e-4
     assert abs(r["dissipation_error"]) < 3 * abs(r["dissipation_error_029"]) + 1e-3
+    assert r["stick_radius_error"] < 3 * r["stick_radius_error_029"] + 1e-3
 
 
 def test_apparatus_stiffness_from_sticking_to_sliding(cache):
@@ -132,7 +166,8 @@ def test_very_coarse_mesh_reports_a_large_error_fine_mesh_converges(cache):
     rows = rows_of(hc.case_mesh_extremes, cache)
     coarse = rows[("mesh h = a/5", "fem")]
     assert coarse["status"] == "flagged" and coarse["warned"]
-    assert 0.01 < coarse["error"] < 0.15  # large, but bounded and reported
+    # large, but bounded and reported (README: dW +4.1 %, stick radius 6.2 % of a)
+    assert 0.02 < coarse["dissipation_error"] < 0.08 and 0.03 < coarse["stick_radius_error"] < 0.12
     fine = rows[("mesh h = a/80", "fem")]
     assert_ok(fine) and not fine["warned"]
     assert fine["stick_radius_error"] < coarse["stick_radius_error"] / 8  # ~ h: 16x finer
@@ -142,9 +177,20 @@ def test_a_failing_case_becomes_an_error_row(monkeypatch):
     def case_broken(quick, cache_dir):
         raise RuntimeError("boom\nsecond line")
 
-    monkeypatch.setattr(hc, "CASES", (case_broken,))
-    (row,) = hc.hard_cases()
+    def case_fine(quick, cache_dir):
+        return [hc._row("fine", "mdr", 0.0, 1.0, "nothing", 0.0)]
+
+    monkeypatch.setattr(hc, "CASES", (case_broken, case_fine))
+    seen = []
+    row, fine = hc.hard_cases(log=seen.append)
     assert row["status"] == "error" and row["note"] == "RuntimeError: boom" and row["name"] == "broken"
+    assert fine["status"] == "ok"
+    assert seen == ["broken", "fine"]  # progress: once per case, with its name
+
+
+def test_a_row_without_an_error_needs_a_note():
+    with pytest.raises(ValueError, match="no error and no note"):
+        hc._row("x", "fem", None, 1e-3, "truth", 0.0)
 
 
 @pytest.mark.slow
@@ -156,9 +202,10 @@ def test_full_hard_cases_table(cache):
                         "mesh h = a/5"}
     for r in rows:
         assert r["status"] != "error", r
+        check_row(r)
         if r["name"] not in expected_flagged:
             assert r["status"] == "ok", r
     names = {r["name"] for r in rows}
     assert "mesh h = a/320 (normal)" in names and "gross slip u_A = 10 u*, 50 cycles" in names
     fine = next(r for r in rows if r["name"] == "mesh h = a/320 (normal)")
-    assert fine["error"] < 1e-3 and fine["iterations"] < 20
+    assert fine["error"] < 6e-4 and fine["iterations"] < 20  # measured 2.1e-4, 12 Newton / 2 AL

@@ -14,7 +14,7 @@ def test_stiff_frictionless_apparatus_reduces_to_direct_drive():
     app = Apparatus(kx=np.inf, plate_model="rigid", bedding=False)
     res = apparatus_result(prof, STEEL, app, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
     direct = run_contact(prof, STEEL, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
-    assert res["dissipation"] == pytest.approx(direct["dissipation"], rel=1e-9)
+    assert res["dissipation"] == pytest.approx(direct["dissipation"], rel=1e-9, abs=0)
     np.testing.assert_allclose(res["loop"]["Fx"], direct["loop"]["Fx"], rtol=0, atol=1e-12 * MU * F0)
     np.testing.assert_allclose(res["loop"]["du"], direct["loop"]["du"], atol=1e-18)
 
@@ -32,8 +32,11 @@ def test_equilibrium_and_coulomb_bounds_hold_every_step():
 
 
 def test_profile_transition_sphere_below_10um_flat_punch_above_30um():
-    # the paper's central finding (Fig. 8), at two apparatus stiffnesses, one batch pass each
-    b = np.array([1e-6, 5e-6, 40e-6, 100e-6, 300e-6])
+    """The paper's central finding (Fig. 8), at two apparatus stiffnesses, one batch pass
+    each. README: b <= 10 um acts as the sphere (slip index within 0.3 %: measured 3.1e-3
+    and 2.1e-3 at b = 10 um), b >= 30 um as the flat punch of radius b (within 1.3 %:
+    measured 1.3e-2 and 0.9e-2 at 30 um, 2.1e-3 and 1.4e-3 at 40 um); margins 2.3-2.6x."""
+    b = np.array([1e-6, 5e-6, 10e-6, 30e-6, 40e-6, 100e-6, 300e-6])
     for kx in (2e6, 10e6):
         kw = dict(cycles=3, steps=120)
         trunc = MDRContact(TruncatedSphere(np.full(b.size, R), b), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
@@ -42,9 +45,10 @@ def test_profile_transition_sphere_below_10um_flat_punch_above_30um():
         d_fl = run_apparatus(flat, Apparatus(kx=kx), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
         sph = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
         d_sp = float(run_apparatus(sph, Apparatus(kx=kx), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"])
-        np.testing.assert_allclose(d_tr[:2], d_sp, rtol=0.02)
-        np.testing.assert_allclose(d_tr[2:], d_fl[2:], rtol=0.02)
-        assert d_fl[2] > d_sp  # the flat punch is stiffer: pushed towards sliding
+        np.testing.assert_allclose(d_tr[:3], d_sp, rtol=8e-3)
+        np.testing.assert_allclose(d_tr[3], d_fl[3], rtol=3e-2)
+        np.testing.assert_allclose(d_tr[4:], d_fl[4:], rtol=5e-3)
+        assert d_fl[4] > d_sp  # the flat punch is stiffer: pushed towards sliding
 
 
 def test_slip_index_rises_with_apparatus_stiffness_and_vanishes_when_soft():
@@ -92,37 +96,40 @@ def _stroke_loss_plates(app, mu1, F0, mu2):
 
 
 def test_sensitivity_normal_force_oscillation_and_phase_matter_little(sens):
-    # the paper's claim for dF and alpha holds: |change| < 0.02 (< 5 % of delta)
+    # the paper's claim for dF and alpha holds: |change| < 0.02 (< 5 % of delta; README:
+    # |change| <= 0.016, measured 0.0154)
     for (q, v, p), r in sens.items():
         assert r["stationary"]
         if q in ("dF", "alpha"):
             assert abs(r["change"]) < 0.02, (q, v, p)
     # alpha = pi is alpha = 0 shifted by half a cycle with u -> -u: the same loop, point-mirrored
     for p in ("b600um", "b10um"):
-        assert sens[("alpha", np.pi, p)]["change"] == pytest.approx(0.0, abs=1e-4)
+        assert sens[("alpha", np.pi, p)]["change"] == pytest.approx(0.0, abs=8e-6)  # measured 2.7e-6
 
 
 def test_sensitivity_mu2_acts_through_the_plate_compliance(sens):
     """The paper's "mu2 matters little" holds only as far as the plates are stiff: both
     contacts slide, so a bedding force mu2 (m1 g + F0) compresses the plates by
-    mu2 (m1 g + F0) / k_p of the stroke u_A, and delta drops by that fraction."""
+    mu2 (m1 g + F0) / k_p of the stroke u_A, and delta drops by that fraction. README:
+    within 1.6 % of these closed forms (measured 1.3-1.6 %), tested within 4 %."""
     app = Apparatus()
     slope = (app.m1 * G + 0.5) / (app.k_plates * 150e-9)  # -d delta / d mu2
     for p in ("b600um", "b10um"):
         for mu2 in (0.05, 0.2):
-            assert sens[("mu2", mu2, p)]["change"] == pytest.approx(-(mu2 - 0.1) * slope, rel=0.05)
+            assert sens[("mu2", mu2, p)]["change"] == pytest.approx(-(mu2 - 0.1) * slope, rel=0.04)
         # frictionless bedding (run as mu2 = 0)
-        assert sens[("bedding", "off", p)]["change"] == pytest.approx(0.1 * slope, rel=0.05)
+        assert sens[("bedding", "off", p)]["change"] == pytest.approx(0.1 * slope, rel=0.04)
         # rigid plates give back the stroke the plates took (contact and bedding forces)
         gain = _stroke_loss_plates(app, 0.2, 0.5, 0.1) / 150e-9
-        assert sens[("plate_model", "rigid", p)]["change"] == pytest.approx(gain, rel=0.05)
+        assert sens[("plate_model", "rigid", p)]["change"] == pytest.approx(gain, rel=0.04)
         # plates bent across their thickness cannot push the block off its bedding: it sticks
         bend = Apparatus(plate_model="bending")
         assert bend.k_plates * 150e-9 < 0.1 * bend.m1 * G
-        assert sens[("plate_model", "bending", p)]["delta"] < 1e-3
-        # the bedding sphere radius only changes the bedding's short stick phase
+        assert sens[("plate_model", "bending", p)]["delta"] < 5e-13  # README: delta = 0 (measured 1.5e-13)
+        # the bedding sphere radius only changes the bedding's short stick phase (README:
+        # < 1e-4, measured 3.4e-5)
         for R_bed in (1e-3, 2.5e-3, 10e-3):
-            assert abs(sens[("R_bed", R_bed, p)]["change"]) < 1e-3
+            assert abs(sens[("R_bed", R_bed, p)]["change"]) < 1e-4
 
 
 def test_with_rigid_plates_the_bedding_friction_has_no_effect_and_bedding_off_is_mu2_zero():
@@ -196,8 +203,12 @@ def test_figs_4_5_sphere_regime_follows_the_stroke_budget():
 
 
 # ------------------------------------------------------------------ FE law (issue 5)
-def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_path):
-    """Coarse FE mesh (h = a/20): the apparatus slip index with the FE law differs from
+@pytest.mark.parametrize("h,tol", [(0.05, 5e-3), pytest.param(0.025, 3e-3, marks=pytest.mark.slow)],
+                         ids=["a20", "a40"])
+def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_path, h, tol):
+    """README: at h = a/20 the slip index is within 0.2 % of MDR's (measured -0.198 %, the
+    law's own error on the path -0.204 %), at a/40 0.12 % (-0.122 %, -0.126 %); tolerances
+    2.5x. Coarse FE mesh (h = a/20): the apparatus slip index with the FE law differs from
     the MDR one by the FE law's own error on the same load path. That error is measured
     here: both laws driven directly with the (du, F_N) history of the MDR apparatus run;
     the springs of the apparatus are exact, so to first order the slip-index error is this
@@ -207,7 +218,7 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
 
     steps, cycles = 40, 3
     kw = dict(cycles=cycles, steps=steps)
-    fe = fem_apparatus_result(Sphere(R), STEEL, Apparatus(), MU, F0, 0.1, 0.0, 150e-9, h_contact=0.05,
+    fe = fem_apparatus_result(Sphere(R), STEEL, Apparatus(), MU, F0, 0.1, 0.0, 150e-9, h_contact=h,
                               cache_dir=tmp_path, **kw)
     mlaw = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=2000)
     md = run_apparatus(mlaw, Apparatus(), MU, F0, 0.1, 0.0, 150e-9, **kw)
@@ -216,10 +227,10 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
 
     from fem.law import FEContact
 
-    flaw = FEContact(Sphere(R), STEEL, MU, F_max=0.6, h_contact=0.05, cache_dir=tmp_path, displacement="contact")
+    flaw = FEContact(Sphere(R), STEEL, MU, F_max=0.6, h_contact=h, cache_dir=tmp_path, displacement="contact")
     last = slice((cycles - 1) * steps, cycles * steps + 1)
     H = flaw.run(u=md["du"], F_N=md["FN"])
     M = mlaw.run(u=md["du"], F_N=md["FN"])
     err_path = loop_integral(H.u[last], H.Fx[last]) / loop_integral(M.u[last], M.Fx[last]) - 1
-    assert abs(err_path) < 0.01          # the coarse mesh's error: well below 1 %
+    assert abs(err_path) < tol and abs(err_app) < tol, (err_app, err_path)
     assert abs(err_app) <= 2 * abs(err_path), (err_app, err_path)

@@ -22,8 +22,8 @@ def test_effective_moduli_two_body_definitions():
 def test_hertz(F):
     h = ref.hertz(F, R, ES)
     d = approach_from_force(Sphere(R), STEEL, F)
-    assert d == pytest.approx(h["d"], rel=1e-12)
-    assert contact_radius(Sphere(R), d) == pytest.approx(h["a"], rel=1e-12)
+    assert d == pytest.approx(h["d"], rel=1e-12, abs=0)
+    assert contact_radius(Sphere(R), d) == pytest.approx(h["a"], rel=1e-12, abs=0)
     r = np.linspace(0, 0.999, 50) * h["a"]
     p = pressure(Sphere(R), STEEL, d, r)
     np.testing.assert_allclose(p, ref.hertz_pressure(r, F, R, ES), rtol=1e-9, atol=1e-9 * h["p0"])
@@ -40,7 +40,7 @@ def test_truncated_sphere_closed_forms(b):
     # inverse direction and energy U = int F dd
     F = ref.truncated_force(a, R, b, ES)
     np.testing.assert_allclose(approach_from_force(prof, STEEL, F), d, rtol=1e-10)
-    assert normal_energy(prof, STEEL, d[3]) == pytest.approx(ref.truncated_energy(a[3], R, b, ES), rel=1e-9)
+    assert normal_energy(prof, STEEL, d[3]) == pytest.approx(ref.truncated_energy(a[3], R, b, ES), rel=1e-9, abs=0)
 
 
 def test_truncated_pressure_integrates_to_force_and_is_log_singular_at_b():
@@ -67,7 +67,7 @@ def test_flat_punch():
     prof = FlatPunch(b)
     d = approach_from_force(prof, STEEL, F0)
     assert F0 / d == pytest.approx(2 * ES * b, rel=1e-14)
-    assert contact_radius(prof, d) == pytest.approx(b)
+    assert contact_radius(prof, d) == pytest.approx(b, rel=1e-12, abs=0)
     r = np.linspace(0, 0.95, 20) * b
     np.testing.assert_allclose(pressure(prof, STEEL, d, r), ref.flat_punch_pressure(r, F0, b), rtol=1e-12)
 
@@ -81,7 +81,7 @@ def test_exact_cap_transform_matches_numerical_transform_and_hertz_limit():
     # small contacts: the exact cap tends to the parabola
     d_par = approach_from_force(Sphere(R), STEEL, 1e-3)
     d_ex = approach_from_force(Sphere(R, exact=True), STEEL, 1e-3)
-    assert d_ex == pytest.approx(d_par, rel=1e-5)
+    assert d_ex == pytest.approx(d_par, rel=1e-5, abs=0)
     # a large contact departs from the parabola: the exact cap is stiffer (f smaller near r)... g larger
     assert exact.g(300e-6) > TruncatedSphere(R, b).g(300e-6)
 
@@ -92,8 +92,8 @@ def test_general_profile_from_callable_and_samples_matches_sphere():
     rr = np.linspace(0, 60e-6, 3001)
     for prof in (GeneralProfile(f, r_max=60e-6), GeneralProfile(r=rr, samples=f(rr))):
         d = approach_from_force(prof, STEEL, F0)
-        assert d == pytest.approx(h["d"], rel=1e-4)
-        assert contact_radius(prof, d) == pytest.approx(h["a"], rel=1e-4)
+        assert d == pytest.approx(h["d"], rel=1e-4, abs=0)
+        assert contact_radius(prof, d) == pytest.approx(h["a"], rel=1e-4, abs=0)
         law = MDRContact(prof, STEEL, 0.2, F_max=F0)
         res, _ = law.step(law.rest_state(), 0.0, F_N=F0)
         assert res.FN == pytest.approx(F0, rel=1e-9)
@@ -106,7 +106,7 @@ def test_spring_grid_forces_are_exact_on_coarse_grids():
             law = MDRContact(prof, STEEL, 0.2, F_max=0.6, n=n)
             res, _ = law.step(law.rest_state(), 0.0, F_N=0.5)
             assert res.FN == pytest.approx(0.5, rel=1e-10)
-            assert res.a == pytest.approx(contact_radius(prof, approach_from_force(prof, STEEL, 0.5)), rel=1e-12)
+            assert res.a == pytest.approx(contact_radius(prof, approach_from_force(prof, STEEL, 0.5)), rel=1e-12, abs=0)
 
 
 @pytest.mark.parametrize("b", [1e-45, 1e-12, 1e-9])
