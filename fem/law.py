@@ -132,7 +132,10 @@ class FEContact:
         if displacement not in ("plate", "contact"):
             raise InputError(f"displacement must be 'plate' or 'contact', got {displacement!r}")
         self.displacement = displacement
-        self.bulk_probe_depth = float(positive("bulk_probe_depth", bulk_probe_depth))
+        if np.ndim(bulk_probe_depth) != 0 or not np.isfinite(bulk_probe_depth):
+            raise InputError(f"bulk_probe_depth must be one finite number (probe depth / a_ref, in (contact_extent, "
+                             f"0.8 * body height / a_ref)), got {bulk_probe_depth!r}")
+        self.bulk_probe_depth = float(bulk_probe_depth)
         desc = profile.describe()
         kind = desc["profile"]
         R, b = desc.get("R"), float(desc.get("b") or 0.0)
@@ -247,7 +250,7 @@ class FEContact:
     def bulk_compliance(self, F_N) -> float:
         """c_bulk (m/N) at F_N still contained in the law's displacement ``u``: the plate measure's
         :meth:`plate_bulk_compliance` minus the ``c_bulk`` already removed (``displacement="contact"``:
-        c_bulk at F_max, so this is the F_N dependence only, < 1e-4 of c_bulk)."""
+        c_bulk at F_max, so this is its F_N dependence only, below 2 % of c_bulk)."""
         return self.plate_bulk_compliance(F_N) - self.c_bulk
 
     def contact_displacement(self, u, Fx, F_N):
