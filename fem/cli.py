@@ -96,14 +96,21 @@ def _add_contact_parser(sub):
                            "the tangential load, Coulomb friction with penalty return map and augmented "
                            "Lagrangian on the condensed interface) driven with the harmonic loads of "
                            "'python -m mdr contact' (same flags and JSON keys). Adds dofs, mesh, solver, "
-                           "bulk_compliance and runtime_s {setup, cycles, total}. Displacements are those of "
-                           "the indenter's top plate relative to the block bottom (they include the finite "
-                           "bodies' compliance; subtract bulk_compliance * Fx for a half-space measure). "
+                           "displacement, bulk_compliance and runtime_s {setup, cycles, total}. Displacements "
+                           "(--ua, loop du, displacement_amplitude) are in the measure --displacement: "
+                           "'contact' (default) is the half-space comparable relative displacement that "
+                           "'python -m mdr contact' uses (the finite bodies' series compliance bulk_compliance, "
+                           "measured at axis probes with Cerruti's half-space solution, removed); 'plate' the "
+                           "indenter's top plate relative to the block bottom (= contact + bulk_compliance * Fx). "
                            "Exit 2: bad input; exit 3: a solver did not converge."))
     add_profile_args(c)
     add_material_args(c)
     add_contact_args(c)
     _add_fe_options(c)
+    c.add_argument("--displacement", choices=("contact", "plate"), default="contact",
+                   help="measure of --ua and the output displacements: 'contact' (half-space comparable, as in "
+                        "python -m mdr contact) or 'plate' (indenter top plate vs block bottom, includes the "
+                        "finite bodies' compliance)")
     add_output_args(c)
 
 
@@ -118,7 +125,8 @@ def _contact(args) -> int:
                               h_contact=args.h_contact, contact_extent=args.contact_extent,
                               block_size=args.block_size, penalty=args.penalty, al_tol=args.al_tol,
                               friction_al_tol=args.friction_al_tol, cache_dir=args.cache_dir,
-                              backend=None if args.solver == "auto" else args.solver)
+                              backend=None if args.solver == "auto" else args.solver,
+                              displacement=args.displacement)
     except InputError as exc:
         sys.stderr.write(f"python -m fem contact: error: {exc}\n")
         return 2

@@ -5,12 +5,15 @@ same harmonic loads and cycle analysis as ``python -m mdr contact``, so the
 JSON keys are the same; added: ``dofs``, ``mesh``, ``solver`` and
 ``runtime_s`` split into ``setup`` (mesh, assembly, factorisation and
 condensation of both Fourier modes) and ``cycles`` (the load history).
-The displacement keys (``loop.du``, ``displacement_amplitude``) are the plate
-displacement (indenter top vs block bottom, includes the finite bodies'
-compliance); ``contact_radius`` and ``indentation`` are the FE's own at F0
-(the half-space comparable indentation of ``fem.normal``), ``approach`` the
-plate approach; ``bulk_compliance`` (m/N) gives the series compliance to subtract
-for a half-space comparable measure, ``du - bulk_compliance * Fx``.
+The displacement keys (``--ua``, ``loop.du``, ``displacement_amplitude``) are in
+the measure ``displacement`` (a JSON key): ``"contact"`` (default) the
+half-space comparable relative displacement of ``fem.bulk`` (plate displacement
+minus the bodies' series compliance, from axis probes and Cerruti's solution),
+what ``python -m mdr contact`` means by them; ``"plate"`` the indenter top plate
+relative to the block bottom. ``bulk_compliance`` (m/N) is that series
+compliance at F0 (plate = contact + bulk_compliance * Fx); ``contact_radius``
+and ``indentation`` are the FE's own at F0 (the half-space comparable
+indentation of ``fem.normal``), ``approach`` the plate approach.
 """
 from __future__ import annotations
 
@@ -28,14 +31,14 @@ from .run import H_CONTACT_RANGE
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
                     h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
-                    backend=None, return_law=False):
+                    backend=None, displacement="contact", return_law=False):
     """FE fretting run; returns the result dict (and the law if ``return_law``)."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
     t0 = time.perf_counter()
     law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
                     block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
-                    cache_dir=cache_dir, backend=backend)
+                    cache_dir=cache_dir, backend=backend, displacement=displacement)
     t1 = time.perf_counter()
     out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
@@ -45,7 +48,8 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     out["approach"] = nr.approach
     out["dofs"] = law.dofs
     out["mesh"] = law.mesh_summary()
-    out["bulk_compliance"] = law.bulk_compliance(F0)
+    out["displacement"] = law.displacement
+    out["bulk_compliance"] = law.plate_bulk_compliance(F0)
     out["solver"] = law.solver_summary()
     out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
     if return_law:

@@ -30,12 +30,14 @@ dissipating, and the map (u, Fx) -> (u - c_bulk Fx, Fx) is a shear of the loop
 plane, which preserves areas: under force control the dissipation, the stick
 radius and the force history equal the half-space ones; under displacement
 control a loop of plate amplitude u_A is the half-space loop of amplitude
-u_A - c_bulk Fx_A. :meth:`FEContact.bulk_compliance` measures c_bulk as the
-FE full-stick compliance minus the half-space one, 1/(2 G* a) (Mindlin 1949,
-valid for every axisymmetric profile), and :meth:`FEContact.contact_displacement`
-returns u_contact. (Probe points on the axis, as for the normal indentation,
-were tried: the sphere cap is no half-space under shear and the result drifted
-by 0.25-0.6 % with the probe depth 3a-40a, so this calibration is used instead.)
+u_A - c_bulk Fx_A. c_bulk is measured as the normal indentation's bulk
+correction is (``fem.normal``): FE x displacements at axis probes in both
+bodies plus Cerruti's half-space displacement there for the FE's own pair
+forces; the definition, its probe depth and its measured mesh and F_N
+dependence are in ``fem.bulk`` (the only place). It uses no half-space contact
+stiffness, so the FE's initial tangential stiffness in this measure is a
+result, not an input (:meth:`FEContact.plate_bulk_compliance`,
+:meth:`FEContact.bulk_compliance`, :meth:`FEContact.contact_displacement`).
 
 Approach ``d`` (input and output) is the plate approach of ``fem.normal``
 (also including the bulk compliance); force control ``F_N`` is the clean input.
@@ -55,6 +57,7 @@ from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
 
 from .axisym import boundary_nodes
+from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
 from .condense import Condensation
 from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
 from .mode1 import node_dofs_mode1, stiffness_mode1
@@ -96,9 +99,11 @@ class FEContact:
     ``friction_al_tol`` (tangential: largest multiplier change / largest slip
     limit; 0 = pure penalty), ``backend`` (sparse solver), ``displacement``:
     ``"plate"`` (default: u is the plate displacement) or ``"contact"`` (u is the
-    half-space comparable u_plate - c_bulk Fx, with c_bulk measured once at F_max;
+    half-space comparable u_plate - c_bulk Fx of ``fem.bulk``, c_bulk taken at
+    F_max (its F_N dependence is below 2 %, 3e-4 of the contact compliance);
     the flexibility becomes Ct - c_bulk 1 1^T, still symmetric positive definite
-    because c_bulk is far below the contact's full-stick compliance). Use
+    because c_bulk is ~1 % of the contact's full-stick compliance);
+    ``bulk_probe_depth``: depth of the axis probes of ``fem.bulk`` / a_ref. Use
     ``"contact"`` to put the FE law where a half-space law is expected (e.g. in
     the apparatus model, whose machine compliances would otherwise also get the
     FE bodies' bulk compliance).
@@ -107,7 +112,8 @@ class FEContact:
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=0.0125, contact_extent=1.25, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
-                 backend=None, max_al=50, displacement="plate", **mesh_kw):
+                 backend=None, max_al=50, displacement="plate", bulk_probe_depth=DEFAULT_PROBE_DEPTH,
+                 **mesh_kw):
         from meshes import cached_mesh
 
         from .run import mesh_params
@@ -127,6 +133,10 @@ class FEContact:
         if displacement not in ("plate", "contact"):
             raise InputError(f"displacement must be 'plate' or 'contact', got {displacement!r}")
         self.displacement = displacement
+        if np.ndim(bulk_probe_depth) != 0 or not np.isfinite(bulk_probe_depth):
+            raise InputError(f"bulk_probe_depth must be one finite number (probe depth / a_ref, in (contact_extent, "
+                             f"0.8 * body height / a_ref)), got {bulk_probe_depth!r}")
+        self.bulk_probe_depth = float(bulk_probe_depth)
         desc = profile.describe()
         kind = desc["profile"]
         R, b = desc.get("R"), float(desc.get("b") or 0.0)
@@ -152,7 +162,7 @@ class FEContact:
         self.c_bulk = 0.0
         if displacement == "contact":
             # u measured without the bodies' series compliance: s = u_c + (c_bulk 1 1^T - Ct) T
-            self.c_bulk = self.bulk_compliance(F_ref)
+            self.c_bulk = self.plate_bulk_compliance(F_ref)
             self.Ct = self.Ct - self.c_bulk
         self.M = self.Ct + np.diag(1.0 / self.k)
         self._fac = _Factors(self.M, size=16)
@@ -163,8 +173,15 @@ class FEContact:
         it = self.model.interface
         m = self.materials
         bodies = self.model.bodies
-        out = {}
-        for name, E, nu in (("indenter", m.E1, m.nu1), ("block", m.E2, m.nu2)):
+        # tangential bulk correction (fem.bulk): axis probes at depth L in each body
+        p = self.amesh.params
+        L = self.bulk_probe_depth * p.a_ref
+        lo, hi = p.r_contact / p.a_ref, 0.8 * min(p.block_height, p.indenter_height) / p.a_ref
+        if not lo < self.bulk_probe_depth < hi:
+            raise InputError(f"bulk_probe_depth must be in ({lo:.4g}, {hi:.4g}) (probe depth / a_ref: beyond the "
+                             f"contact segment, inside both bodies), got {self.bulk_probe_depth!r}")
+        out, rows = {}, {}
+        for name, E, nu, z in (("indenter", m.E1, m.nu1, L), ("block", m.E2, m.nu2, -L)):
             mesh = bodies[name].mesh
             K, basis = stiffness_mode1(mesh, E, nu)
             dofs = node_dofs_mode1(basis)
@@ -173,14 +190,18 @@ class FEContact:
             clamp = boundary_nodes(mesh, "top" if name == "indenter" else "bottom")
             fixed.append(dofs[:, clamp].ravel())
             nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
+            pnodes, wts = axis_point(mesh, z)
             cond = Condensation(K, np.unique(np.concatenate(fixed)), dofs[0, nodes],
-                                probe_dofs=[dofs[0, bodies[name].probe_node]], backend=backend)
+                                probe_dofs=dofs[0, pnodes], backend=backend)
+            rows[name] = wts @ cond.P
             out[name] = (K, basis, dofs, cond)
         self.mode1 = out
         N = it.N
         C2 = out["block"][3].C
         self.Ct = out["indenter"][3].C + N @ (N @ C2).T
         self.Ct = 0.5 * (self.Ct + self.Ct.T)
+        self.Ct_plate = self.Ct.copy()
+        self.bulk = bulk_probe(it, m, rows, L)
 
     @property
     def dofs(self) -> int:
@@ -196,6 +217,7 @@ class FEContact:
         return {"law": "fem", "dofs": self.dofs, "pairs": self.n_pairs, "penalty": self.penalty,
                 "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol,
                 "displacement": self.displacement, "c_bulk": self.c_bulk,
+                "bulk_probe_depth": self.bulk_probe_depth,
                 "mesh": dict(p.as_dict(), key=self.amesh.key), "backend": self.model.backend}
 
     def solver_summary(self) -> dict:
@@ -219,19 +241,22 @@ class FEContact:
         z = _frozen(np.zeros(n))
         return FEState(T=z, p=z, lam=z, sgn=_frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
 
-    def bulk_compliance(self, F_N) -> float:
-        """c_bulk (m/N) at normal force F_N: FE full-stick tangential compliance of the
-        pairs in contact (in the law's displacement measure) minus the half-space 1/(2 G* a)."""
+    def plate_bulk_compliance(self, F_N) -> float:
+        """c_bulk (m/N) at normal force F_N (> 0) in the plate measure: the bodies' series compliance
+        from the axis probes and Cerruti's half-space solution (``fem.bulk``), weighted by the
+        full-stick pair forces at F_N. Uses no half-space contact stiffness."""
         res = self.normal(F_N=float(positive("F_N", F_N)))
-        A = res.lam > 0
-        Ct = self.Ct[np.ix_(A, A)]
-        if self.friction_al_tol == 0:
-            Ct = Ct + np.diag(1.0 / self.k[A])
-        k_fe = float(np.sum(np.linalg.solve(Ct, np.ones(A.sum()))))
-        return 1.0 / k_fe - 1.0 / (2.0 * self.materials.G_star * res.contact_radius)
+        return self.bulk.scalar(self.Ct_plate, res.lam > 0)
+
+    def bulk_compliance(self, F_N) -> float:
+        """c_bulk (m/N) at F_N still contained in the law's displacement ``u``: the plate measure's
+        :meth:`plate_bulk_compliance` minus the ``c_bulk`` already removed (``displacement="contact"``:
+        c_bulk at F_max, so this is its F_N dependence only, below 2 % of c_bulk)."""
+        return self.plate_bulk_compliance(F_N) - self.c_bulk
 
     def contact_displacement(self, u, Fx, F_N):
-        """Half-space-comparable displacement u - c_bulk(F_N) Fx (see module docstring)."""
+        """Half-space-comparable displacement u - bulk_compliance(F_N) Fx of the law's u (see
+        ``fem.bulk``); F_N <= 0 (no contact) leaves u unchanged."""
         F_N = np.asarray(F_N, dtype=float)
         cb = np.vectorize(lambda f: self.bulk_compliance(f) if f > 0 else 0.0)(F_N)
         return np.asarray(u, dtype=float) - cb * np.asarray(Fx, dtype=float)
