@@ -38,7 +38,7 @@ from .errors import InputError, finite, nonnegative, positive
 from .grid import DEFAULT_CELLS, SpringGrid, make_grid
 from .materials import Materials
 from .normal import approach_from_force
-from .profiles import FlatPunch, Profile, _bcast
+from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
 from .solve import solve_increasing
 from .stick import at_limit, per_step, stick_radius
 
@@ -252,8 +252,23 @@ class MDRContact:
 
     @property
     def stick_nodes(self):
-        """Radii of the nodes the stick radius is resolved on: the cell midpoints (batch + (n,))."""
-        return self.grid.mid
+        """Radii of the nodes the stick radius is resolved on (batch + (n,)): the cell midpoints,
+        and the outer edge of a cell of a flat face (its springs are identical: where one
+        sticks, the whole cell sticks)."""
+        nodes = getattr(self, "_stick_nodes", None)
+        if nodes is None:
+            g = self.grid
+            b = self._flat_radius()
+            nodes = g.mid if b is None else np.where(g.edges[..., 1:] <= b[..., None] * (1 + 1e-12), g.edges[..., 1:], g.mid)
+            self._stick_nodes = nodes
+        return nodes
+
+    def _flat_radius(self):
+        """Radius b of the flat face (batch array), or None for a profile without one."""
+        if not isinstance(self.profile, (FlatPunch, TruncatedSphere)):
+            return None
+        b = np.asarray(getattr(self.profile, "b", 0.0), dtype=float)
+        return None if not np.any(b > 0) else np.broadcast_to(b, self.batch)
 
     @staticmethod
     def _slack(phase: NormalPhase, trial, carried):
@@ -438,8 +453,9 @@ class MDRContact:
 
         MDR inverse transform tau(r) = -(1/pi) int_r^a q_x'(x)/sqrt(x^2-r^2) dx
         + q_x(a)/(pi sqrt(a^2 - r^2)), with q_x interpolated linearly between
-        cell midpoints (constant towards the centre) and extrapolated to a; the
-        segment integrals are exact (arccosh).
+        cell midpoints (constant towards the centre and over the cells of a flat
+        face, whose springs are identical), extrapolated to a and limited there by
+        Coulomb's |q_x| <= mu E* (d - g(a)); the segment integrals are exact (arccosh).
         """
         if self.batch:
             raise InputError("traction() works on a single scene; build the law without batch parameters")
@@ -452,6 +468,19 @@ class MDRContact:
             return np.zeros_like(r)
         full = self.grid.edges[1:][inside] <= a
         xf, qf = xs[full], qs[full]
+        # the springs of a flat face (g = 0 for x < b) are identical: q_x is constant over each
+        # such cell, so it holds up to the cell's edges instead of meeting the next cell halfway
+        b_flat = self._flat_radius()
+        b_flat = 0.0 if b_flat is None else float(b_flat)
+        if b_flat > 0 and xf.size:
+            lo, hi = self.grid.lo[inside][full], self.grid.edges[1:][inside][full]
+            flat = hi <= b_flat * (1 + 1e-12)
+            xf = np.concatenate([np.ravel(np.column_stack([lo[flat], hi[flat]])), xf[~flat]])
+            qf = np.concatenate([np.repeat(qf[flat], 2), qf[~flat]])
+            xf, keep = np.unique(xf, return_index=True)
+            qf = qf[keep]
+            inner = (xf > 0) & (xf < a)  # q is constant towards the centre; a is added below
+            xf, qf = xf[inner], qf[inner]
         if xf.size >= 2:
             q_a = qf[-1] + (qf[-1] - qf[-2]) * (a - xf[-1]) / (xf[-1] - xf[-2])
         else:

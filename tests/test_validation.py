@@ -232,13 +232,16 @@ def test_report_renders_hard_cases_table(quick_report, tmp_path):
     _, out = quick_report
     dst = tmp_path / "copy"
     shutil.copytree(out, dst)
-    row = {"name": "flat punch", "model": "fem", "status": "flagged", "iterations": 3.0, "error": 1e-3,
+    row = {"name": "flat punch", "model": "fem", "status": "flagged", "iterations": 3.0, "error": 1e-3, "tol": 5e-4,
            "truth": "|F_x| <= mu F_N", "time_s": 0.5, "note": "a|b"}
     path = report.write_report(dst, ["sphere-md"], {"sphere-md": "ok"}, hard_cases=[row])
     text = path.read_text()
     assert "## Hard cases" in text
     line = [ln for ln in text.splitlines() if ln.startswith("| flat punch")][0]
-    assert line.replace("\\|", "").count("|") == 9  # 8 columns
+    assert line.replace("\\|", "").count("|") == 10  # 9 columns
+    assert "| 0.0005 |" in line  # the row's tolerance beside its error
+    # the hard cases close the report, after every scene
+    assert text.index("## Hard cases") > text.index("## sphere-md")
     assert json.loads((dst / "results.json").read_text())["hard_cases"] == [row]
 
 

@@ -124,7 +124,7 @@ def hard_cases_cached(out, quick: bool, log=print):
         pass
     log(f"hard cases ({'quick' if quick else 'full'}) ...")
     t0 = time.perf_counter()
-    rows = hard_cases(quick=quick)
+    rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))
     log(f"hard cases done in {time.perf_counter() - t0:.0f} s")
     write_json(path, {"code": version, "rows": rows})
     return rows
@@ -205,14 +205,16 @@ def _curvature_table(res):
 
 
 def _hard_table(rows):
-    lines = ["| case | model | status | iterations | error | truth | time (s) | note |", "|---|---|---|---|---|---|---|---|"]
+    lines = ["| case | model | status | iterations | error | tolerance | truth | time (s) | note |",
+             "|---|---|---|---|---|---|---|---|---|"]
     def cell(x):
         return str(x).replace("|", "\\|").replace("\n", " ")
 
     for r in rows:
         err = r.get("error")
         lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_num(r.get('iterations'), '.3g')} | "
-                     f"{'-' if err is None else f'{err:.2e}'} | {cell(r.get('truth', ''))} | {_num(r.get('time_s'), '.3g')} | "
+                     f"{'-' if err is None else f'{err:.2e}'} | {_g(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
+                     f"{_num(r.get('time_s'), '.3g')} | "
                      f"{cell(r.get('note', ''))} |")
     return lines
 
