@@ -60,8 +60,9 @@ def test_flat_punch_singular_edge_fixed_radius_stick_then_gross_slip(cache):
     mdr = rows[("flat punch: full stick then sudden gross slip", "mdr")]
     assert mdr["error"] < 1e-12 and mdr["stick_radius_before"] == pytest.approx(30e-6, rel=1e-12, abs=0) and mdr["stick_radius_after"] == 0
     fe_t = rows[("flat punch: full stick then sudden gross slip", "fem")]
-    # measured at b/20: stick radius 0.977 b, slip index 4.7e-4 (at b/40: 0.989 b, 1.9e-4)
-    assert fe_t["stick_radius_min"] > 0.94 * 30e-6 and fe_t["slip_index"] < 1.2e-3
+    # measured at b/20: stick radius 1.000 b (the edge extrapolated from the sticking pairs,
+    # mdr.stick), slip index 4.7e-4 (at b/40: 1.000 b, 1.9e-4)
+    assert fe_t["stick_radius_min"] > 0.997 * 30e-6 and fe_t["slip_index"] < 1.2e-3
 
 
 def test_truncated_sphere_edge_inside_at_and_beyond_the_contact_edge(cache):
@@ -167,7 +168,7 @@ def test_very_coarse_mesh_reports_a_large_error_fine_mesh_converges(cache):
     coarse = rows[("mesh h = a/5", "fem")]
     assert coarse["status"] == "flagged" and coarse["warned"]
     # large, but bounded and reported (README: dW +4.1 %, stick radius 6.2 % of a)
-    assert 0.02 < coarse["dissipation_error"] < 0.08 and 0.03 < coarse["stick_radius_error"] < 0.12
+    assert 0.02 < coarse["dissipation_error"] < 0.08 and 0.015 < coarse["stick_radius_error"] < 0.06
     fine = rows[("mesh h = a/80", "fem")]
     assert_ok(fine) and not fine["warned"]
     assert fine["stick_radius_error"] < coarse["stick_radius_error"] / 8  # ~ h: 16x finer

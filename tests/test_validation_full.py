@@ -54,24 +54,32 @@ def test_every_verdict_is_its_stated_inequality(full):
 
 
 def test_mdr_holds_for_every_large_body_scene(full):
-    """Large bodies, a/R ~ 0.5 %: every metric of every directly driven and apparatus scene
-    agrees within the error bars plus the tolerance, and no verdict is undetermined."""
+    """Large bodies, small a/R: every metric of every directly driven and apparatus scene
+    agrees within the error bars plus the tolerance, and no verdict is undetermined. The
+    one exception the README names: the truncated sphere b = 0.6 mm driven directly
+    (a/R = 10 %), whose displacement loop departs (the cap's compliance in shear)."""
     _, _, sc = full
     bad = {n: [q for q, v in r["verdicts"].items() if v["holds"] is not True]
            for n, r in _large_body_scenes(sc).items()}
-    assert not {n: q for n, q in bad.items() if q}, bad
+    assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
+    du = sc["geom-b600um"]["verdicts"]["loop_du"]
+    # README: the FE contact is 3.6 % of u_A more compliant, beyond 0.35 % + 1 %
+    assert 0.018 < du["difference"] < 0.072
+    # in the apparatus of Figs. 6-7 (same profile) the displacement agrees
+    for name in ("exp-fig6", "exp-fig7"):
+        assert sc[name]["verdicts"]["loop_du"]["holds"] is True
 
 
 def test_closed_form_anchors(full):
     _, _, sc = full
     cf = sc["sphere-md"]["errors"]["closed_form"]
-    # MDR: grid and time-step error only
-    assert abs(cf["mdr"]["dissipation"]) < 0.002 and abs(cf["mdr"]["stick_radius"]) < 1e-4
-    # FE at a/80 against Mindlin-Deresiewicz, Cattaneo-Mindlin and Hertz (README: +0.10 %, +0.02 %, +0.001 %)
-    assert abs(cf["fem"]["dissipation"]) < 0.003
-    assert abs(cf["fem"]["stick_radius"]) < 0.003
-    assert abs(cf["fem"]["contact_radius"]) < 0.001
-    assert cf["fem"]["traction_profile"] < 0.015 and cf["fem"]["pressure_profile"] < 0.003
+    # MDR: grid and time-step error only (README: dissipation -0.016 %, stick radius < 1e-5)
+    assert abs(cf["mdr"]["dissipation"]) < 4e-4 and abs(cf["mdr"]["stick_radius"]) < 2e-5
+    # FE at a/80 (README: dissipation +0.10 %, stick radius +0.02 %, traction 0.4 % relative L2)
+    assert 0 < cf["fem"]["dissipation"] < 0.0025
+    assert abs(cf["fem"]["stick_radius"]) < 5e-4
+    assert abs(cf["fem"]["contact_radius"]) < 1e-4
+    assert cf["fem"]["traction_profile"] < 0.01 and cf["fem"]["pressure_profile"] < 5e-4
     # flat punch below mu F_N: full stick, no dissipation (Mindlin 1949), both sides
     for name in ("flat-md", "geom-flat"):
         for side in ("mdr", "fem"):
@@ -80,15 +88,15 @@ def test_closed_form_anchors(full):
 
 
 def test_stick_radius_converges_on_both_ladders(full):
-    """Issue 11: the one stick radius, with an MDR error bar below 1 % and an FE error bar
-    below 2 % in every geometry scene (b = 5 um included)."""
+    """Issue 11: the one stick radius converges on both ladders in every geometry scene
+    (b = 5 um included). README: MDR error bar below 3e-4 of c, FE below 1.5 %."""
     _, _, sc = full
     for name, r in sc.items():
         if r["scene"]["group"] != "geometry":
             continue
         v = r["verdicts"]["stick_radius"]
         scale = max(v["fem"], 1e-3 * r["fem"]["contact_radius"])
-        assert v["mdr_error"] < 0.01 * scale, (name, v["mdr_error"], scale)
+        assert v["mdr_error"] < 6e-4 * scale, (name, v["mdr_error"], scale)
         assert v["fem_error"] < 0.02 * scale, (name, v["fem_error"], scale)
 
 
@@ -116,16 +124,37 @@ def test_half_space_breaks_for_a_small_block(full):
 
 def test_half_space_breaks_with_curvature(full):
     """The curvature axis: MDR holds at small a/R and fails at a/R = 5 %, where the FE
-    dissipates measurably more than the half-space (the cap's compliance under shear)."""
+    dissipates measurably more than the half-space (the cap's compliance under shear).
+    README: +0.11 % at a/R = 0.46 %, +0.45 % at 1.5 %, +1.7 % at 5 % (nu = 0.29), +1.4 % and
+    +2.0 % at 5 % for nu = 0.1 and 0.45; radii within 0.07 %."""
     _, _, sc = full
     rows = sc["validity-curvature"]["curvature"]
     by = {(r["a_over_R"], r["nu"]): r for r in rows}
-    for x in (5e-4, 1.5e-3, 4.6e-3):
+    for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2):
         assert by[(x, 0.29)]["holds"] is True, (x, by[(x, 0.29)]["verdicts"])
-    big = by[(5e-2, 0.29)]
-    assert big["verdicts"]["dissipation"]["holds"] is False
-    assert big["dissipation_effect"] > 0.005
-    # the effect grows with a/R (nu = 0.29), beyond its error bar at the largest a/R
-    eff = [by[(x, 0.29)]["dissipation_effect"] for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2, 5e-2)]
-    assert eff[-1] > eff[-2] > eff[0]
-    assert big["dissipation_effect"] > 2 * big["dissipation_effect_error"]
+    for nu in (0.1, 0.29, 0.45):
+        big = by[(5e-2, nu)]
+        assert big["holds"] is False and big["verdicts"]["dissipation"]["holds"] is False, nu
+        assert big["dissipation_effect"] > 2 * big["dissipation_effect_error"], nu
+    eff = {x: by[(x, 0.29)]["dissipation_effect"] for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2, 5e-2)}
+    assert 0.0085 < eff[5e-2] < 0.034
+    assert 0.0022 < eff[1.5e-2] < 0.009
+    assert abs(eff[4.6e-3]) < 0.003 and abs(eff[5e-4]) < 0.003
+    assert eff[5e-2] > eff[1.5e-2] > eff[4.6e-3]
+    assert 0.007 < by[(5e-2, 0.1)]["dissipation_effect"] < by[(5e-2, 0.45)]["dissipation_effect"] < 0.04
+    for r in rows:
+        for q in ("contact_radius", "stick_radius"):
+            assert abs(r[f"{q}_effect"]) < 0.0015, (r["a_over_R"], r["nu"], q)
+
+
+def test_tolerances_hold_for_bodies_of_ten_radii(full):
+    """README: MDR's half-space error stays within the tolerances (0.5 % dissipation, 0.2 %
+    contact radius) once both bodies are 10 contact radii large (and a/R <= 1.5 %, above)."""
+    _, _, sc = full
+    rows = {r["variant"]: r for r in sc["validity"]["validity"]}
+    for kind in ("block", "cap"):
+        for size in (10, 30):
+            r = rows[f"{kind} {size} a"]
+            assert abs(r["dissipation_vs_default"]) < 0.005 and abs(r["contact_radius_vs_default"]) < 0.002
+    # and not below: a block of 3 contact radii (README: -2.4 % dissipation)
+    assert -0.048 < rows["block 3 a"]["dissipation_vs_default"] < -0.012
