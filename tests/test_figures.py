@@ -30,7 +30,6 @@ def _result(FN):
 def kept(monkeypatch):
     """The figures of a call, kept open (figures.save closes them) and drawn."""
     figs = {}
-    orig = figures.save
 
     def save(fig, path):
         fig.canvas.draw()
@@ -43,7 +42,6 @@ def kept(monkeypatch):
     yield figs
     for f in figs.values():
         figures.plt.close(f)
-    del orig
 
 
 def _overlaps(fig):
@@ -84,7 +82,7 @@ def test_speed_error_tick_labels_do_not_collide(kept, tmp_path):
     assert len(labels) >= 2  # an axis of less than a decade still has labels
 
 
-def test_slip_index_plot_has_a_sensible_minimum_span(tmp_path):
+def test_slip_index_plot_has_a_sensible_minimum_span(tmp_path, monkeypatch):
     # quick mode: one scene, MDR and FE 7e-5 apart; the axis must not zoom to that gap
     captured = {}
     orig = figures.save
@@ -93,13 +91,9 @@ def test_slip_index_plot_has_a_sensible_minimum_span(tmp_path):
         captured["ylim"] = fig.axes[0].get_ylim()
         return orig(fig, path)
 
-    figures.save, old = save, figures.save
-    try:
-        figures.series_figure({"mdr": [(2e-5, 0.019436)], "fem": [(2e-5, 0.019369)]}, "b (m)",
-                              tmp_path / "delta_vs_b.png")
-    finally:
-        figures.save = old
+    monkeypatch.setattr(figures, "save", save)
+    figures.series_figure({"mdr": [(2e-5, 0.019436)], "fem": [(2e-5, 0.019369)]}, "b (m)",
+                          tmp_path / "delta_vs_b.png")
     lo, hi = captured["ylim"]
     assert hi - lo >= figures.MIN_DELTA_SPAN and lo <= 0.019369 and hi >= 0.019436
     assert (tmp_path / "delta_vs_b.png").stat().st_size > 0
-    del orig
