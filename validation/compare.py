@@ -39,9 +39,10 @@ from .runner import load_scene, write_scene
 from .scenes import CATALOGUE, code_version, select
 
 
-#: the longest silence of ``main``: after this many seconds without a message it says what
-#: it is still doing (mesh generation, set-up, figures, a hard case, a worker's scene)
-HEARTBEAT_S = 10.0
+#: after this many seconds without a message ``main`` says what it is still doing (mesh
+#: generation, set-up, figures, a hard case, a worker's scene); with the 1 s poll it is never
+#: silent for more than about 10 s
+HEARTBEAT_S = 8.0
 #: a hidden scene directory ``.NAME.XXXX`` older than this is the leftover of a killed run
 STALE_TMP_S = 600.0
 
