@@ -1,6 +1,6 @@
 """Sparse factorisation of SPD stiffness matrices with fast backends and a fallback.
 
-Backends, in order of preference (measured on 2D P2 elasticity, NOTES.md):
+Backends, in order of preference (measured on 2D P2 elasticity, docs/design.md sec. 4):
 
 1. ``cholmod``: CHOLMOD supernodal Cholesky through scikit-sparse
    (``pip install scikit-sparse``; needs the SuiteSparse headers, Debian
@@ -15,7 +15,7 @@ Assumption: the matrix is symmetric positive definite (Dirichlet conditions
 already removed); CHOLMOD raises if it is not.
 
 Threads: MKL (PARDISO) and numpy's OpenBLAS each start a thread pool; on a
-2-core machine they fight and small dense solves become 40x slower (NOTES.md).
+2-core machine they fight and small dense solves become 40x slower (docs/design.md sec. 4).
 :func:`blas_threads` limits the BLAS pools for a block of small dense work when
 ``threadpoolctl`` is installed (optional) or, without it, through the OpenBLAS ctypes API.
 """

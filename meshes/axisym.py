@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 import os
+import secrets
 import tempfile
 import threading
 from dataclasses import asdict, dataclass, field
@@ -55,6 +56,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from mdr.errors import InputError, in_range, nonnegative, positive
+from mdr.io import check_output_path
 
 PROFILES = ("sphere", "truncated", "flat")
 BODIES = ("indenter", "block")
@@ -442,11 +444,12 @@ def export_vtu(amesh: AxisymMesh, path, point_data=None):
     out = meshio.Mesh(np.vstack(pts), [("triangle6", np.vstack(cells))],
                       point_data={k: np.concatenate(v) for k, v in pdata.items()},
                       cell_data={"body": [np.concatenate(bodyid)]})
-    path = os.fspath(path)
+    path = os.fspath(check_output_path(path, "VTU path"))  # InputError if it cannot be a file
     d = os.path.dirname(os.path.abspath(path))
     os.makedirs(d, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=d, prefix=".mesh.", suffix=".vtu")
-    os.close(fd)
+    # a fresh name opened by meshio with open(): the file gets the umask's mode like every
+    # other file the project writes (tempfile.mkstemp would leave it 0600)
+    tmp = os.path.join(d, f".{os.path.basename(path)}.{os.getpid()}.{secrets.token_hex(6)}.vtu")
     try:
         meshio.write(tmp, out, file_format="vtu")
         os.replace(tmp, path)

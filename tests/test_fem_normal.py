@@ -4,6 +4,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from mdr.reference import (flat_punch_approach, flat_punch_pressure, hertz, trun
                            truncated_contact_radius, truncated_force)
 from fem.axisym import boundary_nodes, lame, node_coords, node_dofs, stiffness
 from fem.condense import Condensation
-from fem.normal import solve_normal
+from fem.normal import PENALTY_WARN, solve_normal
 from fem.run import run_normal
 from fem.solvers import available_backends, factorize
 
@@ -210,7 +211,13 @@ def test_penalty_error_falls_with_penalty_and_al_removes_it(hertz_run):
     exact = solve_normal(model, force=F, al_tol=1e-10)
     pens, errs = [], []
     for alpha in (1.0, 10.0, 100.0, 1000.0):
-        r = solve_normal(model, force=F, penalty=alpha, al_tol=0.0)
+        # a weak pure penalty warns of its penetration (deliberately provoked here: assert it)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            r = solve_normal(model, force=F, penalty=alpha, al_tol=0.0)
+        warned = [w for w in caught if issubclass(w.category, RuntimeWarning) and "pure penalty" in str(w.message)]
+        assert len(warned) == (r.penetration > PENALTY_WARN), (alpha, r.penetration, [str(w.message) for w in caught])
+        assert len(caught) == len(warned)
         assert r.al_iterations == 1
         pens.append(r.penetration)
         errs.append(abs(r.indentation - exact.indentation) / exact.indentation)

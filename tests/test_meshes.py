@@ -150,6 +150,28 @@ def test_vtu_export_roundtrip(tmp_path):
     assert not [f for f in os.listdir(tmp_path) if f.startswith(".")]
 
 
+@pytest.mark.parametrize("umask,mode", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
+def test_vtu_export_follows_the_umask(tmp_path, umask, mode):
+    """fields.vtu had mode 0600 (tempfile.mkstemp) while every other output followed the
+    umask; a VTU gets the mode open() gives, also in a parent directory it creates."""
+    am = build_mesh(coarse())
+    old = os.umask(umask)
+    try:
+        path = export_vtu(am, tmp_path / "new" / "dir" / "fields.vtu")
+    finally:
+        os.umask(old)
+    assert os.stat(path).st_mode & 0o777 == mode
+    assert not [f for f in os.listdir(tmp_path / "new" / "dir") if f.startswith(".")]
+
+
+def test_vtu_export_names_a_bad_path(tmp_path):
+    am = build_mesh(coarse())
+    (tmp_path / "file").write_text("x")
+    for bad in (tmp_path, tmp_path / "file" / "f.vtu"):
+        with pytest.raises(InputError, match="VTU path"):
+            export_vtu(am, bad)
+
+
 @pytest.mark.parametrize("kw,name", [
     (dict(profile="truncated", b=R), "b"),
     (dict(profile="sphere", b=0.0, h_contact=0.5), "h_contact"),

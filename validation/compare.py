@@ -10,7 +10,10 @@ Usage::
 Each scene is written to ``OUT/scenes/NAME/`` atomically when it finishes
 (result.json, fields.vtu, PNGs); a rerun skips scenes whose inputs and code
 are unchanged (``--force`` reruns them). ``OUT/report.md`` and
-``OUT/results.json`` are rebuilt from the stored scenes at the end.
+``OUT/results.json`` are rebuilt from the stored scenes at the end. Hidden
+temporary scene directories left by a killed run are removed at the start
+(:func:`remove_stale_tmp`); progress is printed (on stderr with ``--json -``) and
+never stops for more than ``HEARTBEAT_S`` seconds (:class:`Heartbeat`).
 Exit codes: 0 all scenes ran, 1 a scene failed (the others are reported),
 2 bad input.
 """
@@ -18,8 +21,13 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import glob
 import multiprocessing
+import os
+import re
+import shutil
 import sys
+import threading
 import time
 import traceback
 from pathlib import Path
@@ -31,12 +39,98 @@ from .runner import load_scene, write_scene
 from .scenes import CATALOGUE, code_version, select
 
 
+#: after this many seconds without a message ``main`` says what it is still doing (mesh
+#: generation, set-up, figures, a hard case, a worker's scene); with the 1 s poll it is never
+#: silent for more than about 10 s
+HEARTBEAT_S = 8.0
+#: a hidden scene directory ``.NAME.XXXX`` older than this is the leftover of a killed run
+STALE_TMP_S = 600.0
+
+
+class Heartbeat:
+    """A ``log`` callable that also speaks when nothing else does: a daemon thread repeats the
+    last message with the time since it whenever ``interval`` seconds pass without one."""
+
+    def __init__(self, log, interval=None):
+        self._log, self.interval = log, float(HEARTBEAT_S if interval is None else interval)
+        self._lock = threading.Lock()
+        self._last, self._msg, self._t0 = time.monotonic(), "", time.monotonic()
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._beat, daemon=True, name="compare-heartbeat")
+
+    def __call__(self, msg):
+        with self._lock:
+            self._log(msg)
+            self._last, self._msg = time.monotonic(), str(msg).strip()
+
+    def _beat(self):
+        while not self._stop.wait(min(1.0, self.interval / 4)):
+            with self._lock:
+                now = time.monotonic()
+                if now - self._last >= self.interval:
+                    self._log(f"  ... still working ({now - self._t0:.0f} s in; last: {self._msg[:90]})")
+                    self._last = now
+
+    def __enter__(self):
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        self._stop.set()
+        self._thread.join()
+
+
+def remove_stale_tmp(out, names, *, older_than=STALE_TMP_S, log=None) -> list:
+    """Remove the hidden temporary scene directories (``scenes/.NAME.XXXX``, made by
+    ``runner.write_scene``, and ``scenes/.NAME.old.PID``) a killed run left behind: those of
+    the given scene names whose mtime is older than ``older_than`` seconds, or whose embedded
+    pid (``.old.PID``) is not a live process. A live run's directory is younger (it is
+    touched whenever a file is written into it) and is kept. Returns the removed paths."""
+    root = Path(out) / "scenes"
+    if not root.is_dir():
+        return []
+    now, removed = time.time(), []
+    for name in names:
+        for d in root.glob(f".{glob.escape(name)}.*"):
+            tail = d.name[len(name) + 2:]
+            if not d.is_dir() or not re.fullmatch(r"[A-Za-z0-9_]+|old\.\d+", tail):
+                continue
+            try:
+                age = now - d.stat().st_mtime
+            except OSError:
+                continue
+            dead = tail.startswith("old.") and not _pid_alive(int(tail[4:]))
+            if age > older_than or dead:
+                shutil.rmtree(d, ignore_errors=True)
+                if not d.exists():
+                    removed.append(d)
+                    if log is not None:
+                        log(f"[clean] removed {d} (left by an interrupted run, {age / 60:.0f} min old)")
+    return removed
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # exists, owned by someone else
+        return True
+    return True
+
+
 def _work(scene, out, fingerprint, fields, verbose):
-    """One scene in a worker process (top level: picklable for any executor)."""
+    """One scene in a worker process (top level: picklable for any executor). ``verbose``:
+    False (quiet), True (stdout), "stderr", or a callable taking one line (in-process)."""
     from fem.solvers import blas_threads
 
-    stream = sys.stderr if verbose == "stderr" else sys.stdout
-    log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
+    if callable(verbose):
+        log = lambda msg: verbose(f"[{scene.name}] {msg.strip()}")  # noqa: E731
+    else:
+        stream = sys.stderr if verbose == "stderr" else sys.stdout
+        log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
     with blas_threads(1):
         res = write_scene(scene, out, fingerprint, fields=fields, log=log)
     return _summary(res)
@@ -61,6 +155,7 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
     processes.
     """
     out = Path(out)
+    remove_stale_tmp(out, [s.name for s in scenes], log=log)
     version = code_version()
     status, todo = {}, []
     for s in scenes:
@@ -84,7 +179,7 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
                 log(f"[{i}/{n}] {s.name}: {s.title}")
                 try:
                     status[s.name] = "ok"
-                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, detail)}")
+                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, log if detail else False)}")
                 except (InputError, ConvergenceError, RuntimeError, ValueError, ArithmeticError) as e:
                     status[s.name] = f"{type(e).__name__}: {e}"
                     log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
@@ -150,14 +245,15 @@ def main(argv=None) -> int:
     def say(m):
         print(m, file=stream, flush=True)
 
-    say(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/")
-    status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields, log=say,
-                     detail="stderr" if stream is sys.stderr else True)
-    hard = None
-    if not args.no_hard_cases:
-        hard = report.hard_cases_cached(out, quick=args.quick, log=say)
-    path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
-                               quick=args.quick)
+    with Heartbeat(say) as say:
+        say(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/")
+        status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields, log=say)
+        hard = None
+        if not args.no_hard_cases:
+            hard = report.hard_cases_cached(out, quick=args.quick, log=say)
+        say("writing the report and the summary figures")
+        path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
+                                   quick=args.quick)
     failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
     say(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
           + (f"; FAILED: {', '.join(failed)}" if failed else ""))

@@ -17,6 +17,8 @@ import numpy as np  # noqa: E402
 from mdr.io import write_bytes_atomic  # noqa: E402
 
 C_MDR, C_FE, C_CF = "tab:blue", "tab:red", "k"
+#: smallest y span of a slip-index plot (the slip index lies in [0, 1])
+MIN_DELTA_SPAN = 0.05
 
 
 def save(fig, path) -> str:
@@ -44,8 +46,23 @@ def scene_figures(result: dict, out_dir) -> dict:
     _loop_axes(a1, a2, result["fem"], f"FE (a/{1 / result['fem']['h_contact']:.0f})", C_FE, "--")
     a1.set_xlabel("du (nm)")
     a1.set_ylabel("F_x (N)")
-    a2.set_xlabel("F_N (N)")
-    a2.set_ylabel("F_x (N)")
+    fn = np.concatenate([np.asarray(result[k]["loop"]["FN"], float) for k in ("mdr", "fem")])
+    fn_span = float(np.ptp(fn)) if fn.size else 0.0
+    if fn.size and fn_span <= 1e-6 * max(float(np.max(np.abs(fn))), 1e-30):
+        # constant normal force: F_x against F_N would be a vertical line on an offset axis;
+        # show F_x over the cycle instead and say that F_N is constant
+        a2.cla()
+        for k, label, color, ls in (("mdr", "MDR", C_MDR, "-"), ("fem", "FE", C_FE, "--")):
+            lp = result[k]["loop"]
+            t = np.asarray(lp["t"], float)
+            a2.plot(t - t[0], np.asarray(lp["Fx"], float), ls, color=color, label=label, lw=1.4)
+        a2.set_xlabel("time in the last cycle (cycles)")
+        a2.set_ylabel("F_x (N)")
+        a2.text(0.03, 0.04, f"F_N constant = {float(np.mean(fn)):.4g} N", transform=a2.transAxes, fontsize=9)
+    else:
+        a2.set_xlabel("F_N (N)")
+        a2.set_ylabel("F_x (N)")
+        a2.ticklabel_format(axis="x", useOffset=False)
     for a in (a1, a2):
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
@@ -87,6 +104,21 @@ def scene_figures(result: dict, out_dir) -> dict:
     return files
 
 
+def _plain_log_ticks(ax):
+    """Log axes without overlapping labels: matplotlib labels every minor tick of an axis
+    spanning less than a decade (3 x 10^-1, 4 x 10^-1, ... run into each other). An axis
+    of up to 2.5 decades is labelled at 1, 2, 5 x 10^k in plain numbers, a longer one at its
+    decades only."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        lo, hi = sorted(lim)
+        axis.set_minor_formatter(NullFormatter())
+        if lo > 0 and np.log10(hi / lo) < 2.5:
+            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+            axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+
+
 def pareto_figure(rows_by_scene: dict):
     """Dissipation error against runtime: MDR grids and FE meshes of each scene (log-log)."""
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
@@ -101,6 +133,7 @@ def pareto_figure(rows_by_scene: dict):
             t, e = zip(*sorted(pts))
             ax.loglog(t, e, marker=markers[i % len(markers)], color=color, lw=1, ms=5,
                       label=f"{name} {side.upper()}")
+    _plain_log_ticks(ax)
     ax.set_xlabel("runtime (s)")
     ax.set_ylabel("|dissipation error|")
     ax.set_title("speed against error (closed form where one exists, else finest FE)", fontsize=9)
@@ -181,6 +214,15 @@ def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
             ax.plot(x, y, mk, color=color, label=side.upper())
     if logx:
         ax.set_xscale("log")
+    # a y axis at least MIN_DELTA_SPAN tall: two nearly equal slip indices (quick mode: one
+    # scene) would otherwise fill a 4e-5 span and look like a large disagreement
+    lo, hi = ax.get_ylim()
+    if hi - lo < MIN_DELTA_SPAN:
+        mid = 0.5 * (lo + hi)
+        lo, hi = mid - 0.5 * MIN_DELTA_SPAN, mid + 0.5 * MIN_DELTA_SPAN
+        if lo < 0.0 <= mid:
+            lo, hi = 0.0, MIN_DELTA_SPAN
+        ax.set_ylim(lo, hi)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("slip index delta = dW / (4 mu F0 u_A)")
     ax.grid(alpha=0.3, which="both")
