@@ -19,8 +19,9 @@ not a polynomial (hoop term); ``intorder=4`` (6 points) makes the quadrature
 error far below the discretisation error (checked in the tests against the
 closed form of a loaded cylinder).
 
-The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness(...,
-mode=1)`` dispatches there); they share the node numbering of :func:`node_dofs`.
+The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness_mode1``),
+which builds on this module (never the other way round); they share the node
+numbering of :func:`node_dofs`.
 """
 from __future__ import annotations
 
@@ -91,15 +92,12 @@ def boundary_nodes(mesh, name) -> np.ndarray:
 def stiffness(mesh, E, nu, mode: int = 0, intorder: int = 4):
     """Stiffness matrix (CSR, N/m) and basis of one body for the Fourier ``mode``.
 
-    Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1: tangential
-    loading along x, DOFs (S, D, W) of ``fem.mode1``.
+    Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1 (tangential
+    loading along x, DOFs (S, D, W)) is ``fem.mode1.stiffness_mode1``.
     """
-    if mode == 1:
-        from .mode1 import stiffness_mode1
-
-        return stiffness_mode1(mesh, E, nu, intorder=intorder)
     if mode != 0:
-        raise NotImplementedError("only Fourier modes 0 and 1 are implemented")
+        raise NotImplementedError(f"fem.axisym has the Fourier mode-0 forms (mode {mode!r} asked); "
+                                  "mode 1 is fem.mode1.stiffness_mode1, higher modes are not implemented")
     basis = vector_basis(mesh, intorder=intorder)
     lam, mu = lame(E, nu)
     K = asm(elasticity_mode0(lam, mu), basis)

@@ -65,7 +65,8 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _add_fe_options(c):
+def add_fe_options(c):
+    """The FE model flags of ``python -m fem contact`` and ``python -m mdr apparatus --law fem``."""
     g = c.add_argument_group("FE model (mesh, penalty, solver)")
     g.add_argument("--h-contact", type=float, default=0.0125,
                    help=f"element size in the contact zone / contact radius at F0 + dF "
@@ -106,7 +107,7 @@ def _add_contact_parser(sub):
     add_profile_args(c)
     add_material_args(c)
     add_contact_args(c)
-    _add_fe_options(c)
+    add_fe_options(c)
     c.add_argument("--displacement", choices=("contact", "plate"), default="contact",
                    help="measure of --ua and the output displacements: 'contact' (half-space comparable, as in "
                         "python -m mdr contact) or 'plate' (indenter top plate vs block bottom, includes the "
@@ -122,10 +123,7 @@ def _contact(args) -> int:
 
         out = run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
                               args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
-                              h_contact=args.h_contact, contact_extent=args.contact_extent,
-                              block_size=args.block_size, penalty=args.penalty, al_tol=args.al_tol,
-                              friction_al_tol=args.friction_al_tol, cache_dir=args.cache_dir,
-                              backend=None if args.solver == "auto" else args.solver,
+                              **fe_options(args),
                               displacement=args.displacement)
     except InputError as exc:
         sys.stderr.write(f"python -m fem contact: error: {exc}\n")
@@ -173,3 +171,29 @@ def main(argv=None) -> int:
         return 3
     write_json(args.json, out)
     return 0
+
+
+def fe_options(args) -> dict:
+    """Keyword arguments of the FE law from the flags of :func:`add_fe_options`."""
+    return dict(h_contact=args.h_contact, contact_extent=args.contact_extent, block_size=args.block_size,
+                penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=args.friction_al_tol,
+                cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
+
+
+class _FEApparatusLaw:
+    """The FE law as a plugin of ``python -m mdr apparatus --law fem`` (``mdr.plugins``)."""
+
+    help = ("the axisymmetric FE model (fem.law.FEContact with displacement='contact'; adds dofs, mesh, "
+            "solver and runtime_s {setup, cycles, total} to the JSON)")
+    add_arguments = staticmethod(add_fe_options)
+
+    @staticmethod
+    def apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles, steps, args) -> dict:
+        from .apparatus import fem_apparatus_result  # the FE model's imports only when it is used
+
+        return fem_apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps,
+                                    **fe_options(args))
+
+
+#: entry point ``fem`` of the group ``fretting.contact_laws`` (pyproject.toml)
+FE_LAW = _FEApparatusLaw()

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, asm
 
-from .axisym import lame
+from .axisym import lame, node_coords
 
 
 def strain_mode1(u, r):
@@ -86,8 +86,6 @@ def stiffness_mode1(mesh, E, nu, intorder: int = 4):
 
 def rigid_fields(mesh) -> dict:
     """Nodal (S, D, W) vectors (3, n_nodes) of a unit x translation and a unit tilt about y."""
-    from .axisym import node_coords
-
     r, z = node_coords(mesh)
     zero = np.zeros_like(r)
     # translation: U = V = 1 -> S = 1, D = 0; tilt: U = V = z, W = -r

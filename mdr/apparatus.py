@@ -146,7 +146,7 @@ def _illinois(fun, lo, hi, f_lo, f_hi, xtol, max_iter=100):
                            f"(worst residual {float(np.max(np.abs(f))):.3e} m)")
 
 
-def _check_load(F0, dF, alpha, ua, cycles, steps):
+def check_load(F0, dF, alpha, ua, cycles, steps):
     """Validate the apparatus load (dF, alpha may be batch arrays); returns them normalised."""
     F0 = positive("F0", F0)
     dF = nonnegative("dF", dF)
@@ -170,7 +170,7 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
     """
-    F0, dF, alpha, ua, cycles, steps = _check_load(F0, dF, alpha, ua, cycles, steps)
+    F0, dF, alpha, ua, cycles, steps = check_load(F0, dF, alpha, ua, cycles, steps)
     mu = nonnegative("mu", mu)
     law_mu = getattr(law, "mu", None)
     if law_mu is not None and not np.allclose(np.asarray(law_mu, dtype=float), mu, rtol=1e-12, atol=0.0):
@@ -324,55 +324,3 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
                                  for k, v in asdict(app).items()},
                    "k_plates": app.k_plates},
     }
-
-
-def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                         steps=200, *, h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=None,
-                         al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
-    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
-
-    The law is ``fem.law.FEContact(..., F_max=F0 + dF, displacement="contact")``:
-    its displacement excludes the finite bodies' bulk compliance, so it stands
-    where the half-space law stands and the apparatus compliances are not counted
-    twice (see ``fem.law``). Keys: those of :func:`apparatus_result` (with
-    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
-    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
-    Input is validated before the (costly) FE set-up.
-    """
-    from fem.friction import DEFAULT_FRICTION_AL_TOL
-    from fem.law import FEContact
-    from fem.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-    from fem.run import H_CONTACT_RANGE
-
-    from .errors import in_range
-
-    penalty = DEFAULT_PENALTY if penalty is None else penalty
-    al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol
-    friction_al_tol = DEFAULT_FRICTION_AL_TOL if friction_al_tol is None else friction_al_tol
-    # validate everything before the set-up
-    nonnegative("mu", mu)
-    _check_load(F0, dF, alpha, ua, cycles, steps)
-    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
-    positive("penalty", penalty)
-    nonnegative("al_tol", al_tol)
-    nonnegative("friction_al_tol", friction_al_tol)
-    if block_size is not None:
-        positive("block_size", block_size)
-    if not (np.ndim(contact_extent) == 0 and np.isfinite(contact_extent) and contact_extent > 1):
-        raise InputError(f"contact_extent must be > 1 (finite), got {contact_extent!r}")
-    t0 = time.perf_counter()
-    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
-                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
-                    cache_dir=cache_dir, backend=backend, displacement="contact")
-    t1 = time.perf_counter()
-    out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
-    t2 = time.perf_counter()
-    nr = law.normal(F_N=F0)
-    out["contact_radius"] = float(nr.contact_radius)
-    out["indentation"] = float(nr.indentation)
-    out["dofs"] = law.dofs
-    out["mesh"] = law.mesh_summary()
-    out["solver"] = law.solver_summary()
-    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
-    out["inputs"]["law"] = law.describe()
-    return out

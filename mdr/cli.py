@@ -16,6 +16,7 @@ import numpy as np
 from .errors import ConvergenceError, InputError
 from .io import write_json
 from .materials import STEEL_E, STEEL_NU, Materials
+from .plugins import GROUP, law_plugins
 from .profiles import make_profile
 
 
@@ -102,17 +103,14 @@ def _cmd_contact(args):
 
 
 def _cmd_apparatus(args):
-    from .apparatus import Apparatus, apparatus_result, fem_apparatus_result
+    from .apparatus import Apparatus, apparatus_result
 
     app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
                     bedding=not args.no_bedding)
     prof, mat = profile_from_args(args), materials_from_args(args)
-    if args.law == "fem":
-        return fem_apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
-                                    cycles=args.cycles, steps=args.steps, h_contact=args.h_contact,
-                                    contact_extent=args.contact_extent, block_size=args.block_size,
-                                    penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=args.friction_al_tol,
-                                    cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
+    if args.law != "mdr":  # a plugin law (mdr.plugins), e.g. the FE law of fem.apparatus
+        return args.law_plugins[args.law].apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
+                                                         args.cycles, args.steps, args)
     return apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles,
                             steps=args.steps, n=args.cells)
 
@@ -176,16 +174,16 @@ def build_parser():
     g.add_argument("--plate-model", choices=["axial", "bending", "rigid"], default="axial",
                    help="brass plates loaded along their length (default), bent across their thickness, or rigid")
     g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
-    pa.add_argument("--law", choices=["mdr", "fem"], default="mdr",
-                    help="contact law of the fretting contact: MDR (default) or the axisymmetric FE model "
-                         "(fem.law.FEContact with displacement='contact'; adds dofs, mesh, solver and "
-                         "runtime_s {setup, cycles, total} to the JSON)")
+    plugins = law_plugins()
+    pa.add_argument("--law", choices=["mdr", *plugins], default="mdr",
+                    help="contact law of the fretting contact: mdr (default)"
+                         + "".join(f"; {name}: {p.help}" for name, p in plugins.items())
+                         + " (further laws are plugins of the entry-point group " + GROUP + ", see mdr.plugins)")
     pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (--law mdr)")
-    from fem.cli import _add_fe_options  # the flags of python -m fem contact (used with --law fem)
-
-    _add_fe_options(pa)
+    for plugin in plugins.values():
+        plugin.add_arguments(pa)
     add_output_args(pa)
-    pa.set_defaults(func=_cmd_apparatus)
+    pa.set_defaults(func=_cmd_apparatus, law_plugins=plugins)
 
     ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity",
                         description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, the "

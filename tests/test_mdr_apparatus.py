@@ -213,7 +213,7 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
     here: both laws driven directly with the (du, F_N) history of the MDR apparatus run;
     the springs of the apparatus are exact, so to first order the slip-index error is this
     dissipation error (factor 2 allows for the second-order shift of the path)."""
-    from mdr.apparatus import fem_apparatus_result
+    from fem.apparatus import fem_apparatus_result
     from mdr.loops import loop_integral
 
     steps, cycles = 40, 3
