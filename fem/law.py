@@ -88,7 +88,7 @@ class FEState:
 
 
 class FEContact:
-    """FE contact law of one profile and two materials (the ``mdr.law`` protocol).
+    """FE contact law of one profile and two materials (the protocol of ``mdr.protocol``).
 
     Parameters: ``profile`` (mdr Profile: Sphere, TruncatedSphere, FlatPunch),
     ``materials``, ``mu``; ``F_max`` the largest normal force (sizes the mesh's
@@ -236,6 +236,10 @@ class FEContact:
         return dict(self.amesh.params.as_dict(), key=self.amesh.key, cache=self.amesh.info.get("cache"))
 
     # ----------------------------------------------------------------- state
+    def normal_load(self, F_N) -> dict:
+        """Normal forces as ``prepare``/``step`` take them (``mdr.protocol``): the force, solved per step."""
+        return {"F_N": np.asarray(F_N, dtype=float)}
+
     def rest_state(self) -> FEState:
         n = self.n_pairs
         z = _frozen(np.zeros(n))
@@ -382,6 +386,8 @@ class FEContact:
 
     #: the traction slack mu p - |tau| falls as sqrt(c - r) towards a stick edge (``mdr.stick``)
     stick_onset = 0.5
+    #: one scene per law (``mdr.protocol``: the batch shape)
+    batch = ()
 
     @property
     def stick_nodes(self):

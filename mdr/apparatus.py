@@ -42,7 +42,8 @@ with F_x = F_x(du) of the contact law and F_bed(u_2) of the bedding laws. r is
 strictly decreasing in du (all contact forces are nondecreasing in their
 displacement), so each step is solved by a bracketing iteration (Illinois
 regula falsi) over trial, uncommitted steps of the laws. Any contact law of the
-protocol (``rest_state``, pure ``step``) drops in.
+protocol (``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``,
+``prepare`` with trials' ``force``/``commit``) drops in.
 """
 from __future__ import annotations
 
@@ -56,6 +57,7 @@ from .law import MDRContact
 from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .profiles import Sphere
+from .protocol import ContactLaw
 from .solve import solve_increasing
 from .stick import stick_radius
 
@@ -123,29 +125,6 @@ class Apparatus:
         return N1, N2
 
 
-def _illinois(fun, lo, hi, f_lo, f_hi, xtol, max_iter=100):
-    """Vectorised Illinois regula falsi for decreasing fun with f(lo) >= 0 >= f(hi)."""
-    side = np.zeros(lo.shape)
-    x = lo
-    for it in range(max_iter):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = np.where(f_lo != f_hi, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), 0.5 * (lo + hi))
-        x = np.where((x <= lo) | (x >= hi) | ~np.isfinite(x), 0.5 * (lo + hi), x)
-        f, aux = fun(x)
-        done = (np.abs(f) <= xtol) | (hi - lo <= xtol)
-        if np.all(done):
-            return x, aux, it + 1
-        pos = f > 0
-        lo, f_lo = np.where(pos, x, lo), np.where(pos, f, f_lo)
-        hi, f_hi = np.where(pos, hi, x), np.where(pos, f_hi, f)
-        # Illinois: halve the stale end's value to keep superlinear convergence
-        f_hi = np.where(pos & (side > 0), 0.5 * f_hi, f_hi)
-        f_lo = np.where(~pos & (side < 0), 0.5 * f_lo, f_lo)
-        side = np.where(pos, 1.0, -1.0)
-    raise ConvergenceError(f"apparatus equilibrium: no convergence in {max_iter} iterations "
-                           f"(worst residual {float(np.max(np.abs(f))):.3e} m)")
-
-
 def check_load(F0, dF, alpha, ua, cycles, steps):
     """Validate the apparatus load (dF, alpha may be batch arrays); returns them normalised."""
     F0 = positive("F0", F0)
@@ -161,23 +140,26 @@ def check_load(F0, dF, alpha, ua, cycles, steps):
     return F0, dF, alpha, ua, cycles, steps
 
 
-def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
-                  bed_law_factory=None, xtol=1e-15):
-    """Run the apparatus with contact law ``law`` (any protocol law, batch allowed).
+def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
+                  bed_law_factory=None, xtol=1e-15, state_at=None):
+    """Run the apparatus with contact law ``law`` (``mdr.protocol.ContactLaw``, batch allowed).
 
     ``dF``, ``alpha`` and the array fields of ``app`` may be batch arrays (one
     value per scene of the law's batch); ``F0`` and ``ua`` are scalars.
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
-    cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
+    cycle analysis (dW per cycle, stationarity, slip index of the last cycle);
+    ``state_at`` (a step index): also the law's state after that step, as
+    ``out["state_at"]``.
     """
     F0, dF, alpha, ua, cycles, steps = check_load(F0, dF, alpha, ua, cycles, steps)
     mu = nonnegative("mu", mu)
-    law_mu = getattr(law, "mu", None)
-    if law_mu is not None and not np.allclose(np.asarray(law_mu, dtype=float), mu, rtol=1e-12, atol=0.0):
+    if not np.allclose(np.asarray(law.mu, dtype=float), mu, rtol=1e-12, atol=0.0):
         # the law's mu sets the physics, this mu the slip index: they must agree
-        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law_mu!r}; give the same value")
-    batch = getattr(law, "batch", ())
+        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law.mu!r}; give the same value")
+    batch = law.batch
     t = np.arange(cycles * steps + 1) / steps
+    if state_at is not None and not 0 <= int(state_at) < t.size:
+        raise InputError(f"state_at must be a step index in [0, {t.size - 1}], got {state_at!r}")
     FN = F0 + np.asarray(dF)[..., None] * np.sin(2 * np.pi * t + np.asarray(alpha)[..., None])
     if FN.ndim > 1:
         FN = np.broadcast_to(FN, batch + t.shape)
@@ -190,7 +172,7 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
         bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
         bed_state = bed.rest_state()
     st = law.rest_state()
-    d_all = law.approach(np.broadcast_to(FN, batch + t.shape)) if hasattr(law, "approach") else None
+    normal = law.normal_load(np.broadcast_to(FN, batch + t.shape))
     iters = 0
     du_prev = np.zeros(batch)
     out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c")}
@@ -204,56 +186,42 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
             if np.any(N_b <= 0):
                 raise InputError("the block lifts off a bedding sphere: tangential moment too large for the bedding geometry")
             d_bed = bed.approach(N_b)
-        load = {"F_N": FN[..., k]} if d_all is None else {"d": d_all[..., k]}
+        load = {key: v[..., k] for key, v in normal.items()}
         span = (np.asarray(mu) * FN[..., k] + (app.mu2 * (app.m1 * G_ACC + FN[..., k]) if use_bed else 0.0)) \
             * (cp + cx) + 1e-12
         lo = np.broadcast_to(u3[k] - span, batch).astype(float)
         hi = np.broadcast_to(u3[k] + span, batch).astype(float)
 
-        if hasattr(law, "prepare"):
-            tr = law.prepare(st, **load)
-            trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
+        tr = law.prepare(st, **load)
+        trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
 
-            def fun(du):
-                # -r(du) and its slope: increasing in du
-                nonlocal iters
-                iters += 1
-                F, kF = tr.force(du)
-                u2 = du + cx * F
-                du2 = 1.0 + cx * kF
-                if use_bed:
-                    Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
-                    Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
-                else:
-                    Fb, kb = 0.0, 0.0
-                return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
-
-            du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
-                                  atol=xtol, xtol=xtol, what="apparatus equilibrium")
-            res, st_new = tr.commit(du)
-            u2 = du + cx * res.Fx
+        def fun(du):
+            # -r(du) and its slope: increasing in du
+            nonlocal iters
+            iters += 1
+            F, kF = tr.force(du)
+            u2 = du + cx * F
+            du2 = 1.0 + cx * kF
             if use_bed:
-                rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
-                Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+                Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
+                Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
             else:
-                bst, Fbed = None, np.zeros_like(u2)
-        else:
-            def residual(du):
-                res, st_new = law.step(st, du, **load)
-                u2 = du + cx * res.Fx
-                if use_bed:
-                    rb, bst = bed.step(bed_state, np.stack([u2, u2], axis=-1), d=d_bed)
-                    Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
-                else:
-                    rb, bst, Fbed = None, None, np.zeros_like(u2)
-                return u3[k] - u2 - cp * (res.Fx + Fbed), (res, st_new, u2, Fbed, bst)
+                Fb, kb = 0.0, 0.0
+            return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
 
-            f_lo, _ = residual(lo)
-            f_hi, _ = residual(hi)
-            du, (res, st_new, u2, Fbed, bst), it = _illinois(residual, lo, hi, f_lo, f_hi, xtol)
-            iters += it + 2
+        du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
+                              atol=xtol, xtol=xtol, what="apparatus equilibrium")
+        res, st_new = tr.commit(du)
+        u2 = du + cx * res.Fx
+        if use_bed:
+            rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
+            Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+        else:
+            bst, Fbed = None, np.zeros_like(u2)
         du_prev = du
         st = st_new
+        if state_at is not None and k == int(state_at):
+            out["state_at"] = st
         if use_bed:
             bed_state = bst
             # moment about the bedding plane for the next step's sphere loads (A4)
@@ -266,7 +234,7 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
         out["Fbed"][..., k] = Fbed
         out["a"][..., k] = res.a
         out["c"][..., k] = res.c
-        if k >= first and getattr(res, "slack", None) is not None:
+        if k >= first and res.slack is not None:
             window.append((res.slack, res.slipping))
     cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0)
     last_a = out["a"][..., first:]
@@ -294,20 +262,22 @@ def _mdr_bedding(app: Apparatus, Wmax, batch=()):
 
 
 def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                     steps=200, n=400, law=None) -> dict:
-    """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``)."""
+                     steps=200, n=400, law=None, state_at=None):
+    """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``).
+
+    ``state_at`` (a step index): return ``(result, state of the law after that step)``."""
     from .normal import approach_from_force
 
     t0 = time.perf_counter()
     mu = nonnegative("mu", mu)
     if law is None:
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
-    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps)
+    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, state_at=state_at)
     last = slice(cycles * steps - steps, cycles * steps + 1)
     d0 = float(approach_from_force(profile, materials, F0))
     cyc = out["cycles"]
     delta = float(out["slip_index"])
-    return {
+    result = {
         "contact_radius": float(profile.g_inv(d0)), "indentation": d0, "normal_force": F0,
         "stick_radius": float(out["stick_radius"]),
         "dissipation": float(out["dissipation"]),
@@ -324,3 +294,4 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
                                  for k, v in asdict(app).items()},
                    "k_plates": app.k_plates},
     }
+    return result if state_at is None else (result, out["state_at"])

@@ -26,6 +26,7 @@ from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .normal import approach_from_force
 from .profiles import Profile
+from .protocol import ContactLaw
 
 
 def harmonic_history(F0, dF, alpha, cycles, steps):
@@ -67,11 +68,11 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
-                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None, state_at=None):
+                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law: ContactLaw | None = None,
+                state_at=None):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
-    ``law`` is any object of the contact-law protocol (``run(u=|Fx=, F_N=)``
-    returning a History); default: an MDRContact with ``n`` cells sized for
+    ``law`` is any contact law of ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
     the load history. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
     which gives the same result).
@@ -80,7 +81,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     t_start = time.perf_counter()
     if law is None:
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
-    elif hasattr(law, "mu") and np.ndim(law.mu) == 0 and float(law.mu) != mu:
+    elif np.ndim(law.mu) == 0 and float(law.mu) != mu:
         # the law's own mu sets the physics, mu the slip index: they must agree
         raise InputError(f"mu={mu!r} conflicts with the contact law's mu={float(law.mu)!r}; give the same value")
     t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
@@ -129,6 +130,6 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         "loop": {"t": t[last].tolist(), "du": H.u[last].tolist(), "Fx": H.Fx[last].tolist(), "FN": H.FN[last].tolist()},
         "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
                    "ua": ua, "fa": fa, "cycles": cycles, "steps": steps,
-                   "law": law.describe() if hasattr(law, "describe") else type(law).__name__},
+                   "law": law.describe()},
     }
     return out if state_at is None else (out, kept)

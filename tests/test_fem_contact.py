@@ -66,6 +66,9 @@ def test_step_is_pure_and_follows_the_protocol(sphere):
     assert abs(r4.Fx) < 1e-12 * MU * F  # re-entering pairs start unstrained
     d = sphere.describe()
     assert d["law"] == "fem" and d["dofs"] == sphere.dofs > 0 and "mesh" in d
+    from mdr.protocol import ContactLaw, ContactTrial
+
+    assert isinstance(sphere, ContactLaw) and isinstance(sphere.prepare(s0, F_N=F), ContactTrial)
 
 
 @pytest.mark.parametrize("kw", [dict(Fx=0.2 * F), dict(Fx=-0.2 * F), dict(Fx=np.nan), dict(u=np.inf)])

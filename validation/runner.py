@@ -56,41 +56,13 @@ def peak_index(s: Scene) -> int:
     return (s.cycles - 1) * s.steps + s.steps // 4
 
 
-class _Recorder:
-    """Wraps a contact law and keeps the state committed at step ``at`` (apparatus runs)."""
-
-    def __init__(self, law, at):
-        self._law, self._at, self._count, self.state = law, at, 0, None
-
-    def __getattr__(self, name):
-        return getattr(self._law, name)
-
-    def prepare(self, state, **kw):
-        trial, rec = self._law.prepare(state, **kw), self
-
-        class _T:
-            def force(self, u):
-                return trial.force(u)
-
-            def commit(self, u):
-                res, new = trial.commit(u)
-                if rec._count == rec._at:
-                    rec.state = new
-                rec._count += 1
-                return res, new
-
-        return _T()
-
-
 def _drive(s: Scene, law):
     """Run the scene's loading with ``law``; returns (result dict, state at the peak step)."""
     prof, mat = profile_of(s), materials_of(s)
     k = peak_index(s)
     if s.drive == "apparatus":
-        rec = _Recorder(law, k)
-        out = apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
-                               ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=rec)
-        return out, rec.state
+        return apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
+                                ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=law, state_at=k)
     kw = {"fa": s.amplitude} if s.drive == "force" else {"ua": s.amplitude}
     return run_contact(prof, mat, s.mu, s.F0, s.dF, s.alpha, cycles=s.cycles, steps=s.steps, law=law,
                        state_at=k, **kw)
