@@ -14,15 +14,15 @@ import numpy as np
 
 from mdr.apparatus import Apparatus, apparatus_result, check_load
 from mdr.errors import InputError, in_range, nonnegative, positive
+from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .law import FEContact
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-from .run import H_CONTACT_RANGE
 
 
 def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                         steps=200, *, h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=None,
+                         steps=200, *, h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=None,
                          al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
     """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
 

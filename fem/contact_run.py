@@ -21,15 +21,15 @@ import time
 
 from mdr.drive import check_loading, run_contact
 from mdr.errors import in_range
+from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .law import FEContact
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-from .run import H_CONTACT_RANGE
 
 
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
-                    h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
+                    h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
                     backend=None, displacement="contact", return_law=False):
     """FE fretting run; returns the result dict (and the law if ``return_law``)."""

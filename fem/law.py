@@ -55,6 +55,7 @@ from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
+from meshes.axisym import H_CONTACT_DEFAULT
 
 from .axisym import boundary_nodes
 from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
@@ -62,7 +63,7 @@ from .condense import Condensation
 from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
 from .mode1 import node_dofs_mode1, stiffness_mode1
 from .model import build_model
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
 from .solvers import blas_threads
 
 
@@ -110,7 +111,7 @@ class FEContact:
     """
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
-                 h_contact=0.0125, contact_extent=1.25, block_size=None, cache_dir=None,
+                 h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
                  backend=None, max_al=50, displacement="plate", bulk_probe_depth=DEFAULT_PROBE_DEPTH,
                  **mesh_kw):
@@ -155,8 +156,7 @@ class FEContact:
         self.model = build_model(self.amesh, self.materials, profile, backend=backend)
         self._build_mode1(backend)
         it = self.model.interface
-        eps = self.penalty * self.materials.E_star / it.h
-        self.k = eps * it.w
+        self.k = penalty_stiffness(self.penalty, self.materials.E_star, it)
         self._normal_cache = {}
         self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
         self.c_bulk = 0.0

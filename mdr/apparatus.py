@@ -48,11 +48,12 @@ protocol (``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``,
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError, finite, nonnegative, positive, positive_int
+from .errors import InputError, nonnegative, positive
+from .drive import check_harmonic_load
 from .law import MDRContact
 from .loops import analyse_cycles, slip_index
 from .materials import Materials
@@ -126,18 +127,10 @@ class Apparatus:
 
 
 def check_load(F0, dF, alpha, ua, cycles, steps):
-    """Validate the apparatus load (dF, alpha may be batch arrays); returns them normalised."""
-    F0 = positive("F0", F0)
-    dF = nonnegative("dF", dF)
-    if np.any(np.asarray(dF) > F0):
-        raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}")
-    alpha = finite("alpha", alpha)
-    ua = positive("ua", ua)
-    cycles = positive_int("cycles", cycles, minimum=2)
-    steps = positive_int("steps", steps, minimum=8)
-    if steps % 4:
-        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
-    return F0, dF, alpha, ua, cycles, steps
+    """Validate the apparatus load (dF, alpha may be batch arrays; ``mdr.drive.check_harmonic_load``
+    plus the piezo amplitude ua); returns them normalised."""
+    F0, dF, alpha, cycles, steps = check_harmonic_load(F0, dF, alpha, cycles, steps)
+    return F0, dF, alpha, positive("ua", ua), cycles, steps
 
 
 def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,

@@ -1,31 +1,21 @@
 """Command line of the MDR contact law: ``python -m mdr {normal,contact} ...``.
 
 Flags are shared with ``python -m fem`` through ``add_profile_args``,
-``add_material_args`` and ``add_contact_args``. Bad input exits with code 2
-and one line on stderr; a solver that does not converge exits with code 3.
-All values SI.
+``add_material_args`` and ``add_contact_args``; the parser class and the exit
+codes (bad input 2, a solver that does not converge 3, one line on stderr)
+are those of ``mdr.cliutil``. All values SI.
 """
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError
-from .io import write_json
+from .cliutil import OneLineParser, add_output_args, run_command
 from .materials import STEEL_E, STEEL_NU, Materials
 from .plugins import GROUP, law_plugins
 from .profiles import make_profile
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """argparse parser whose errors are one line on stderr and exit code 2."""
-
-    def error(self, message):
-        sys.stderr.write(f"{self.prog}: error: {message}\n")
-        sys.exit(2)
 
 
 def add_profile_args(p):
@@ -57,10 +47,6 @@ def add_contact_args(p):
     drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
     g.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
     g.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
-
-
-def add_output_args(p):
-    p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
 
 
 def profile_from_args(args):
@@ -200,16 +186,4 @@ def build_parser():
 
 
 def main(argv=None, parser=None):
-    parser = parser or build_parser()
-    args = parser.parse_args(argv)
-    try:
-        result = args.func(args)
-        if args.json is not None:
-            write_json(args.json, result)
-    except InputError as exc:
-        sys.stderr.write(f"{parser.prog}: error: {exc}\n")
-        return 2
-    except ConvergenceError as exc:
-        sys.stderr.write(f"{parser.prog}: solver failed: {exc}\n")
-        return 3
-    return 0
+    return run_command(parser or build_parser(), argv)

@@ -35,13 +35,25 @@ def harmonic_history(F0, dF, alpha, cycles, steps):
     return t, F0 + dF * np.sin(2.0 * np.pi * t + alpha)
 
 
-def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
-    """Validate the harmonic loading parameters; returns them normalised."""
+def check_harmonic_load(F0, dF, alpha, cycles, steps):
+    """Validate the normal force F0 + dF sin(2 pi t + alpha) and the time sampling (``dF`` and
+    ``alpha`` may be batch arrays), for every driver: ``check_loading`` here and the apparatus.
+    Returns them normalised."""
     F0 = positive("F0", F0)
     dF = nonnegative("dF", dF)
-    if dF > F0:
+    if np.any(np.asarray(dF) > F0):
         raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}, F0={F0!r}")
     alpha = finite("alpha", alpha)
+    cycles = positive_int("cycles", cycles, minimum=2)
+    steps = positive_int("steps", steps, minimum=8)
+    if steps % 4:
+        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
+    return F0, dF, alpha, cycles, steps
+
+
+def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
+    """Validate the harmonic loading parameters of ``run_contact``; returns them normalised."""
+    F0, dF, alpha, cycles, steps = check_harmonic_load(F0, dF, alpha, cycles, steps)
     mu = nonnegative("mu", mu)
     if (ua is None) == (fa is None):
         raise InputError("give exactly one of ua (displacement amplitude) or fa (force amplitude)")
@@ -52,10 +64,6 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
         if mu == 0:
             raise InputError("fa (force control) needs mu > 0: a frictionless contact carries no tangential "
                              "force; use ua (displacement control) with mu = 0")
-    cycles = positive_int("cycles", cycles, minimum=2)
-    steps = positive_int("steps", steps, minimum=8)
-    if steps % 4:
-        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
     if fa is not None:
         t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
         need = np.abs(fa * np.sin(2.0 * np.pi * t))
