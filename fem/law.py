@@ -158,7 +158,9 @@ class FEContact:
         it = self.model.interface
         self.k = penalty_stiffness(self.penalty, self.materials.E_star, it)
         self._normal_cache = {}
-        self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
+        # steps: committed steps; trial_solves: tangential return-map solves (an apparatus step tries
+        # several displacements before it commits one); newton, al: iterations of those solves
+        self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
         self.c_bulk = 0.0
         if displacement == "contact":
             # u measured without the bodies' series compliance: s = u_c + (c_bulk 1 1^T - Ct) T
@@ -224,11 +226,15 @@ class FEContact:
         """Solver settings and counters of the steps run so far (the ``solver`` key of results).
 
         ``friction_penalty_error``: the largest last multiplier change / largest slip limit
-        (pure penalty: the relative size of the penalty's elastic slip)."""
-        st, n = self.stats, max(self.stats["steps"], 1)
+        (pure penalty: the relative size of the penalty's elastic slip). ``steps`` counts committed
+        steps, ``trial_solves`` the return-map solves (more than the steps in the apparatus, whose
+        equilibrium tries several displacements per step); ``*_per_step`` are per committed step,
+        ``*_per_solve`` per solve."""
+        st, n, ns = self.stats, max(self.stats["steps"], 1), max(self.stats["trial_solves"], 1)
         return {"backend": self.model.backend, "pairs": self.n_pairs, "penalty": self.penalty,
                 "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol, "steps": st["steps"],
-                "newton_per_step": st["newton"] / n, "al_per_step": st["al"] / n,
+                "trial_solves": st["trial_solves"], "newton_per_step": st["newton"] / n,
+                "al_per_step": st["al"] / n, "newton_per_solve": st["newton"] / ns, "al_per_solve": st["al"] / ns,
                 "normal_solves": st["normal_solves"], "friction_penalty_error": st["al_change_max"]}
 
     def mesh_summary(self) -> dict:
@@ -296,6 +302,7 @@ class FEContact:
             if not np.isfinite(Fx):
                 raise InputError(f"Fx must be finite, got {Fx!r}")
         res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
+        self.stats["steps"] += 1
         return res, new
 
     def prepare(self, state: FEState, *, d=None, F_N=None) -> "FETrial":
@@ -375,7 +382,7 @@ class FEContact:
         slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
         slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
         c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
-        self.stats["steps"] += 1
+        self.stats["trial_solves"] += 1
         self.stats["newton"] += newton
         self.stats["al"] += n_al
         self.stats["al_change_max"] = max(self.stats.get("al_change_max", 0.0), change)
@@ -448,6 +455,7 @@ class FETrial:
         return res.Fx, slope
 
     def commit(self, u):
-        """(StepResult, FEState) of the step to displacement u."""
+        """(StepResult, FEState) of the step to displacement u (counted as a committed step)."""
         res, new, _ = self._at(u)
+        self.law.stats["steps"] += 1
         return res, new
