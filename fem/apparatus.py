@@ -55,12 +55,6 @@ def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alp
     t1 = time.perf_counter()
     out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
-    nr = law.normal(F_N=F0)
-    out["contact_radius"] = float(nr.contact_radius)
-    out["indentation"] = float(nr.indentation)
-    out["dofs"] = law.dofs
-    out["mesh"] = law.mesh_summary()
-    out["solver"] = law.solver_summary()
-    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
+    out.update(law.result_keys(F0, t0, t1, t2))
     out["inputs"]["law"] = law.describe()
     return out

@@ -237,6 +237,17 @@ class FEContact:
                 "al_per_step": st["al"] / n, "newton_per_solve": st["newton"] / ns, "al_per_solve": st["al"] / ns,
                 "normal_solves": st["normal_solves"], "friction_penalty_error": st["al_change_max"]}
 
+    def result_keys(self, F_N, t0, t1, t2) -> dict:
+        """The keys every FE run adds to its law-independent result (``python -m fem contact``,
+        ``python -m mdr apparatus --law fem``, the validation runner; the one home of this
+        post-processing): ``contact_radius`` and ``indentation``, the FE's own at ``F_N``
+        (half-space comparable, ``fem.normal``), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
+        {setup, cycles, total} from the times t0 (start), t1 (law set up), t2 (runs done)."""
+        nr = self.normal(F_N=F_N)
+        return {"contact_radius": float(nr.contact_radius), "indentation": float(nr.indentation),
+                "dofs": self.dofs, "mesh": self.mesh_summary(), "solver": self.solver_summary(),
+                "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
+
     def mesh_summary(self) -> dict:
         """The mesh parameters, cache key and cache use (the ``mesh`` key of results)."""
         return dict(self.amesh.params.as_dict(), key=self.amesh.key, cache=self.amesh.info.get("cache"))

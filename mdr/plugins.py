@@ -16,15 +16,23 @@ points are read from the installed package metadata: after adding one, run
 """
 from __future__ import annotations
 
+import warnings
 from importlib.metadata import entry_points
 
 GROUP = "fretting.contact_laws"
 
 
 def law_plugins() -> dict:
-    """{name: plugin object} of the installed contact-law plugins, sorted by name."""
+    """{name: plugin object} of the installed contact-law plugins, sorted by name.
+
+    A plugin that cannot be imported is left out with a warning (it must not break
+    the commands that do not use it)."""
     found = {}
     for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
-        if ep.name not in found and ep.name != "mdr":  # the MDR law is built in
+        if ep.name in found or ep.name == "mdr":  # the MDR law is built in
+            continue
+        try:
             found[ep.name] = ep.load()
+        except Exception as exc:  # noqa: BLE001 (any import failure of a third-party plugin)
+            warnings.warn(f"contact-law plugin {ep.name!r} ({ep.value}) cannot be loaded: {exc}", RuntimeWarning)
     return found

@@ -105,3 +105,15 @@ def test_no_package_imports_a_layer_above_it(pkg):
 
 def test_there_is_no_import_cycle():
     assert _cycles(import_graph()) == []
+
+
+def test_the_fe_law_is_a_registered_plugin_of_the_apparatus_command():
+    """python -m mdr apparatus --law fem finds the FE law through the entry point (pyproject.toml),
+    and pyproject.toml declares it (a stale install would miss it: pip install -e .)."""
+    from fem.cli import FE_LAW
+    from mdr.plugins import GROUP, law_plugins
+    from mdr.protocol import LawPlugin
+
+    assert f'[project.entry-points."{GROUP}"]' in (ROOT / "pyproject.toml").read_text()
+    plugins = law_plugins()
+    assert plugins.get("fem") is FE_LAW and isinstance(FE_LAW, LawPlugin)

@@ -121,12 +121,9 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     t1 = time.perf_counter()
     out, st = _drive(s, law)
     t2 = time.perf_counter()
+    out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h, bulk_compliance=law.c_bulk)
     nr = law.normal(F_N=s.F0)
-    out["contact_radius"] = nr.contact_radius
-    out["indentation"] = nr.indentation
     it = law.model.interface
-    out.update({"dofs": law.dofs, "h_contact": h, "mesh": law.mesh_summary(), "bulk_compliance": law.c_bulk,
-                "solver": law.solver_summary(), "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}})
     T = np.asarray(st.T) if st is not None else np.zeros(it.n)
     lam = np.asarray(st.lam) if st is not None else np.zeros(it.n)
     out["profiles"] = {"r": nr.r.tolist(), "pressure": nr.pressure.tolist(),
