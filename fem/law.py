@@ -1,4 +1,4 @@
-"""The FE frictional contact law: the contact-law protocol of ``mdr.law`` on the FE model.
+"""The FE frictional contact law: the contact-law protocol of ``mdr.protocol`` on the FE model.
 
 One object holds the two-body axisymmetric FE model of a profile (mode 0 for
 the pressure, ``fem.model``/``fem.normal``; mode 1 for the tangential load,

@@ -40,10 +40,11 @@ apparatus (c = 1/k = 0) is allowed:
 
 with F_x = F_x(du) of the contact law and F_bed(u_2) of the bedding laws. r is
 strictly decreasing in du (all contact forces are nondecreasing in their
-displacement), so each step is solved by a bracketing iteration (Illinois
-regula falsi) over trial, uncommitted steps of the laws. Any contact law of the
-protocol (``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``,
-``prepare`` with trials' ``force``/``commit``) drops in.
+displacement), so each step is solved by a safeguarded Newton iteration in a
+shrinking bracket (``mdr.solve``) over trial, uncommitted steps of the laws:
+their ``force`` gives F_x and its slope. Any contact law of the protocol
+(``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``, ``prepare`` with
+the trials' ``force``/``commit``) drops in; ``prepare`` is required.
 """
 from __future__ import annotations
 

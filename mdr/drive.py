@@ -80,7 +80,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
                 state_at=None):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
-    ``law`` is any contact law of ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
+    ``law`` is any ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
     the load history. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
     which gives the same result).
