@@ -8,5 +8,7 @@ the half-space-comparable indentation), ``output`` (fields, VTU), ``run`` and
 ``cli`` (``python -m fem normal``); tangential loading: ``mode1`` (Fourier
 mode-1 weak forms, axis regularity), ``friction`` (Coulomb return map, active-set
 interface solver, augmented Lagrangian), ``law`` (``FEContact``, the contact-law
-protocol of ``mdr.law``), ``contact_run`` (``python -m fem contact``).
+protocol of ``mdr.protocol``), ``contact_run`` (``python -m fem contact``), ``apparatus``
+(the FE law in ``python -m mdr apparatus --law fem``, reached as an entry-point
+plugin: ``mdr`` never imports ``fem``).
 """

@@ -6,7 +6,7 @@ Coordinates of the section are x[0] = r >= 0, x[1] = z. Strains
 
     e_rr = du_r/dr,  e_zz = du_z/dz,  e_tt = u_r / r,  e_rz = (du_r/dz + du_z/dr) / 2,
 
-stress sigma = lam tr(e) I + 2 mu e, and the stiffness is the integral over the
+stress sigma = lame_lambda tr(e) I + 2 lame_mu e, and the stiffness is the integral over the
 body's volume, dV = 2 pi r dr dz, so assembled forces are total forces (N) on
 the full ring. Regularity on the axis requires u_r = 0 at r = 0 (a Dirichlet
 condition set by the caller); quadrature points are interior, so the hoop term
@@ -19,8 +19,9 @@ not a polynomial (hoop term); ``intorder=4`` (6 points) makes the quadrature
 error far below the discretisation error (checked in the tests against the
 closed form of a loaded cylinder).
 
-The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness(...,
-mode=1)`` dispatches there); they share the node numbering of :func:`node_dofs`.
+The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness_mode1``),
+which builds on this module (never the other way round); they share the node
+numbering of :func:`node_dofs`.
 """
 from __future__ import annotations
 
@@ -31,7 +32,7 @@ TWO_PI = 2.0 * np.pi
 
 
 def lame(E, nu):
-    """Lame constants (lam, mu) of an isotropic material."""
+    """Lame constants (lame_lambda, lame_mu) of an isotropic material."""
     return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))
 
 
@@ -41,7 +42,7 @@ def strain_mode0(u, r):
     return g[0, 0], g[1, 1], u[0] / r, 0.5 * (g[0, 1] + g[1, 0])
 
 
-def elasticity_mode0(lam, mu):
+def elasticity_mode0(lame_lambda, lame_mu):
     """Bilinear form of mode-0 axisymmetric elasticity, integrated over the full ring (2 pi r)."""
 
     @BilinearForm
@@ -52,7 +53,7 @@ def elasticity_mode0(lam, mu):
         tr_a = a[0] + a[1] + a[2]
         tr_b = b[0] + b[1] + b[2]
         dev = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * a[3] * b[3]
-        return TWO_PI * r * (lam * tr_a * tr_b + 2.0 * mu * dev)
+        return TWO_PI * r * (lame_lambda * tr_a * tr_b + 2.0 * lame_mu * dev)
 
     return form
 
@@ -91,18 +92,15 @@ def boundary_nodes(mesh, name) -> np.ndarray:
 def stiffness(mesh, E, nu, mode: int = 0, intorder: int = 4):
     """Stiffness matrix (CSR, N/m) and basis of one body for the Fourier ``mode``.
 
-    Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1: tangential
-    loading along x, DOFs (S, D, W) of ``fem.mode1``.
+    Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1 (tangential
+    loading along x, DOFs (S, D, W)) is ``fem.mode1.stiffness_mode1``.
     """
-    if mode == 1:
-        from .mode1 import stiffness_mode1
-
-        return stiffness_mode1(mesh, E, nu, intorder=intorder)
     if mode != 0:
-        raise NotImplementedError("only Fourier modes 0 and 1 are implemented")
+        raise NotImplementedError(f"fem.axisym has the Fourier mode-0 forms (mode {mode!r} asked); "
+                                  "mode 1 is fem.mode1.stiffness_mode1, higher modes are not implemented")
     basis = vector_basis(mesh, intorder=intorder)
-    lam, mu = lame(E, nu)
-    K = asm(elasticity_mode0(lam, mu), basis)
+    lame_lambda, lame_mu = lame(E, nu)
+    K = asm(elasticity_mode0(lame_lambda, lame_mu), basis)
     return K.tocsr(), basis
 
 
@@ -111,13 +109,13 @@ def stress_mode0(basis, u, E, nu):
 
     Keys ``srr, szz, stt, srz, mises`` (Pa) and ``r``, ``z`` (m).
     """
-    lam, mu = lame(E, nu)
+    lame_lambda, lame_mu = lame(E, nu)
     uf = basis.interpolate(u)
     r = basis.mapping.F(basis.quadrature[0])
     err, ezz, ett, erz = strain_mode0(uf, r[0])
     tr = err + ezz + ett
-    s = {"srr": lam * tr + 2 * mu * err, "szz": lam * tr + 2 * mu * ezz,
-         "stt": lam * tr + 2 * mu * ett, "srz": 2 * mu * erz}
+    s = {"srr": lame_lambda * tr + 2 * lame_mu * err, "szz": lame_lambda * tr + 2 * lame_mu * ezz,
+         "stt": lame_lambda * tr + 2 * lame_mu * ett, "srz": 2 * lame_mu * erz}
     s["mises"] = np.sqrt(0.5 * ((s["srr"] - s["szz"]) ** 2 + (s["szz"] - s["stt"]) ** 2
                                 + (s["stt"] - s["srr"]) ** 2) + 3.0 * s["srz"] ** 2)
     s["r"], s["z"] = r[0], r[1]

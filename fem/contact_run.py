@@ -21,15 +21,15 @@ import time
 
 from mdr.drive import check_loading, run_contact
 from mdr.errors import in_range
+from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .law import FEContact
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-from .run import H_CONTACT_RANGE
 
 
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
-                    h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
+                    h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
                     backend=None, displacement="contact", return_law=False):
     """FE fretting run; returns the result dict (and the law if ``return_law``)."""
@@ -42,16 +42,10 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     t1 = time.perf_counter()
     out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
-    nr = law.normal(F_N=F0)  # the FE's own normal contact at the mean force
-    out["contact_radius"] = nr.contact_radius
-    out["indentation"] = nr.indentation
-    out["approach"] = nr.approach
-    out["dofs"] = law.dofs
-    out["mesh"] = law.mesh_summary()
+    out.update(law.result_keys(F0, t0, t1, t2))  # the FE's own contact radius and indentation at F0, ...
+    out["approach"] = law.normal(F_N=F0).approach
     out["displacement"] = law.displacement
     out["bulk_compliance"] = law.plate_bulk_compliance(F0)
-    out["solver"] = law.solver_summary()
-    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
     if return_law:
         return out, law
     return out

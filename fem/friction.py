@@ -61,13 +61,13 @@ class _Factors:
 
     def get(self, free):
         key = free.tobytes()
-        cf = self.cache.get(key)
-        if cf is None:
+        chol = self.cache.get(key)
+        if chol is None:
             if len(self.cache) >= self.size:
                 self.cache.pop(next(iter(self.cache)))
-            cf = sla.cho_factor(self.M[np.ix_(free, free)], lower=True, check_finite=False)
-            self.cache[key] = cf
-        return cf
+            chol = sla.cho_factor(self.M[np.ix_(free, free)], lower=True, check_finite=False)
+            self.cache[key] = chol
+        return chol
 
 
 def _solve_sets(M, fac, b, g, sgn, u, F):
@@ -82,14 +82,14 @@ def _solve_sets(M, fac, b, g, sgn, u, F):
         return T, u
     A = sgn != 0
     rhs = b[free] - (M[np.ix_(free, A)] @ T[A] if np.any(A) else 0.0)
-    cf = fac.get(free)
-    x = sla.cho_solve(cf, rhs, check_finite=False)
+    chol = fac.get(free)
+    x = sla.cho_solve(chol, rhs, check_finite=False)
     if F is not None:
-        y = sla.cho_solve(cf, np.ones(x.size), check_finite=False)
+        y = sla.cho_solve(chol, np.ones(x.size), check_finite=False)
         u = (F - T[A].sum() - x.sum()) / y.sum()
         T[free] = x + u * y
     else:
-        T[free] = x + u * sla.cho_solve(cf, np.ones(x.size), check_finite=False)
+        T[free] = x + u * sla.cho_solve(chol, np.ones(x.size), check_finite=False)
     return T, u
 
 

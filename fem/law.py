@@ -1,4 +1,4 @@
-"""The FE frictional contact law: the contact-law protocol of ``mdr.law`` on the FE model.
+"""The FE frictional contact law: the contact-law protocol of ``mdr.protocol`` on the FE model.
 
 One object holds the two-body axisymmetric FE model of a profile (mode 0 for
 the pressure, ``fem.model``/``fem.normal``; mode 1 for the tangential load,
@@ -55,6 +55,7 @@ from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
+from meshes.axisym import H_CONTACT_DEFAULT
 
 from .axisym import boundary_nodes
 from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
@@ -62,7 +63,7 @@ from .condense import Condensation
 from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
 from .mode1 import node_dofs_mode1, stiffness_mode1
 from .model import build_model
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
 from .solvers import blas_threads
 
 
@@ -88,7 +89,7 @@ class FEState:
 
 
 class FEContact:
-    """FE contact law of one profile and two materials (the ``mdr.law`` protocol).
+    """FE contact law of one profile and two materials (the protocol of ``mdr.protocol``).
 
     Parameters: ``profile`` (mdr Profile: Sphere, TruncatedSphere, FlatPunch),
     ``materials``, ``mu``; ``F_max`` the largest normal force (sizes the mesh's
@@ -110,7 +111,7 @@ class FEContact:
     """
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
-                 h_contact=0.0125, contact_extent=1.25, block_size=None, cache_dir=None,
+                 h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
                  backend=None, max_al=50, displacement="plate", bulk_probe_depth=DEFAULT_PROBE_DEPTH,
                  **mesh_kw):
@@ -155,10 +156,11 @@ class FEContact:
         self.model = build_model(self.amesh, self.materials, profile, backend=backend)
         self._build_mode1(backend)
         it = self.model.interface
-        eps = self.penalty * self.materials.E_star / it.h
-        self.k = eps * it.w
+        self.k = penalty_stiffness(self.penalty, self.materials.E_star, it)
         self._normal_cache = {}
-        self.stats = {"steps": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
+        # steps: committed steps; trial_solves: tangential return-map solves (an apparatus step tries
+        # several displacements before it commits one); newton, al: iterations of those solves
+        self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "al": 0, "normal_solves": 0, "al_change_max": 0.0}
         self.c_bulk = 0.0
         if displacement == "contact":
             # u measured without the bodies' series compliance: s = u_c + (c_bulk 1 1^T - Ct) T
@@ -224,18 +226,37 @@ class FEContact:
         """Solver settings and counters of the steps run so far (the ``solver`` key of results).
 
         ``friction_penalty_error``: the largest last multiplier change / largest slip limit
-        (pure penalty: the relative size of the penalty's elastic slip)."""
-        st, n = self.stats, max(self.stats["steps"], 1)
+        (pure penalty: the relative size of the penalty's elastic slip). ``steps`` counts committed
+        steps, ``trial_solves`` the return-map solves (more than the steps in the apparatus, whose
+        equilibrium tries several displacements per step); ``*_per_step`` are per committed step,
+        ``*_per_solve`` per solve."""
+        st, n, ns = self.stats, max(self.stats["steps"], 1), max(self.stats["trial_solves"], 1)
         return {"backend": self.model.backend, "pairs": self.n_pairs, "penalty": self.penalty,
                 "al_tol": self.al_tol, "friction_al_tol": self.friction_al_tol, "steps": st["steps"],
-                "newton_per_step": st["newton"] / n, "al_per_step": st["al"] / n,
+                "trial_solves": st["trial_solves"], "newton_per_step": st["newton"] / n,
+                "al_per_step": st["al"] / n, "newton_per_solve": st["newton"] / ns, "al_per_solve": st["al"] / ns,
                 "normal_solves": st["normal_solves"], "friction_penalty_error": st["al_change_max"]}
+
+    def result_keys(self, F_N, t0, t1, t2) -> dict:
+        """The keys every FE run adds to its law-independent result (``python -m fem contact``,
+        ``python -m mdr apparatus --law fem``, the validation runner; the one home of this
+        post-processing): ``contact_radius`` and ``indentation``, the FE's own at ``F_N``
+        (half-space comparable, ``fem.normal``), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
+        {setup, cycles, total} from the times t0 (start), t1 (law set up), t2 (runs done)."""
+        nr = self.normal(F_N=F_N)
+        return {"contact_radius": float(nr.contact_radius), "indentation": float(nr.indentation),
+                "dofs": self.dofs, "mesh": self.mesh_summary(), "solver": self.solver_summary(),
+                "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
 
     def mesh_summary(self) -> dict:
         """The mesh parameters, cache key and cache use (the ``mesh`` key of results)."""
         return dict(self.amesh.params.as_dict(), key=self.amesh.key, cache=self.amesh.info.get("cache"))
 
     # ----------------------------------------------------------------- state
+    def normal_load(self, F_N) -> dict:
+        """Normal forces as ``prepare``/``step`` take them (``mdr.protocol``): the force, solved per step."""
+        return {"F_N": np.asarray(F_N, dtype=float)}
+
     def rest_state(self) -> FEState:
         n = self.n_pairs
         z = _frozen(np.zeros(n))
@@ -292,6 +313,7 @@ class FEContact:
             if not np.isfinite(Fx):
                 raise InputError(f"Fx must be finite, got {Fx!r}")
         res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
+        self.stats["steps"] += 1
         return res, new
 
     def prepare(self, state: FEState, *, d=None, F_N=None) -> "FETrial":
@@ -371,7 +393,7 @@ class FEContact:
         slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
         slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
         c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
-        self.stats["steps"] += 1
+        self.stats["trial_solves"] += 1
         self.stats["newton"] += newton
         self.stats["al"] += n_al
         self.stats["al_change_max"] = max(self.stats.get("al_change_max", 0.0), change)
@@ -382,6 +404,8 @@ class FEContact:
 
     #: the traction slack mu p - |tau| falls as sqrt(c - r) towards a stick edge (``mdr.stick``)
     stick_onset = 0.5
+    #: one scene per law (``mdr.protocol``: the batch shape)
+    batch = ()
 
     @property
     def stick_nodes(self):
@@ -442,6 +466,7 @@ class FETrial:
         return res.Fx, slope
 
     def commit(self, u):
-        """(StepResult, FEState) of the step to displacement u."""
+        """(StepResult, FEState) of the step to displacement u (counted as a committed step)."""
         res, new, _ = self._at(u)
+        self.law.stats["steps"] += 1
         return res, new

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, asm
 
-from .axisym import lame
+from .axisym import lame, node_coords
 
 
 def strain_mode1(u, r):
@@ -51,7 +51,7 @@ def strain_mode1(u, r):
     return (U_r, gW[1], UmV_r, 0.5 * (U_z + gW[0]), -0.5 * (V_r + UmV_r), -0.5 * (V_z + W / r))
 
 
-def elasticity_mode1(lam, mu):
+def elasticity_mode1(lame_lambda, lame_mu):
     """Bilinear form of mode-1 elasticity integrated over theta (factor pi r)."""
 
     @BilinearForm
@@ -62,7 +62,7 @@ def elasticity_mode1(lam, mu):
         tr_a = a[0] + a[1] + a[2]
         tr_b = b[0] + b[1] + b[2]
         dev = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * (a[3] * b[3] + a[4] * b[4] + a[5] * b[5])
-        return np.pi * r * (lam * tr_a * tr_b + 2.0 * mu * dev)
+        return np.pi * r * (lame_lambda * tr_a * tr_b + 2.0 * lame_mu * dev)
 
     return form
 
@@ -80,14 +80,12 @@ def node_dofs_mode1(basis) -> np.ndarray:
 def stiffness_mode1(mesh, E, nu, intorder: int = 4):
     """Mode-1 stiffness (CSR, N/m per unit amplitude) and basis of one body."""
     basis = vector_basis_mode1(mesh, intorder=intorder)
-    lam, mu = lame(E, nu)
-    return asm(elasticity_mode1(lam, mu), basis).tocsr(), basis
+    lame_lambda, lame_mu = lame(E, nu)
+    return asm(elasticity_mode1(lame_lambda, lame_mu), basis).tocsr(), basis
 
 
 def rigid_fields(mesh) -> dict:
     """Nodal (S, D, W) vectors (3, n_nodes) of a unit x translation and a unit tilt about y."""
-    from .axisym import node_coords
-
     r, z = node_coords(mesh)
     zero = np.zeros_like(r)
     # translation: U = V = 1 -> S = 1, D = 0; tilt: U = V = z, W = -r

@@ -106,13 +106,13 @@ def _active_solve(C, gap0, k, lbar, A, force, approach):
         return lam, approach
     M = C[np.ix_(A, A)] + np.diag(1.0 / k[A])
     rhs = lbar[A] / k[A] - gap0[A]
-    cf = sla.cho_factor(M, lower=True, check_finite=False)
-    x = sla.cho_solve(cf, rhs, check_finite=False)
+    chol = sla.cho_factor(M, lower=True, check_finite=False)
+    x = sla.cho_solve(chol, rhs, check_finite=False)
     if force is None:
         delta = approach
-        lam[A] = x + delta * sla.cho_solve(cf, np.ones(A.sum()), check_finite=False)
+        lam[A] = x + delta * sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
     else:
-        y = sla.cho_solve(cf, np.ones(A.sum()), check_finite=False)
+        y = sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
         delta = (force - x.sum()) / y.sum()
         lam[A] = x + delta * y
     return lam, delta
@@ -169,6 +169,13 @@ def boussinesq_axis(lam, r, z, E, nu):
     return float(np.sum(lam * (1.0 + nu) / (2.0 * np.pi * E * rho) * (2.0 * (1.0 - nu) + z**2 / rho**2)))
 
 
+def penalty_stiffness(penalty, E_star, interface):
+    """Penalty stiffness k_i = eps w_i (N/m) of the contact pairs, eps = penalty E* / h (N/m^3):
+    the normal pairs here and the tangential ones of ``fem.law`` (the one home of the formula)."""
+    eps = penalty * E_star / interface.h
+    return eps * interface.w
+
+
 def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL,
                  max_al=50, max_newton=100) -> NormalResult:
     """Normal contact under a prescribed ``force`` (N) or ``approach`` (m, indenter top to
@@ -187,8 +194,7 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     max_al = positive_int("max_al", max_al)
     it = model.interface
     C, gap0 = model.C, it.gap0
-    eps = penalty * model.materials.E_star / it.h
-    k = eps * it.w
+    k = penalty_stiffness(penalty, model.materials.E_star, it)
     lbar = np.zeros(it.n)
     A = gap0 <= np.min(gap0) + 1e-300  # start from first contact
     if force is not None:

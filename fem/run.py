@@ -19,11 +19,11 @@ from mdr.materials import Materials
 from mdr.profiles import make_profile
 from mdr.reference import hertz, truncated_contact_radius
 from meshes import AxisymMeshParams, cached_mesh
+from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE  # noqa: F401 (one home: meshes.axisym)
 
 from .model import build_model
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
 
-H_CONTACT_RANGE = (1.0 / 1000.0, 0.25)
 #: coarser than this (h > a/10) the contact holds fewer than ~20 pairs: warned (see mesh_params)
 H_CONTACT_COARSE = 0.1
 
@@ -37,7 +37,7 @@ def reference_radius(profile: str, R, b, F, E_star) -> float:
     return float(b)
 
 
-def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=0.0125, block_size=None,
+def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=H_CONTACT_DEFAULT, block_size=None,
                 contact_extent=1.25, a_ref=None, **kw) -> AxisymMeshParams:
     """Mesh parameters for a scene (validates the scene's input)."""
     make_profile(profile, R, b)  # validates profile, R, b (b < R, b > 0 for flat)
@@ -55,10 +55,13 @@ def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=0.0125, blo
                             block_height=block_size, **kw)
 
 
-def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None, h_contact=0.0125,
+def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None, h_contact=H_CONTACT_DEFAULT,
                block_size=None, contact_extent=1.25, penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL,
-               cache_dir=None, backend=None, rigid_indenter=False, return_model=False, **mesh_kw):
-    """FE normal contact at force F; returns the result dict of ``python -m fem normal``."""
+               cache_dir=None, backend=None, rigid_indenter=False, return_model=False, exact=False, **mesh_kw):
+    """FE normal contact at force F; returns the result dict of ``python -m fem normal``.
+
+    ``exact``: the exact spherical cap instead of the parabola (sphere, truncated; the
+    ``--exact-cap`` of the commands; the mesh is the same)."""
     materials = materials or Materials()
     make_profile(profile, R, b)  # validates names and rejects conflicting parameters (b of a sphere, R of a flat punch)
     if profile == "sphere":
@@ -68,7 +71,7 @@ def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None,
                          contact_extent=contact_extent, **mesh_kw)
     amesh = cached_mesh(params, cache_dir)
     t1 = time.perf_counter()
-    model = build_model(amesh, materials, make_profile(profile, R, b), backend=backend,
+    model = build_model(amesh, materials, make_profile(profile, R, b, exact=exact), backend=backend,
                         rigid_indenter=rigid_indenter)
     t2 = time.perf_counter()
     res = solve_normal(model, force=F, penalty=penalty, al_tol=al_tol)

@@ -3,11 +3,16 @@
 Public API::
 
     from mdr import Materials, Sphere, TruncatedSphere, FlatPunch, GeneralProfile, MDRContact
+
+The contact-law protocol every law follows (``MDRContact`` here, ``fem.law.FEContact``)
+is ``mdr.protocol.ContactLaw``. ``mdr`` is the ground floor of the project: it imports
+no other package of it (``meshes``, ``fem`` and ``validation`` build on it).
 """
 from .errors import ConvergenceError, InputError
 from .law import LawState, MDRContact, StepResult
 from .materials import Materials
 from .profiles import FlatPunch, GeneralProfile, Sphere, TruncatedSphere, make_profile
+from .protocol import ContactLaw
 
-__all__ = ["ConvergenceError", "InputError", "LawState", "MDRContact", "StepResult", "Materials",
+__all__ = ["ContactLaw", "ConvergenceError", "InputError", "LawState", "MDRContact", "StepResult", "Materials",
            "FlatPunch", "GeneralProfile", "Sphere", "TruncatedSphere", "make_profile"]

@@ -40,22 +40,26 @@ apparatus (c = 1/k = 0) is allowed:
 
 with F_x = F_x(du) of the contact law and F_bed(u_2) of the bedding laws. r is
 strictly decreasing in du (all contact forces are nondecreasing in their
-displacement), so each step is solved by a bracketing iteration (Illinois
-regula falsi) over trial, uncommitted steps of the laws. Any contact law of the
-protocol (``rest_state``, pure ``step``) drops in.
+displacement), so each step is solved by a safeguarded Newton iteration in a
+shrinking bracket (``mdr.solve``) over trial, uncommitted steps of the laws:
+their ``force`` gives F_x and its slope. Any contact law of the protocol
+(``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``, ``prepare`` with
+the trials' ``force``/``commit``) drops in; ``prepare`` is required.
 """
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError, finite, nonnegative, positive, positive_int
+from .errors import InputError, nonnegative, positive
+from .drive import check_harmonic_load
 from .law import MDRContact
 from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .profiles import Sphere
+from .protocol import ContactLaw
 from .solve import solve_increasing
 from .stick import stick_radius
 
@@ -123,61 +127,33 @@ class Apparatus:
         return N1, N2
 
 
-def _illinois(fun, lo, hi, f_lo, f_hi, xtol, max_iter=100):
-    """Vectorised Illinois regula falsi for decreasing fun with f(lo) >= 0 >= f(hi)."""
-    side = np.zeros(lo.shape)
-    x = lo
-    for it in range(max_iter):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = np.where(f_lo != f_hi, (lo * f_hi - hi * f_lo) / (f_hi - f_lo), 0.5 * (lo + hi))
-        x = np.where((x <= lo) | (x >= hi) | ~np.isfinite(x), 0.5 * (lo + hi), x)
-        f, aux = fun(x)
-        done = (np.abs(f) <= xtol) | (hi - lo <= xtol)
-        if np.all(done):
-            return x, aux, it + 1
-        pos = f > 0
-        lo, f_lo = np.where(pos, x, lo), np.where(pos, f, f_lo)
-        hi, f_hi = np.where(pos, hi, x), np.where(pos, f_hi, f)
-        # Illinois: halve the stale end's value to keep superlinear convergence
-        f_hi = np.where(pos & (side > 0), 0.5 * f_hi, f_hi)
-        f_lo = np.where(~pos & (side < 0), 0.5 * f_lo, f_lo)
-        side = np.where(pos, 1.0, -1.0)
-    raise ConvergenceError(f"apparatus equilibrium: no convergence in {max_iter} iterations "
-                           f"(worst residual {float(np.max(np.abs(f))):.3e} m)")
+def check_load(F0, dF, alpha, ua, cycles, steps):
+    """Validate the apparatus load (dF, alpha may be batch arrays; ``mdr.drive.check_harmonic_load``
+    plus the piezo amplitude ua); returns them normalised."""
+    F0, dF, alpha, cycles, steps = check_harmonic_load(F0, dF, alpha, cycles, steps)
+    return F0, dF, alpha, positive("ua", ua), cycles, steps
 
 
-def _check_load(F0, dF, alpha, ua, cycles, steps):
-    """Validate the apparatus load (dF, alpha may be batch arrays); returns them normalised."""
-    F0 = positive("F0", F0)
-    dF = nonnegative("dF", dF)
-    if np.any(np.asarray(dF) > F0):
-        raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}")
-    alpha = finite("alpha", alpha)
-    ua = positive("ua", ua)
-    cycles = positive_int("cycles", cycles, minimum=2)
-    steps = positive_int("steps", steps, minimum=8)
-    if steps % 4:
-        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
-    return F0, dF, alpha, ua, cycles, steps
-
-
-def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
-                  bed_law_factory=None, xtol=1e-15):
-    """Run the apparatus with contact law ``law`` (any protocol law, batch allowed).
+def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
+                  bed_law_factory=None, xtol=1e-15, state_at=None):
+    """Run the apparatus with contact law ``law`` (``mdr.protocol.ContactLaw``, batch allowed).
 
     ``dF``, ``alpha`` and the array fields of ``app`` may be batch arrays (one
     value per scene of the law's batch); ``F0`` and ``ua`` are scalars.
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
-    cycle analysis (dW per cycle, stationarity, slip index of the last cycle).
+    cycle analysis (dW per cycle, stationarity, slip index of the last cycle);
+    ``state_at`` (a step index): also the law's state after that step, as
+    ``out["state_at"]``.
     """
-    F0, dF, alpha, ua, cycles, steps = _check_load(F0, dF, alpha, ua, cycles, steps)
+    F0, dF, alpha, ua, cycles, steps = check_load(F0, dF, alpha, ua, cycles, steps)
     mu = nonnegative("mu", mu)
-    law_mu = getattr(law, "mu", None)
-    if law_mu is not None and not np.allclose(np.asarray(law_mu, dtype=float), mu, rtol=1e-12, atol=0.0):
+    if not np.allclose(np.asarray(law.mu, dtype=float), mu, rtol=1e-12, atol=0.0):
         # the law's mu sets the physics, this mu the slip index: they must agree
-        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law_mu!r}; give the same value")
-    batch = getattr(law, "batch", ())
+        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law.mu!r}; give the same value")
+    batch = law.batch
     t = np.arange(cycles * steps + 1) / steps
+    if state_at is not None and not 0 <= int(state_at) < t.size:
+        raise InputError(f"state_at must be a step index in [0, {t.size - 1}], got {state_at!r}")
     FN = F0 + np.asarray(dF)[..., None] * np.sin(2 * np.pi * t + np.asarray(alpha)[..., None])
     if FN.ndim > 1:
         FN = np.broadcast_to(FN, batch + t.shape)
@@ -190,7 +166,7 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
         bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
         bed_state = bed.rest_state()
     st = law.rest_state()
-    d_all = law.approach(np.broadcast_to(FN, batch + t.shape)) if hasattr(law, "approach") else None
+    normal = law.normal_load(np.broadcast_to(FN, batch + t.shape))
     iters = 0
     du_prev = np.zeros(batch)
     out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c")}
@@ -204,56 +180,42 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
             if np.any(N_b <= 0):
                 raise InputError("the block lifts off a bedding sphere: tangential moment too large for the bedding geometry")
             d_bed = bed.approach(N_b)
-        load = {"F_N": FN[..., k]} if d_all is None else {"d": d_all[..., k]}
+        load = {key: v[..., k] for key, v in normal.items()}
         span = (np.asarray(mu) * FN[..., k] + (app.mu2 * (app.m1 * G_ACC + FN[..., k]) if use_bed else 0.0)) \
             * (cp + cx) + 1e-12
         lo = np.broadcast_to(u3[k] - span, batch).astype(float)
         hi = np.broadcast_to(u3[k] + span, batch).astype(float)
 
-        if hasattr(law, "prepare"):
-            tr = law.prepare(st, **load)
-            trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
+        tr = law.prepare(st, **load)
+        trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
 
-            def fun(du):
-                # -r(du) and its slope: increasing in du
-                nonlocal iters
-                iters += 1
-                F, kF = tr.force(du)
-                u2 = du + cx * F
-                du2 = 1.0 + cx * kF
-                if use_bed:
-                    Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
-                    Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
-                else:
-                    Fb, kb = 0.0, 0.0
-                return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
-
-            du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
-                                  atol=xtol, xtol=xtol, what="apparatus equilibrium")
-            res, st_new = tr.commit(du)
-            u2 = du + cx * res.Fx
+        def fun(du):
+            # -r(du) and its slope: increasing in du
+            nonlocal iters
+            iters += 1
+            F, kF = tr.force(du)
+            u2 = du + cx * F
+            du2 = 1.0 + cx * kF
             if use_bed:
-                rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
-                Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+                Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
+                Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
             else:
-                bst, Fbed = None, np.zeros_like(u2)
-        else:
-            def residual(du):
-                res, st_new = law.step(st, du, **load)
-                u2 = du + cx * res.Fx
-                if use_bed:
-                    rb, bst = bed.step(bed_state, np.stack([u2, u2], axis=-1), d=d_bed)
-                    Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
-                else:
-                    rb, bst, Fbed = None, None, np.zeros_like(u2)
-                return u3[k] - u2 - cp * (res.Fx + Fbed), (res, st_new, u2, Fbed, bst)
+                Fb, kb = 0.0, 0.0
+            return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
 
-            f_lo, _ = residual(lo)
-            f_hi, _ = residual(hi)
-            du, (res, st_new, u2, Fbed, bst), it = _illinois(residual, lo, hi, f_lo, f_hi, xtol)
-            iters += it + 2
+        du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
+                              atol=xtol, xtol=xtol, what="apparatus equilibrium")
+        res, st_new = tr.commit(du)
+        u2 = du + cx * res.Fx
+        if use_bed:
+            rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
+            Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
+        else:
+            bst, Fbed = None, np.zeros_like(u2)
         du_prev = du
         st = st_new
+        if state_at is not None and k == int(state_at):
+            out["state_at"] = st
         if use_bed:
             bed_state = bst
             # moment about the bedding plane for the next step's sphere loads (A4)
@@ -266,7 +228,7 @@ def run_apparatus(law, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cyc
         out["Fbed"][..., k] = Fbed
         out["a"][..., k] = res.a
         out["c"][..., k] = res.c
-        if k >= first and getattr(res, "slack", None) is not None:
+        if k >= first and res.slack is not None:
             window.append((res.slack, res.slipping))
     cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0)
     last_a = out["a"][..., first:]
@@ -294,20 +256,22 @@ def _mdr_bedding(app: Apparatus, Wmax, batch=()):
 
 
 def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                     steps=200, n=400, law=None) -> dict:
-    """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``)."""
+                     steps=200, n=400, law=None, state_at=None):
+    """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``).
+
+    ``state_at`` (a step index): return ``(result, state of the law after that step)``."""
     from .normal import approach_from_force
 
     t0 = time.perf_counter()
     mu = nonnegative("mu", mu)
     if law is None:
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
-    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps)
+    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, state_at=state_at)
     last = slice(cycles * steps - steps, cycles * steps + 1)
     d0 = float(approach_from_force(profile, materials, F0))
     cyc = out["cycles"]
     delta = float(out["slip_index"])
-    return {
+    result = {
         "contact_radius": float(profile.g_inv(d0)), "indentation": d0, "normal_force": F0,
         "stick_radius": float(out["stick_radius"]),
         "dissipation": float(out["dissipation"]),
@@ -324,55 +288,4 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
                                  for k, v in asdict(app).items()},
                    "k_plates": app.k_plates},
     }
-
-
-def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                         steps=200, *, h_contact=0.0125, contact_extent=1.25, block_size=None, penalty=None,
-                         al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
-    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
-
-    The law is ``fem.law.FEContact(..., F_max=F0 + dF, displacement="contact")``:
-    its displacement excludes the finite bodies' bulk compliance, so it stands
-    where the half-space law stands and the apparatus compliances are not counted
-    twice (see ``fem.law``). Keys: those of :func:`apparatus_result` (with
-    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
-    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
-    Input is validated before the (costly) FE set-up.
-    """
-    from fem.friction import DEFAULT_FRICTION_AL_TOL
-    from fem.law import FEContact
-    from fem.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-    from fem.run import H_CONTACT_RANGE
-
-    from .errors import in_range
-
-    penalty = DEFAULT_PENALTY if penalty is None else penalty
-    al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol
-    friction_al_tol = DEFAULT_FRICTION_AL_TOL if friction_al_tol is None else friction_al_tol
-    # validate everything before the set-up
-    nonnegative("mu", mu)
-    _check_load(F0, dF, alpha, ua, cycles, steps)
-    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
-    positive("penalty", penalty)
-    nonnegative("al_tol", al_tol)
-    nonnegative("friction_al_tol", friction_al_tol)
-    if block_size is not None:
-        positive("block_size", block_size)
-    if not (np.ndim(contact_extent) == 0 and np.isfinite(contact_extent) and contact_extent > 1):
-        raise InputError(f"contact_extent must be > 1 (finite), got {contact_extent!r}")
-    t0 = time.perf_counter()
-    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
-                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
-                    cache_dir=cache_dir, backend=backend, displacement="contact")
-    t1 = time.perf_counter()
-    out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
-    t2 = time.perf_counter()
-    nr = law.normal(F_N=F0)
-    out["contact_radius"] = float(nr.contact_radius)
-    out["indentation"] = float(nr.indentation)
-    out["dofs"] = law.dofs
-    out["mesh"] = law.mesh_summary()
-    out["solver"] = law.solver_summary()
-    out["runtime_s"] = {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}
-    out["inputs"]["law"] = law.describe()
-    return out
+    return result if state_at is None else (result, out["state_at"])

@@ -1,30 +1,21 @@
 """Command line of the MDR contact law: ``python -m mdr {normal,contact} ...``.
 
 Flags are shared with ``python -m fem`` through ``add_profile_args``,
-``add_material_args`` and ``add_contact_args``. Bad input exits with code 2
-and one line on stderr; a solver that does not converge exits with code 3.
-All values SI.
+``add_material_args`` and ``add_contact_args``; the parser class and the exit
+codes (bad input 2, a solver that does not converge 3, one line on stderr)
+are those of ``mdr.cliutil``. All values SI.
 """
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError
-from .io import write_json
+from .cliutil import OneLineParser, add_output_args, run_command
 from .materials import STEEL_E, STEEL_NU, Materials
+from .plugins import GROUP, law_plugins
 from .profiles import make_profile
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """argparse parser whose errors are one line on stderr and exit code 2."""
-
-    def error(self, message):
-        sys.stderr.write(f"{self.prog}: error: {message}\n")
-        sys.exit(2)
 
 
 def add_profile_args(p):
@@ -56,10 +47,6 @@ def add_contact_args(p):
     drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
     g.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
     g.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
-
-
-def add_output_args(p):
-    p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
 
 
 def profile_from_args(args):
@@ -102,17 +89,14 @@ def _cmd_contact(args):
 
 
 def _cmd_apparatus(args):
-    from .apparatus import Apparatus, apparatus_result, fem_apparatus_result
+    from .apparatus import Apparatus, apparatus_result
 
     app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
                     bedding=not args.no_bedding)
     prof, mat = profile_from_args(args), materials_from_args(args)
-    if args.law == "fem":
-        return fem_apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
-                                    cycles=args.cycles, steps=args.steps, h_contact=args.h_contact,
-                                    contact_extent=args.contact_extent, block_size=args.block_size,
-                                    penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=args.friction_al_tol,
-                                    cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
+    if args.law != "mdr":  # a plugin law (mdr.plugins), e.g. the FE law of fem.apparatus
+        return args.law_plugins[args.law].apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
+                                                         args.cycles, args.steps, args)
     return apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles,
                             steps=args.steps, n=args.cells)
 
@@ -176,16 +160,16 @@ def build_parser():
     g.add_argument("--plate-model", choices=["axial", "bending", "rigid"], default="axial",
                    help="brass plates loaded along their length (default), bent across their thickness, or rigid")
     g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
-    pa.add_argument("--law", choices=["mdr", "fem"], default="mdr",
-                    help="contact law of the fretting contact: MDR (default) or the axisymmetric FE model "
-                         "(fem.law.FEContact with displacement='contact'; adds dofs, mesh, solver and "
-                         "runtime_s {setup, cycles, total} to the JSON)")
+    plugins = law_plugins()
+    pa.add_argument("--law", choices=["mdr", *plugins], default="mdr",
+                    help="contact law of the fretting contact: mdr (default)"
+                         + "".join(f"; {name}: {p.help}" for name, p in plugins.items())
+                         + " (further laws are plugins of the entry-point group " + GROUP + ", see mdr.plugins)")
     pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (--law mdr)")
-    from fem.cli import _add_fe_options  # the flags of python -m fem contact (used with --law fem)
-
-    _add_fe_options(pa)
+    for plugin in plugins.values():
+        plugin.add_arguments(pa)
     add_output_args(pa)
-    pa.set_defaults(func=_cmd_apparatus)
+    pa.set_defaults(func=_cmd_apparatus, law_plugins=plugins)
 
     ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity",
                         description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, the "
@@ -202,16 +186,4 @@ def build_parser():
 
 
 def main(argv=None, parser=None):
-    parser = parser or build_parser()
-    args = parser.parse_args(argv)
-    try:
-        result = args.func(args)
-        if args.json is not None:
-            write_json(args.json, result)
-    except InputError as exc:
-        sys.stderr.write(f"{parser.prog}: error: {exc}\n")
-        return 2
-    except ConvergenceError as exc:
-        sys.stderr.write(f"{parser.prog}: solver failed: {exc}\n")
-        return 3
-    return 0
+    return run_command(parser or build_parser(), argv)

@@ -26,6 +26,7 @@ from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .normal import approach_from_force
 from .profiles import Profile
+from .protocol import ContactLaw
 
 
 def harmonic_history(F0, dF, alpha, cycles, steps):
@@ -34,13 +35,25 @@ def harmonic_history(F0, dF, alpha, cycles, steps):
     return t, F0 + dF * np.sin(2.0 * np.pi * t + alpha)
 
 
-def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
-    """Validate the harmonic loading parameters; returns them normalised."""
+def check_harmonic_load(F0, dF, alpha, cycles, steps):
+    """Validate the normal force F0 + dF sin(2 pi t + alpha) and the time sampling (``dF`` and
+    ``alpha`` may be batch arrays), for every driver: ``check_loading`` here and the apparatus.
+    Returns them normalised."""
     F0 = positive("F0", F0)
     dF = nonnegative("dF", dF)
-    if dF > F0:
+    if np.any(np.asarray(dF) > F0):
         raise InputError(f"dF must be in [0, F0] (the normal force may not become tensile), got dF={dF!r}, F0={F0!r}")
     alpha = finite("alpha", alpha)
+    cycles = positive_int("cycles", cycles, minimum=2)
+    steps = positive_int("steps", steps, minimum=8)
+    if steps % 4:
+        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
+    return F0, dF, alpha, cycles, steps
+
+
+def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
+    """Validate the harmonic loading parameters of ``run_contact``; returns them normalised."""
+    F0, dF, alpha, cycles, steps = check_harmonic_load(F0, dF, alpha, cycles, steps)
     mu = nonnegative("mu", mu)
     if (ua is None) == (fa is None):
         raise InputError("give exactly one of ua (displacement amplitude) or fa (force amplitude)")
@@ -51,10 +64,6 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
         if mu == 0:
             raise InputError("fa (force control) needs mu > 0: a frictionless contact carries no tangential "
                              "force; use ua (displacement control) with mu = 0")
-    cycles = positive_int("cycles", cycles, minimum=2)
-    steps = positive_int("steps", steps, minimum=8)
-    if steps % 4:
-        raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
     if fa is not None:
         t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
         need = np.abs(fa * np.sin(2.0 * np.pi * t))
@@ -67,11 +76,11 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
-                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law=None, state_at=None):
+                cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law: ContactLaw | None = None,
+                state_at=None):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
-    ``law`` is any object of the contact-law protocol (``run(u=|Fx=, F_N=)``
-    returning a History); default: an MDRContact with ``n`` cells sized for
+    ``law`` is any ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
     the load history. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
     which gives the same result).
@@ -80,7 +89,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     t_start = time.perf_counter()
     if law is None:
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
-    elif hasattr(law, "mu") and np.ndim(law.mu) == 0 and float(law.mu) != mu:
+    elif np.ndim(law.mu) == 0 and float(law.mu) != mu:
         # the law's own mu sets the physics, mu the slip index: they must agree
         raise InputError(f"mu={mu!r} conflicts with the contact law's mu={float(law.mu)!r}; give the same value")
     t, FN = harmonic_history(F0, dF, alpha, cycles, steps)
@@ -129,6 +138,6 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         "loop": {"t": t[last].tolist(), "du": H.u[last].tolist(), "Fx": H.Fx[last].tolist(), "FN": H.FN[last].tolist()},
         "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
                    "ua": ua, "fa": fa, "cycles": cycles, "steps": steps,
-                   "law": law.describe() if hasattr(law, "describe") else type(law).__name__},
+                   "law": law.describe()},
     }
     return out if state_at is None else (out, kept)

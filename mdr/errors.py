@@ -1,5 +1,8 @@
 """Input validation shared by every package of the project.
 
+Its one home is here because ``mdr`` is the ground floor of the layers
+(``mdr`` -> ``meshes`` -> ``fem`` -> ``validation``): every package may import it.
+
 Every public function checks its arguments with these helpers, so that bad
 input fails early with one clear message that names the parameter and the
 valid range, instead of producing NaN or a traceback deep inside a solver.

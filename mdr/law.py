@@ -199,6 +199,10 @@ class MDRContact:
         F_N = nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N)
         return approach_from_force(self.profile, self.materials, F_N)
 
+    def normal_load(self, F_N) -> dict:
+        """Normal forces as the approaches of ``prepare``/``step`` (``mdr.protocol``), at once."""
+        return {"d": self.approach(F_N)}
+
     # --------------------------------------------------------------- normal
     def normal_phase(self, d) -> NormalPhase:
         """Normal contact for approach ``d`` of shape batch or batch + (T,)."""

@@ -271,12 +271,12 @@ def run_studies(names, out_dir, jobs: int = 1) -> list:
     jobs = positive_int("jobs", jobs)
     if jobs == 1 or len(names) == 1:
         return [run_study(n, out_dir) for n in names]
-    import concurrent.futures as cf
+    import concurrent.futures as futures
     import multiprocessing
 
     # longest first, so that the pool balances (fig8 holds two batches)
     order = sorted(names, key=STUDIES.index)
-    with cf.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
+    with futures.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
                                 mp_context=multiprocessing.get_context("spawn")) as ex:
         futs = {n: ex.submit(run_study, n, out_dir) for n in order}
         res = {n: f.result() for n, f in futs.items()}

@@ -66,13 +66,19 @@ MESH_FORMAT_VERSION = 1
 _GMSH_LOCK = threading.Lock()
 
 
+#: element size in the contact zone / a_ref: the default (a/80) and the allowed range, for every
+#: package (fem.run, fem.law, the commands' --h-contact): one home
+H_CONTACT_DEFAULT = 0.0125
+H_CONTACT_RANGE = (1.0 / 1000.0, 0.25)
+
+
 @dataclass(frozen=True)
 class AxisymMeshParams:
     """All parameters that determine a mesh (SI). Resolve defaults with :meth:`resolved`.
 
     ``a_ref`` is the largest contact radius the mesh must serve (the scene's
     a_max); ``h_contact`` the element size in the contact zone as a fraction of
-    it (1/40 .. 1/160 typical; allowed [1/2000, 1/4]); ``contact_extent`` the
+    it (1/40 .. 1/160 typical; allowed ``H_CONTACT_RANGE`` = [1/1000, 1/4]); ``contact_extent`` the
     radius of the contact segment (uniformly fine mesh, potential contact zone,
     interface of the condensation) as a multiple of a_ref.
     """
@@ -81,7 +87,7 @@ class AxisymMeshParams:
     R: float | None
     b: float
     a_ref: float
-    h_contact: float = 0.0125
+    h_contact: float = H_CONTACT_DEFAULT
     contact_extent: float = 1.25
     block_radius: float | None = None
     block_height: float | None = None
@@ -105,7 +111,7 @@ class AxisymMeshParams:
                 raise InputError(f"b must be 0 for profile 'sphere', got {self.b!r}")
         else:
             positive("b", self.b)
-        in_range("h_contact", self.h_contact, 1.0 / 2000.0, 0.25)
+        in_range("h_contact", self.h_contact, *H_CONTACT_RANGE)
         in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
         in_range("growth", self.growth, 0.02, 1.0)
         for name in ("block_radius", "block_height", "indenter_height", "probe_depth", "h_max"):

@@ -66,6 +66,23 @@ def test_step_is_pure_and_follows_the_protocol(sphere):
     assert abs(r4.Fx) < 1e-12 * MU * F  # re-entering pairs start unstrained
     d = sphere.describe()
     assert d["law"] == "fem" and d["dofs"] == sphere.dofs > 0 and "mesh" in d
+    from mdr.protocol import ContactLaw, ContactTrial
+
+    assert isinstance(sphere, ContactLaw) and isinstance(sphere.prepare(s0, F_N=F), ContactTrial)
+
+
+def test_the_step_counter_counts_committed_steps_apart_from_trial_solves(sphere):
+    """issue 12: a step tried at three displacements and committed once is one step, three solves."""
+    before = dict(sphere.stats)
+    tr = sphere.prepare(sphere.rest_state(), F_N=F)
+    for u in (1e-9, 2e-9, 3e-9):
+        tr.force(u)
+    tr.commit(3e-9)  # the last one tried: no new solve
+    sphere.step(sphere.rest_state(), u=1e-9, F_N=F)
+    st = sphere.stats
+    assert st["steps"] - before["steps"] == 2 and st["trial_solves"] - before["trial_solves"] == 4
+    summary = sphere.solver_summary()
+    assert summary["steps"] == st["steps"] and summary["trial_solves"] == st["trial_solves"]
 
 
 @pytest.mark.parametrize("kw", [dict(Fx=0.2 * F), dict(Fx=-0.2 * F), dict(Fx=np.nan), dict(u=np.inf)])

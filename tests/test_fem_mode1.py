@@ -4,7 +4,7 @@ import pytest
 from scipy.sparse.linalg import spsolve
 
 from fem.axisym import boundary_nodes, node_coords, stiffness
-from fem.mode1 import node_dofs_mode1, rigid_fields
+from fem.mode1 import node_dofs_mode1, rigid_fields, stiffness_mode1
 from fem.run import mesh_params
 from mdr.materials import Materials
 from meshes import cached_mesh
@@ -16,7 +16,7 @@ MAT = Materials()
 def block(tmp_path_factory):
     p = mesh_params("sphere", 6e-3, 0.0, 0.5, MAT, h_contact=1 / 40)
     am = cached_mesh(p, tmp_path_factory.mktemp("m1"))
-    K, basis = stiffness(am.block, MAT.E2, MAT.nu2, mode=1)
+    K, basis = stiffness_mode1(am.block, MAT.E2, MAT.nu2)
     return am, K, basis
 
 
@@ -60,8 +60,9 @@ def test_bonded_rigid_disk_has_the_half_space_tangential_stiffness(block):
 
 def test_unknown_mode_is_not_implemented(block):
     am = block[0]
-    with pytest.raises(NotImplementedError):
-        stiffness(am.block, MAT.E2, MAT.nu2, mode=2)
+    for mode in (1, 2):  # fem.axisym has mode 0 only; mode 1 is fem.mode1.stiffness_mode1
+        with pytest.raises(NotImplementedError):
+            stiffness(am.block, MAT.E2, MAT.nu2, mode=mode)
 
 
 def test_fretting_fields_cerruti_far_field_and_rigid_plate():

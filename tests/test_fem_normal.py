@@ -322,6 +322,21 @@ def test_cli_writes_the_contract_keys(cache):
     assert d["mesh"]["h_contact"] == 0.05
 
 
+def test_cli_prints_to_stdout_by_default_and_offers_the_exact_cap(cache):
+    """issue 12: python -m fem normal takes the flags of python -m mdr normal / fem contact
+    (--json optional, stdout by default; --exact-cap) and help in their style."""
+    args = ["normal", "--profile", "sphere", "--R", str(R), "--F", str(F), "--h-contact", "0.05",
+            "--cache-dir", str(cache)]
+    p, q = run_cli(*args), run_cli(*args, "--exact-cap")
+    assert p.returncode == 0 and q.returncode == 0, p.stderr + q.stderr
+    d, e = json.loads(p.stdout), json.loads(q.stdout)
+    assert e["profile"]["exact_cap"] and not d["profile"].get("exact_cap")
+    assert e["contact_radius"] == pytest.approx(d["contact_radius"], rel=1e-3)  # a/R = 0.5 %: the cap is a parabola
+    helps = {cmd: run_cli(cmd, "--help").stdout for cmd in ("normal", "contact")}
+    for flag in ("--exact-cap", "--h-contact", "--penalty", "--al-tol", "--json PATH", "indenter profile (SI units)"):
+        assert flag in helps["normal"] and flag in helps["contact"], flag
+
+
 @pytest.mark.parametrize("args", [
     ["--profile", "truncated", "--R", "6e-3", "--b", "7e-3", "--F", "0.5"],
     ["--profile", "sphere", "--R", "6e-3", "--F", "0"],

@@ -202,6 +202,26 @@ def test_figs_4_5_sphere_regime_follows_the_stroke_budget():
         assert np.max(ratio) < 0.9 and delta < 0.05, (name, np.max(ratio), delta)
 
 
+def test_the_mdr_law_follows_the_protocol_and_the_apparatus_returns_the_state_at_a_step():
+    """mdr.protocol (issue 12): MDRContact is a ContactLaw; state_at=k gives the state
+    committed at step k (no proxy around the law), the same with the result dict."""
+    from mdr.protocol import ContactLaw, ContactTrial
+
+    law = MDRContact(Sphere(R), STEEL, MU, F_max=F0 + 0.1, n=200)
+    assert isinstance(law, ContactLaw) and isinstance(law.prepare(law.rest_state(), F_N=F0), ContactTrial)
+    kw = dict(cycles=2, steps=40)
+    k = 50
+    out = run_apparatus(law, Apparatus(), MU, F0, **kw, state_at=k)
+    st = out["state_at"]
+    assert float(st.u) == out["du"][k] and float(st.d) == pytest.approx(float(law.approach(out["FN"][k])), rel=1e-12)
+    plain = run_apparatus(law, Apparatus(), MU, F0, **kw)
+    assert np.array_equal(plain["Fx"], out["Fx"]) and "state_at" not in plain
+    res, st2 = apparatus_result(Sphere(R), STEEL, Apparatus(), MU, F0, law=law, state_at=k, **kw)
+    assert np.array_equal(st2.v, st.v) and res["dissipation"] == float(plain["dissipation"])
+    with pytest.raises(InputError):
+        run_apparatus(law, Apparatus(), MU, F0, **kw, state_at=81)
+
+
 # ------------------------------------------------------------------ FE law (issue 5)
 @pytest.mark.parametrize("h,tol", [(0.05, 5e-3), pytest.param(0.025, 3e-3, marks=pytest.mark.slow)],
                          ids=["a20", "a40"])
@@ -213,7 +233,7 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
     here: both laws driven directly with the (du, F_N) history of the MDR apparatus run;
     the springs of the apparatus are exact, so to first order the slip-index error is this
     dissipation error (factor 2 allows for the second-order shift of the path)."""
-    from mdr.apparatus import fem_apparatus_result
+    from fem.apparatus import fem_apparatus_result
     from mdr.loops import loop_integral
 
     steps, cycles = 40, 3

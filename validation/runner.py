@@ -56,41 +56,13 @@ def peak_index(s: Scene) -> int:
     return (s.cycles - 1) * s.steps + s.steps // 4
 
 
-class _Recorder:
-    """Wraps a contact law and keeps the state committed at step ``at`` (apparatus runs)."""
-
-    def __init__(self, law, at):
-        self._law, self._at, self._count, self.state = law, at, 0, None
-
-    def __getattr__(self, name):
-        return getattr(self._law, name)
-
-    def prepare(self, state, **kw):
-        trial, rec = self._law.prepare(state, **kw), self
-
-        class _T:
-            def force(self, u):
-                return trial.force(u)
-
-            def commit(self, u):
-                res, new = trial.commit(u)
-                if rec._count == rec._at:
-                    rec.state = new
-                rec._count += 1
-                return res, new
-
-        return _T()
-
-
 def _drive(s: Scene, law):
     """Run the scene's loading with ``law``; returns (result dict, state at the peak step)."""
     prof, mat = profile_of(s), materials_of(s)
     k = peak_index(s)
     if s.drive == "apparatus":
-        rec = _Recorder(law, k)
-        out = apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
-                               ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=rec)
-        return out, rec.state
+        return apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
+                                ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=law, state_at=k)
     kw = {"fa": s.amplitude} if s.drive == "force" else {"ua": s.amplitude}
     return run_contact(prof, mat, s.mu, s.F0, s.dF, s.alpha, cycles=s.cycles, steps=s.steps, law=law,
                        state_at=k, **kw)
@@ -149,12 +121,9 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     t1 = time.perf_counter()
     out, st = _drive(s, law)
     t2 = time.perf_counter()
+    out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h, bulk_compliance=law.c_bulk)
     nr = law.normal(F_N=s.F0)
-    out["contact_radius"] = nr.contact_radius
-    out["indentation"] = nr.indentation
     it = law.model.interface
-    out.update({"dofs": law.dofs, "h_contact": h, "mesh": law.mesh_summary(), "bulk_compliance": law.c_bulk,
-                "solver": law.solver_summary(), "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}})
     T = np.asarray(st.T) if st is not None else np.zeros(it.n)
     lam = np.asarray(st.lam) if st is not None else np.zeros(it.n)
     out["profiles"] = {"r": nr.r.tolist(), "pressure": nr.pressure.tolist(),
@@ -173,14 +142,14 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
 
 def closed_forms(s: Scene) -> dict | None:
     """Closed-form values of the scene (None if none applies), with their source."""
-    cf = s.closed_form
-    if cf is None or s.drive != "force":
+    closed = s.closed_form
+    if closed is None or s.drive != "force":
         return None
     mat = materials_of(s)
     Es, Gs = mat.E_star, mat.G_star
     fa, FN, mu = s.amplitude, s.F0, s.mu
     r = _r_profile(a_ref(s))
-    if cf == "hertz-mindlin":
+    if closed == "hertz-mindlin":
         h = ref.hertz(FN, s.R, Es)
         a, d = float(h["a"]), float(h["d"])
         us = ref.gross_slip_displacement(d, mu, Es, Gs)
@@ -290,25 +259,25 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list) -> dict:
     return V
 
 
-def closed_form_errors(s: Scene, mdr: dict, fe: dict, cf: dict) -> dict:
+def closed_form_errors(s: Scene, mdr: dict, fe: dict, closed: dict) -> dict:
     """Errors of the finest MDR and FE results against the scene's closed forms."""
     cfe = {}
     for side, res in (("mdr", mdr), ("fem", fe)):
-        cfe[side] = {q: metrics.rel(res[q], cf[q]) for q in ("contact_radius", "stick_radius")}
-        cfe[side]["dissipation"] = metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0,
+        cfe[side] = {q: metrics.rel(res[q], closed[q]) for q in ("contact_radius", "stick_radius")}
+        cfe[side]["dissipation"] = metrics.dissipation_error(res["dissipation"], closed["dissipation"], s.mu, s.F0,
                                                              _u_amp(res))
         p = res["profiles"]
-        cfe[side]["pressure_profile"] = metrics.profile_error(p["r"], p["pressure"], cf["profiles"]["r"],
-                                                              cf["profiles"]["pressure"], 0.95 * cf["contact_radius"])
+        cfe[side]["pressure_profile"] = metrics.profile_error(p["r"], p["pressure"], closed["profiles"]["r"],
+                                                              closed["profiles"]["pressure"], 0.95 * closed["contact_radius"])
         if p.get("traction") is not None:
             rr = p["r_pairs"] if side == "fem" else p["r"]
-            cfe[side]["traction_profile"] = metrics.profile_error(rr, p["traction"], cf["profiles"]["r"],
-                                                                  cf["profiles"]["traction"],
-                                                                  0.95 * cf["contact_radius"])
+            cfe[side]["traction_profile"] = metrics.profile_error(rr, p["traction"], closed["profiles"]["r"],
+                                                                  closed["profiles"]["traction"],
+                                                                  0.95 * closed["contact_radius"])
     return cfe
 
 
-def speed_error(s: Scene, fe_ladder: list, mdr_ladder: list, cf: dict | None) -> list:
+def speed_error(s: Scene, fe_ladder: list, mdr_ladder: list, closed: dict | None) -> list:
     """Rows (side, level, dofs or cells, runtime, dissipation error vs finest FE and vs closed form)."""
     best = fe_ladder[-1]
     rows = []
@@ -322,8 +291,8 @@ def speed_error(s: Scene, fe_ladder: list, mdr_ladder: list, cf: dict | None) ->
                    "dissipation": res["dissipation"],
                    "error_vs_fe": None if res is best else
                    metrics.dissipation_error(res["dissipation"], best["dissipation"], s.mu, s.F0, u_A),
-                   "error_vs_closed_form": None if cf is None else
-                   metrics.dissipation_error(res["dissipation"], cf["dissipation"], s.mu, s.F0, u_A)}
+                   "error_vs_closed_form": None if closed is None else
+                   metrics.dissipation_error(res["dissipation"], closed["dissipation"], s.mu, s.F0, u_A)}
             rows.append(row)
     return rows
 
@@ -357,16 +326,16 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             field = fld
         log(f"  fem a/{1 / h:.0f} ({res['dofs']} DOFs): dW={res['dissipation']:.4g} J, set-up "
             f"{res['runtime_s']['setup']:.2f} s, cycles {res['runtime_s']['cycles']:.2f} s")
-    cf = closed_forms(s)
+    closed = closed_forms(s)
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
     verdicts = scene_verdicts(s, fe_ladder, mdr_ladder)
     errors = {"a_ref": a_ref(s)}
-    if cf is not None:
-        errors["closed_form"] = closed_form_errors(s, mdr, fe, cf)
-    result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": fe,
+    if closed is not None:
+        errors["closed_form"] = closed_form_errors(s, mdr, fe, closed)
+    result = {"scene": s.as_dict(), "closed_form": closed, "mdr": mdr, "fem": fe,
               "verdicts": verdicts, "holds": metrics.conjunction(verdicts), "errors": errors,
               "ladder": {"mdr": [_strip(x) for x in mdr_ladder], "fem": [_strip(x) for x in fe_ladder]},
-              "speed_error": speed_error(s, fe_ladder, mdr_ladder, cf),
+              "speed_error": speed_error(s, fe_ladder, mdr_ladder, closed),
               "files": {}}
     if out_dir is not None:
         from . import figures
@@ -445,7 +414,7 @@ def _run_validity(s: Scene, out_dir, log) -> dict:
     h = s.fe_levels[-1]
     a = a_ref(s)
     mdr = run_mdr(s, s.mdr_cells[-1])
-    cf = closed_forms(s)
+    closed = closed_forms(s)
     base, _ = run_fe(s, h)
     rows = []
     for v in ({},) + tuple(s.variants):
@@ -468,7 +437,7 @@ def _run_validity(s: Scene, out_dir, log) -> dict:
         row["runtime_s"] = res["runtime_s"]["total"]
         rows.append(row)
         log(f"  {row['variant']}: a {row['contact_radius']:.4g} m (MDR-FE {row['contact_radius_mdr_minus_fe']:+.2%})")
-    result = {"scene": s.as_dict(), "closed_form": cf, "mdr": mdr, "fem": base, "validity": rows,
+    result = {"scene": s.as_dict(), "closed_form": closed, "mdr": mdr, "fem": base, "validity": rows,
               "errors": {"a_ref": a}, "files": {}, "runtime_s": time.perf_counter() - t0}
     if out_dir is not None:
         from . import figures

@@ -1,0 +1,60 @@
+"""The FE contact law in the apparatus: ``python -m mdr apparatus --law fem``.
+
+``mdr`` does not import ``fem`` (the layers: ``mdr`` at the bottom, ``fem`` on
+it, ``validation`` on top). The FE law reaches the apparatus command as a plugin
+of the entry-point group ``fretting.contact_laws`` (``pyproject.toml``):
+:data:`FE_LAW` (in ``fem.cli``, so building the parser stays cheap) adds the FE
+flags and calls :func:`fem_apparatus_result` here.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from mdr.apparatus import Apparatus, apparatus_result, check_load
+from mdr.errors import InputError, in_range, nonnegative, positive
+from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
+
+from .friction import DEFAULT_FRICTION_AL_TOL
+from .law import FEContact
+from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+
+
+def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
+                         steps=200, *, h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=None,
+                         al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
+    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
+
+    The law is ``fem.law.FEContact(..., F_max=F0 + dF, displacement="contact")``:
+    its displacement excludes the finite bodies' bulk compliance, so it stands
+    where the half-space law stands and the apparatus compliances are not counted
+    twice (see ``fem.law``). Keys: those of :func:`apparatus_result` (with
+    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
+    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
+    Input is validated before the (costly) FE set-up.
+    """
+    penalty = DEFAULT_PENALTY if penalty is None else penalty
+    al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol
+    friction_al_tol = DEFAULT_FRICTION_AL_TOL if friction_al_tol is None else friction_al_tol
+    # validate everything before the set-up
+    nonnegative("mu", mu)
+    check_load(F0, dF, alpha, ua, cycles, steps)
+    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
+    positive("penalty", penalty)
+    nonnegative("al_tol", al_tol)
+    nonnegative("friction_al_tol", friction_al_tol)
+    if block_size is not None:
+        positive("block_size", block_size)
+    if not (np.ndim(contact_extent) == 0 and np.isfinite(contact_extent) and contact_extent > 1):
+        raise InputError(f"contact_extent must be > 1 (finite), got {contact_extent!r}")
+    t0 = time.perf_counter()
+    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
+                    cache_dir=cache_dir, backend=backend, displacement="contact")
+    t1 = time.perf_counter()
+    out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
+    t2 = time.perf_counter()
+    out.update(law.result_keys(F0, t0, t1, t2))
+    out["inputs"]["law"] = law.describe()
+    return out

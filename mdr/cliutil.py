@@ -1,0 +1,58 @@
+"""The command-line convention of every ``python -m`` command of the project (one home).
+
+``mdr`` is the ground floor of the layers (``mdr`` -> ``meshes`` -> ``fem`` ->
+``validation``), so the shared CLI pieces live here and ``python -m mdr``,
+``python -m fem`` and ``python -m validation.compare`` use them:
+
+- :class:`OneLineParser`: argparse whose usage errors are one line on stderr,
+  exit code 2;
+- :func:`run_command`: parse, check the output paths before the (costly) run,
+  run ``args.func(args)``, write its result as JSON to ``--json`` (``-`` =
+  stdout, the default); bad input (``InputError``) exits 2 with
+  ``<prog> <command>: error: <message>``, a solver that does not converge
+  (``ConvergenceError``) exits 3 with ``<prog> <command>: solver failed: <message>``.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .errors import ConvergenceError, InputError
+from .io import check_output_path, write_json
+
+#: the flags that name an output file, checked before the run
+OUTPUT_FLAGS = ("json", "vtu")
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse parser whose errors are one line on stderr and exit code 2."""
+
+    def error(self, message):
+        sys.stderr.write(f"{self.prog}: error: {message}\n")
+        sys.exit(2)
+
+
+def add_output_args(p):
+    """``--json PATH`` (default stdout)."""
+    p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
+
+
+def run_command(parser: argparse.ArgumentParser, argv=None) -> int:
+    """Run the subcommand ``args.func`` of ``parser`` with the exit codes of the module docstring."""
+    args = parser.parse_args(argv)
+    where = " ".join(filter(None, (parser.prog, getattr(args, "command", None))))
+    try:
+        for flag in OUTPUT_FLAGS:
+            path = getattr(args, flag, None)
+            if path not in (None, "-"):
+                check_output_path(path, "--" + flag)
+        result = args.func(args)
+        if getattr(args, "json", None) is not None:
+            write_json(args.json, result)
+    except InputError as exc:
+        sys.stderr.write(f"{where}: error: {exc}\n")
+        return 2
+    except ConvergenceError as exc:
+        sys.stderr.write(f"{where}: solver failed: {exc}\n")
+        return 3
+    return 0
