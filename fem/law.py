@@ -20,7 +20,7 @@ is a rigid plate translated by u along x (no tilt, D = W = 0 there); D = W = 0
 on the axis. No mode-1 normal traction is transmitted (Mindlin's assumption:
 no normal-tangential coupling).
 
-Displacement measure (DESIGN.md sec. 4). The law's ``u`` is the x translation
+Displacement measure (docs/design.md, section 4). The law's ``u`` is the x translation
 of the indenter's top plate relative to the clamped block bottom: it contains
 the tangential compliance of the finite bodies, which a half-space (MDR, Mindlin)
 does not have. Far from the contact this extra compliance responds to the

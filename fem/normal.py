@@ -33,7 +33,7 @@ the penalty error (relative penetration).
 Half-space-comparable indentation. Half-space theory (Hertz, MDR) measures the
 approach between points far inside two semi-infinite bodies. The FE bodies
 are finite, so their approach ``delta`` also contains the compliance of the
-bulk (block height, indenter cap, clamping). Following the prototype (NOTES.md),
+bulk (block height, indenter cap, clamping). Following docs/design.md (section 4),
 the FE axial displacements are read at two probe points on the axis at depth
 z0 (default 20 a_ref) inside each body, where the field is still the
 half-space field up to a rigid shift, and the half-space (Boussinesq)

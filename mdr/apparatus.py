@@ -2,7 +2,7 @@
 
 Reconstruction of the hybrid model of Willert, Machines 11 (2023) 484, Section 3
 (whose equations and Figure 3 are missing from our copy), from its text, Table 1
-and the project's DESIGN.md section 5. Every assumption beyond the paper's text
+and docs/design.md, section 5. Every assumption beyond the paper's text
 is listed here and in the README; ``sensitivity`` measures its effect.
 
 Degrees of freedom (x, the fretting direction): indenter foundation u_1, block

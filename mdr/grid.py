@@ -24,7 +24,7 @@ from .errors import InputError, positive, positive_int
 from .profiles import FlatPunch, Profile
 
 #: default number of cells; gives < 1e-4 relative error in the dissipation (see
-#: tests/test_mdr_convergence.py and benchmarks/bench_mdr.py)
+#: tests/test_mdr_tangential.py, the README table, and benchmarks/bench_mdr.py)
 DEFAULT_CELLS = 400
 
 

@@ -46,6 +46,8 @@ Physical groups (names used everywhere): indenter: ``axis``, ``contact``,
 """
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import os
 import secrets
@@ -319,7 +321,8 @@ def generate_meshio(params: AxisymMeshParams):
             gmsh.write(path)
         finally:
             gmsh.finalize()
-        return meshio.read(path)
+        with contextlib.redirect_stdout(io.StringIO()):  # meshio's gmsh reader prints a blank line
+            return meshio.read(path)
 
 
 # ------------------------------------------------------------ meshio -> skfem
