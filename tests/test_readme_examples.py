@@ -44,9 +44,6 @@ def _outputs(cmd):
 
 
 COMMANDS = _commands()
-# the "FE normal contact" section belongs to the CLI rework of issue 12 (fem normal --json
-# optional), done on another branch: its examples are expected to move under results/ there
-OTHER_BRANCH = "FE normal contact"
 
 
 def test_the_readme_has_examples():
@@ -57,9 +54,7 @@ def _under_results(cmd):
     return all(p == "-" or p == "results" or p.startswith("results/") for _, p in _outputs(cmd))
 
 
-@pytest.mark.parametrize("section,cmd", [
-    pytest.param(s, c, marks=pytest.mark.xfail(reason="examples rewritten with the fem CLI rework", strict=False))
-    if s.startswith(OTHER_BRANCH) and not _under_results(c) else (s, c) for s, c in COMMANDS if _outputs(c)])
+@pytest.mark.parametrize("section,cmd", [(s, c) for s, c in COMMANDS if _outputs(c)])
 def test_examples_write_under_results(section, cmd):
     assert _under_results(cmd), (_outputs(cmd), cmd)
 
