@@ -158,3 +158,32 @@ def test_tolerances_hold_for_bodies_of_ten_radii(full):
             assert abs(r["dissipation_vs_default"]) < 0.005 and abs(r["contact_radius_vs_default"]) < 0.002
     # and not below: a block of 3 contact radii (README: -2.4 % dissipation)
     assert -0.048 < rows["block 3 a"]["dissipation_vs_default"] < -0.012
+
+
+def _pct(r, q):
+    """MDR - FE of a scalar metric in % of its README reference (FE contact radius or dissipation)."""
+    v = r["verdicts"][q]
+    ref = r["fem"]["contact_radius"] if q != "dissipation" else abs(v["fem"])
+    return 100 * v["difference"] / ref, 100 * v["fem_error"] / ref
+
+
+def test_readme_catalogue_table(full):
+    """The README's table "What the full catalogue shows", each bound with a 2.5x margin."""
+    _, _, sc = full
+    d, e = _pct(sc["sphere-md"], "dissipation")
+    assert -0.28 < d < 0 and e < 0.95
+    for name in ("geom-sphere", "geom-b5um", "geom-b10um", "geom-b20um"):
+        r = sc[name]
+        assert abs(_pct(r, "contact_radius")[0]) < 0.175 and _pct(r, "contact_radius")[1] < 1.5, name
+        assert abs(_pct(r, "stick_radius")[0]) < 0.3 and _pct(r, "stick_radius")[1] < 2.0, name
+        assert -0.3 < _pct(r, "dissipation")[0] < 0.0 and _pct(r, "dissipation")[1] < 1.25, name
+    for name in ("geom-b30um", "geom-b50um"):
+        assert abs(_pct(sc[name], "contact_radius")[0]) < 0.1 and abs(_pct(sc[name], "stick_radius")[0]) < 0.7, name
+    for name in ("geom-b100um", "geom-flat", "flat-md"):
+        assert abs(_pct(sc[name], "contact_radius")[0]) < 0.025 and abs(_pct(sc[name], "stick_radius")[0]) < 0.0025
+        assert sc[name]["verdicts"]["dissipation"]["difference"] == 0.0 or name == "geom-b100um"
+    for name in ("exp-fig4", "exp-fig5", "exp-fig6", "exp-fig7", "app-kx1", "app-kx2", "app-kx10", "app-kx20"):
+        r = sc[name]
+        assert abs(_pct(r, "contact_radius")[0]) < 0.15, name
+        assert 0 < _pct(r, "dissipation")[0] < 0.65 and _pct(r, "dissipation")[1] < 0.075, name
+        assert abs(r["mdr"]["slip_index"] - r["fem"]["slip_index"]) < 0.0025, name
