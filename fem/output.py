@@ -37,13 +37,14 @@ def stress_mode1(basis, u, E, nu) -> dict:
     cos(theta), ``srt, stz`` sin(theta) (Pa per unit load of the field ``u`` = (S, D, W))."""
     from .mode1 import strain_mode1
 
-    lam, mu = lame(E, nu)
+    lame_lambda, lame_mu = lame(E, nu)
     uf = basis.interpolate(u)
     r = basis.mapping.F(basis.quadrature[0])[0]
     err, ezz, ett, erz, ert, etz = strain_mode1(uf, r)
     tr = err + ezz + ett
-    return {"srr": lam * tr + 2 * mu * err, "szz": lam * tr + 2 * mu * ezz, "stt": lam * tr + 2 * mu * ett,
-            "srz": 2 * mu * erz, "srt": 2 * mu * ert, "stz": 2 * mu * etz}
+    return {"srr": lame_lambda * tr + 2 * lame_mu * err, "szz": lame_lambda * tr + 2 * lame_mu * ezz,
+            "stt": lame_lambda * tr + 2 * lame_mu * ett,
+            "srz": 2 * lame_mu * erz, "srt": 2 * lame_mu * ert, "stz": 2 * lame_mu * etz}
 
 
 def _mises(srr, szz, stt, srz):
