@@ -57,11 +57,10 @@ from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
 from meshes.axisym import H_CONTACT_DEFAULT
 
-from .axisym import boundary_nodes
 from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
 from .condense import Condensation
 from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
-from .mode1 import node_dofs_mode1, stiffness_mode1
+from .mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
 from .model import build_model
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
 from .solvers import blas_threads
@@ -187,13 +186,10 @@ class FEContact:
             mesh = bodies[name].mesh
             K, basis = stiffness_mode1(mesh, E, nu)
             dofs = node_dofs_mode1(basis)
-            ax = boundary_nodes(mesh, "axis")
-            fixed = [dofs[1, ax], dofs[2, ax]]
-            clamp = boundary_nodes(mesh, "top" if name == "indenter" else "bottom")
-            fixed.append(dofs[:, clamp].ravel())
+            fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
             nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
             pnodes, wts = axis_point(mesh, z)
-            cond = Condensation(K, np.unique(np.concatenate(fixed)), dofs[0, nodes],
+            cond = Condensation(K, fixed, dofs[0, nodes],
                                 probe_dofs=dofs[0, pnodes], backend=backend)
             rows[name] = wts @ cond.P
             out[name] = (K, basis, dofs, cond)

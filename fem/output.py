@@ -12,7 +12,8 @@ from skfem import Basis, ElementTriP2
 
 from meshes import export_vtu
 
-from .axisym import lame, node_dofs, stress_mode0
+from .axisym import node_dofs, stress_mode0
+from .mode1 import node_dofs_mode1, stress_mode1
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
 
@@ -32,21 +33,6 @@ def _nodal_average(mesh, quadrature, values: dict) -> dict:
     return out
 
 
-def stress_mode1(basis, u, E, nu) -> dict:
-    """Mode-1 stress amplitudes at the quadrature points: ``srr, szz, stt, srz`` multiply
-    cos(theta), ``srt, stz`` sin(theta) (Pa per unit load of the field ``u`` = (S, D, W))."""
-    from .mode1 import strain_mode1
-
-    lame_lambda, lame_mu = lame(E, nu)
-    uf = basis.interpolate(u)
-    r = basis.mapping.F(basis.quadrature[0])[0]
-    err, ezz, ett, erz, ert, etz = strain_mode1(uf, r)
-    tr = err + ezz + ett
-    return {"srr": lame_lambda * tr + 2 * lame_mu * err, "szz": lame_lambda * tr + 2 * lame_mu * ezz,
-            "stt": lame_lambda * tr + 2 * lame_mu * ett,
-            "srz": 2 * lame_mu * erz, "srt": 2 * lame_mu * ert, "stz": 2 * lame_mu * etz}
-
-
 def _mises(srr, szz, stt, srz):
     return np.sqrt(0.5 * ((srr - szz) ** 2 + (szz - stt) ** 2 + (stt - srr) ** 2) + 3.0 * srz**2)
 
@@ -62,9 +48,6 @@ def fretting_fields(law, state, F_N) -> dict:
     x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa).
     Assumes linear elasticity (superposition) and the law's small-sliding pairing.
     """
-    from .axisym import node_dofs
-    from .mode1 import node_dofs_mode1
-
     model = law.model
     it = model.interface
     res = law.normal(F_N=float(F_N))
