@@ -59,7 +59,7 @@ from meshes.axisym import H_CONTACT_DEFAULT
 
 from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
 from .condense import Condensation
-from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
+from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
 from .mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
 from .model import build_model
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
@@ -383,8 +383,7 @@ class FEContact:
             free = (sgn == 0) & contact
             slope = float(np.sum(sla.cho_solve(self._fac.get(free), np.ones(int(free.sum())),
                                                check_finite=False))) if np.any(free) else 0.0
-        p_new = np.where(contact, s - (T - lbar) / k, s)
-        work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
+        p_new, work = slip_update(s, T, lbar, k, contact, p_old)
         w = self.model.interface.w
         slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
         slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
