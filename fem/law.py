@@ -31,7 +31,7 @@ plane, which preserves areas: under force control the dissipation, the stick
 radius and the force history equal the half-space ones; under displacement
 control a loop of plate amplitude u_A is the half-space loop of amplitude
 u_A - c_bulk Fx_A. c_bulk is measured as the normal indentation's bulk
-correction is (``fem.normal``): FE x displacements at axis probes in both
+correction is (``fem.bulk.normal_indentation``): FE x displacements at axis probes in both
 bodies plus Cerruti's half-space displacement there for the FE's own pair
 forces; the definition, its probe depth and its measured mesh and F_N
 dependence are in ``fem.bulk`` (the only place). It uses no half-space contact
@@ -57,7 +57,7 @@ from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
 from meshes.axisym import H_CONTACT_DEFAULT
 
-from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
+from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
 from .condense import Condensation
 from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
 from .mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
@@ -276,7 +276,7 @@ class FEContact:
         ``fem.bulk``); F_N <= 0 (no contact) leaves u unchanged."""
         F_N = np.asarray(F_N, dtype=float)
         cb = np.vectorize(lambda f: self.bulk_compliance(f) if f > 0 else 0.0)(F_N)
-        return np.asarray(u, dtype=float) - cb * np.asarray(Fx, dtype=float)
+        return contact_from_plate(np.asarray(u, dtype=float), np.asarray(Fx, dtype=float), cb)
 
     def normal(self, *, F_N=None, d=None):
         """Mode-0 normal result at force F_N (> 0) or plate approach d (> 0), cached."""

@@ -13,6 +13,7 @@ from skfem import Basis, ElementTriP2
 from meshes import export_vtu
 
 from .axisym import node_dofs, stress_mode0
+from .bulk import plate_from_contact
 from .mode1 import node_dofs_mode1, stress_mode1
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
@@ -53,7 +54,7 @@ def fretting_fields(law, state, F_N) -> dict:
     res = law.normal(F_N=float(F_N))
     base = nodal_fields(model, res)
     T = np.asarray(state.T, dtype=float)
-    u_plate = float(state.u) + law.c_bulk * float(T.sum())  # law.u may exclude the bulk compliance
+    u_plate = plate_from_contact(float(state.u), float(T.sum()), law.c_bulk)  # law.u may exclude c_bulk
     out = {k: {} for k in ("u_x0", "u_x180", "mises_x0", "mises_x180")}
     for name in ("indenter", "block"):
         _, basis, dofs, cond = law.mode1[name]
