@@ -1,9 +1,32 @@
-"""Half-space-comparable tangential displacement of the FE model (the bodies' bulk compliance).
+"""Half-space-comparable displacements of the FE model: the finite bodies' bulk compliance
+removed, normal and tangential (the one home of both corrections).
 
+Normal indentation (:func:`normal_indentation`, called by ``fem.normal.solve_normal``).
+Half-space theory (Hertz, MDR) measures the
+approach between points far inside two semi-infinite bodies. The FE bodies
+are finite, so their approach ``delta`` also contains the compliance of the
+bulk (block height, indenter cap, clamping). Following docs/design.md (section 4),
+the FE axial displacements are read at two probe points on the axis at depth
+z0 (default 20 a_ref) inside each body, where the field is still the
+half-space field up to a rigid shift, and the half-space (Boussinesq)
+displacement of those points is added back:
+
+    d_hs = [u_z,block(0, -z0) - u_z,indenter(0, +z0)] + w_1(z0) + w_2(z0),
+    w_j(z0) = sum_i lam_i (1 + nu_j) / (2 pi E_j rho_i) [2 (1 - nu_j) + z0^2 / rho_i^2],
+    rho_i = sqrt(r_i^2 + z0^2),
+
+i.e. the Boussinesq (1885) point-load solution summed over the FE pair forces
+(Johnson, *Contact Mechanics*, CUP 1985, eq. 3.21). The relative approach of the
+probes removes everything outside the slab |z| < z0; the Boussinesq term puts
+back what two half-spaces would add below the probes. A rigid indenter has
+w_1 = 0 and u_z,indenter = -delta.
+
+Tangential displacement (:class:`BulkProbe`, :func:`bulk_probe`, used by ``fem.law``;
+:func:`contact_from_plate` / :func:`plate_from_contact` convert between the two measures).
 The FE law's plate displacement u (indenter top plate relative to the clamped
 block bottom, ``fem.law``) contains the tangential compliance of the finite
 bodies, which a half-space law (Mindlin, MDR) does not have. As for the normal
-indentation (``fem.normal``: probes plus Boussinesq), it is removed with probe
+indentation (above: probes plus Boussinesq), it is removed with probe
 points and a half-space Green's function, never with the half-space contact
 stiffness:
 
@@ -81,6 +104,48 @@ from .axisym import facet_nodes, node_coords
 
 #: probe depth / a_ref of the tangential bulk correction (see module docstring)
 DEFAULT_PROBE_DEPTH = 1.5
+
+
+def boussinesq_axis(lam, r, z, E, nu):
+    """Axial displacement (m, towards the body) at depth z on the axis of a half-space
+    loaded by normal ring forces lam_i (N) at radii r_i (Boussinesq 1885)."""
+    rho = np.sqrt(r**2 + z**2)
+    return float(np.sum(lam * (1.0 + nu) / (2.0 * np.pi * E * rho) * (2.0 * (1.0 - nu) + z**2 / rho**2)))
+
+
+def normal_indentation(model, lam, delta) -> tuple[float, dict]:
+    """Half-space-comparable indentation d_hs (m) of a normal solution of ``model``
+    (``fem.model.TwoBodyModel``-like: probe rows ``P_blk``/``P_ind``, ``probe_depth``)
+    with pair forces ``lam`` (N) and plate approach ``delta`` (m): the probes' relative
+    approach plus Boussinesq below them (module docstring). Returns ``(d_hs, probe)``,
+    ``probe`` the readings (``z0``, ``u_indenter``, ``u_block``, ``w_halfspace_*``)."""
+    it = model.interface
+    z0 = model.probe_depth
+    m = model.materials
+    u_blk = float(model.P_blk @ lam)
+    if model.rigid_indenter:
+        u_ind = -delta
+        w1 = 0.0
+    else:
+        u_ind = -delta + float(model.P_ind @ lam)
+        w1 = boussinesq_axis(lam, it.r, z0, m.E1, m.nu1)
+    w2 = boussinesq_axis(lam, it.r, z0, m.E2, m.nu2)
+    d_hs = u_blk - u_ind + w1 + w2
+    probe = {"z0": z0, "u_indenter": u_ind, "u_block": u_blk, "w_halfspace_indenter": w1,
+             "w_halfspace_block": w2}
+    return d_hs, probe
+
+
+def contact_from_plate(u, Fx, c_bulk):
+    """Half-space-comparable (contact) displacement of a plate displacement ``u`` carrying the
+    tangential force ``Fx``: ``u - c_bulk Fx`` (the bodies' series compliance removed)."""
+    return u - c_bulk * Fx
+
+
+def plate_from_contact(u, Fx, c_bulk):
+    """Plate displacement of a contact displacement ``u`` carrying ``Fx``: ``u + c_bulk Fx``
+    (the inverse of :func:`contact_from_plate`)."""
+    return u + c_bulk * Fx
 
 
 def cerruti_axis(r, L, G, nu):

@@ -131,6 +131,22 @@ def solve_increment(M, fac, b, g, k, sgn0, *, u=None, F=None, max_iter=60):
     return _projected_newton(M, fac, b, g, k, u, np.clip(T, -g, g), max_iter, it)
 
 
+def slip_update(s, T, lbar, k, contact, p_old):
+    """Plastic slip and friction work after a converged increment of :func:`solve_increment`.
+
+    ``s``: relative tangential displacements ``u 1 - Ct T`` (module docstring), ``T`` the
+    pair forces, ``lbar`` the augmented-Lagrangian multipliers of the last pass, ``k`` the
+    penalty stiffnesses, ``contact`` the pairs with a slip limit g > 0, ``p_old`` the slip of
+    the previous step. Returns ``(p_new, work)``: the penalty law's elastic part removed,
+    ``p_new = s - (T - lbar)/k`` in contact (the pair's new plastic slip), ``p_new = s`` out of
+    contact (a free pair follows the relative displacement); ``work`` the friction work of the
+    increment, the sum over the contact pairs of the positive parts of ``T (p_new - p_old)`` (J).
+    """
+    p_new = np.where(contact, s - (T - lbar) / k, s)
+    work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
+    return p_new, work
+
+
 def _projected_newton(M, fac, b, g, k, u, T, max_iter, it0):
     """Projected Newton (Bertsekas, SIAM J. Control Optim. 20 (1982) 221) for the box QP at
     fixed u: Newton steps on the pairs not held at a bound by the gradient, projected Armijo

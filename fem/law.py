@@ -31,7 +31,7 @@ plane, which preserves areas: under force control the dissipation, the stick
 radius and the force history equal the half-space ones; under displacement
 control a loop of plate amplitude u_A is the half-space loop of amplitude
 u_A - c_bulk Fx_A. c_bulk is measured as the normal indentation's bulk
-correction is (``fem.normal``): FE x displacements at axis probes in both
+correction is (``fem.bulk.normal_indentation``): FE x displacements at axis probes in both
 bodies plus Cerruti's half-space displacement there for the FE's own pair
 forces; the definition, its probe depth and its measured mesh and F_N
 dependence are in ``fem.bulk`` (the only place). It uses no half-space contact
@@ -57,11 +57,10 @@ from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
 from meshes.axisym import H_CONTACT_DEFAULT
 
-from .axisym import boundary_nodes
-from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe
+from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
 from .condense import Condensation
-from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, solve_increment
-from .mode1 import node_dofs_mode1, stiffness_mode1
+from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
+from .mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
 from .model import build_model
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
 from .solvers import blas_threads
@@ -187,13 +186,10 @@ class FEContact:
             mesh = bodies[name].mesh
             K, basis = stiffness_mode1(mesh, E, nu)
             dofs = node_dofs_mode1(basis)
-            ax = boundary_nodes(mesh, "axis")
-            fixed = [dofs[1, ax], dofs[2, ax]]
-            clamp = boundary_nodes(mesh, "top" if name == "indenter" else "bottom")
-            fixed.append(dofs[:, clamp].ravel())
+            fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
             nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
             pnodes, wts = axis_point(mesh, z)
-            cond = Condensation(K, np.unique(np.concatenate(fixed)), dofs[0, nodes],
+            cond = Condensation(K, fixed, dofs[0, nodes],
                                 probe_dofs=dofs[0, pnodes], backend=backend)
             rows[name] = wts @ cond.P
             out[name] = (K, basis, dofs, cond)
@@ -280,7 +276,7 @@ class FEContact:
         ``fem.bulk``); F_N <= 0 (no contact) leaves u unchanged."""
         F_N = np.asarray(F_N, dtype=float)
         cb = np.vectorize(lambda f: self.bulk_compliance(f) if f > 0 else 0.0)(F_N)
-        return np.asarray(u, dtype=float) - cb * np.asarray(Fx, dtype=float)
+        return contact_from_plate(np.asarray(u, dtype=float), np.asarray(Fx, dtype=float), cb)
 
     def normal(self, *, F_N=None, d=None):
         """Mode-0 normal result at force F_N (> 0) or plate approach d (> 0), cached."""
@@ -387,8 +383,7 @@ class FEContact:
             free = (sgn == 0) & contact
             slope = float(np.sum(sla.cho_solve(self._fac.get(free), np.ones(int(free.sum())),
                                                check_finite=False))) if np.any(free) else 0.0
-        p_new = np.where(contact, s - (T - lbar) / k, s)
-        work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
+        p_new, work = slip_update(s, T, lbar, k, contact, p_old)
         w = self.model.interface.w
         slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
         slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)

@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, asm
 
-from .axisym import lame, node_coords
+from .axisym import boundary_nodes, lame, node_coords
 
 
 def strain_mode1(u, r):
@@ -82,6 +82,29 @@ def stiffness_mode1(mesh, E, nu, intorder: int = 4):
     basis = vector_basis_mode1(mesh, intorder=intorder)
     lame_lambda, lame_mu = lame(E, nu)
     return asm(elasticity_mode1(lame_lambda, lame_mu), basis).tocsr(), basis
+
+
+def fixed_dofs_mode1(mesh, basis, clamped: str) -> np.ndarray:
+    """Dirichlet DOFs of one body in mode 1 (sorted, unique): D = W = 0 on the axis
+    (regularity, module docstring) and S = D = W = 0 on the ``clamped`` face (the
+    indenter's "top", moved rigidly by the plate displacement, or the block's "bottom")."""
+    dofs = node_dofs_mode1(basis)
+    ax = boundary_nodes(mesh, "axis")
+    clamp = boundary_nodes(mesh, clamped)
+    return np.unique(np.concatenate([dofs[1, ax], dofs[2, ax], dofs[:, clamp].ravel()]))
+
+
+def stress_mode1(basis, u, E, nu) -> dict:
+    """Mode-1 stress amplitudes at the quadrature points: ``srr, szz, stt, srz`` multiply
+    cos(theta), ``srt, stz`` sin(theta) (Pa per unit load of the field ``u`` = (S, D, W))."""
+    lame_lambda, lame_mu = lame(E, nu)
+    uf = basis.interpolate(u)
+    r = basis.mapping.F(basis.quadrature[0])[0]
+    err, ezz, ett, erz, ert, etz = strain_mode1(uf, r)
+    tr = err + ezz + ett
+    return {"srr": lame_lambda * tr + 2 * lame_mu * err, "szz": lame_lambda * tr + 2 * lame_mu * ezz,
+            "stt": lame_lambda * tr + 2 * lame_mu * ett,
+            "srz": 2 * lame_mu * erz, "srt": 2 * lame_mu * ert, "stz": 2 * lame_mu * etz}
 
 
 def rigid_fields(mesh) -> dict:

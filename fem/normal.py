@@ -27,27 +27,12 @@ lbar - k gap until it repeats.
 
 Outputs (``NormalResult``): F_N, the approach ``delta`` (indenter top to block
 bottom, includes the finite bodies' bulk compliance), the half-space-comparable
-indentation (below), nodal pressures p_i = lam_i / w_i, the contact radius and
+indentation (``fem.bulk``), nodal pressures p_i = lam_i / w_i, the contact radius and
 the penalty error (relative penetration).
 
-Half-space-comparable indentation. Half-space theory (Hertz, MDR) measures the
-approach between points far inside two semi-infinite bodies. The FE bodies
-are finite, so their approach ``delta`` also contains the compliance of the
-bulk (block height, indenter cap, clamping). Following docs/design.md (section 4),
-the FE axial displacements are read at two probe points on the axis at depth
-z0 (default 20 a_ref) inside each body, where the field is still the
-half-space field up to a rigid shift, and the half-space (Boussinesq)
-displacement of those points is added back:
-
-    d_hs = [u_z,block(0, -z0) - u_z,indenter(0, +z0)] + w_1(z0) + w_2(z0),
-    w_j(z0) = sum_i lam_i (1 + nu_j) / (2 pi E_j rho_i) [2 (1 - nu_j) + z0^2 / rho_i^2],
-    rho_i = sqrt(r_i^2 + z0^2),
-
-i.e. the Boussinesq (1885) point-load solution summed over the FE pair forces
-(Johnson, *Contact Mechanics*, CUP 1985, eq. 3.21). The relative approach of the
-probes removes everything outside the slab |z| < z0; the Boussinesq term puts
-back what two half-spaces would add below the probes. A rigid indenter has
-w_1 = 0 and u_z,indenter = -delta.
+Half-space-comparable indentation: the approach of two axis probes plus the Boussinesq
+displacement below them, ``fem.bulk.normal_indentation`` (the one home of both bulk
+corrections, normal and tangential).
 
 Contact radius. The nodal spacing is h/2; the edge is located between the
 last loaded node and the next from the pressure profile: near a smooth
@@ -69,6 +54,7 @@ import scipy.linalg as sla
 
 from mdr.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
 
+from .bulk import normal_indentation
 from .solvers import blas_threads
 
 DEFAULT_PENALTY = 100.0
@@ -162,13 +148,6 @@ def _axis_pressure(r, p):
     return float(np.polyval(c, 0.0))
 
 
-def boussinesq_axis(lam, r, z, E, nu):
-    """Axial displacement (m, towards the body) at depth z on the axis of a half-space
-    loaded by normal ring forces lam_i (N) at radii r_i (Boussinesq 1885)."""
-    rho = np.sqrt(r**2 + z**2)
-    return float(np.sum(lam * (1.0 + nu) / (2.0 * np.pi * E * rho) * (2.0 * (1.0 - nu) + z**2 / rho**2)))
-
-
 def penalty_stiffness(penalty, E_star, interface):
     """Penalty stiffness k_i = eps w_i (N/m) of the contact pairs, eps = penalty E* / h (N/m^3):
     the normal pairs here and the tangential ones of ``fem.law`` (the one home of the formula)."""
@@ -224,20 +203,7 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     else:
         a = _edge_radius(it.r, p, lam)
     p0 = _axis_pressure(it.r, p)
-    # half-space-comparable indentation
-    z0 = model.probe_depth
-    m = model.materials
-    u_blk = float(model.P_blk @ lam)
-    if model.rigid_indenter:
-        u_ind = -delta
-        w1 = 0.0
-    else:
-        u_ind = -delta + float(model.P_ind @ lam)
-        w1 = boussinesq_axis(lam, it.r, z0, m.E1, m.nu1)
-    w2 = boussinesq_axis(lam, it.r, z0, m.E2, m.nu2)
-    d_hs = u_blk - u_ind + w1 + w2
-    probe = {"z0": z0, "u_indenter": u_ind, "u_block": u_blk, "w_halfspace_indenter": w1,
-             "w_halfspace_block": w2}
+    d_hs, probe = normal_indentation(model, lam, delta)  # half-space-comparable indentation
     return NormalResult(force=F, approach=float(delta), indentation=float(d_hs), contact_radius=a,
                         r=np.concatenate([[0.0], it.r]), pressure=np.concatenate([[p0], p]), lam=lam,
                         gap=gap, p0=p0, penetration=rel_pen, active=int(np.count_nonzero(lam > 0)),

@@ -12,7 +12,9 @@ from skfem import Basis, ElementTriP2
 
 from meshes import export_vtu
 
-from .axisym import lame, node_dofs, stress_mode0
+from .axisym import node_dofs, stress_mode0
+from .bulk import plate_from_contact
+from .mode1 import node_dofs_mode1, stress_mode1
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
 
@@ -32,20 +34,6 @@ def _nodal_average(mesh, quadrature, values: dict) -> dict:
     return out
 
 
-def stress_mode1(basis, u, E, nu) -> dict:
-    """Mode-1 stress amplitudes at the quadrature points: ``srr, szz, stt, srz`` multiply
-    cos(theta), ``srt, stz`` sin(theta) (Pa per unit load of the field ``u`` = (S, D, W))."""
-    from .mode1 import strain_mode1
-
-    lam, mu = lame(E, nu)
-    uf = basis.interpolate(u)
-    r = basis.mapping.F(basis.quadrature[0])[0]
-    err, ezz, ett, erz, ert, etz = strain_mode1(uf, r)
-    tr = err + ezz + ett
-    return {"srr": lam * tr + 2 * mu * err, "szz": lam * tr + 2 * mu * ezz, "stt": lam * tr + 2 * mu * ett,
-            "srz": 2 * mu * erz, "srt": 2 * mu * ert, "stz": 2 * mu * etz}
-
-
 def _mises(srr, szz, stt, srz):
     return np.sqrt(0.5 * ((srr - szz) ** 2 + (szz - stt) ** 2 + (stt - srr) ** 2) + 3.0 * srz**2)
 
@@ -61,15 +49,12 @@ def fretting_fields(law, state, F_N) -> dict:
     x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa).
     Assumes linear elasticity (superposition) and the law's small-sliding pairing.
     """
-    from .axisym import node_dofs
-    from .mode1 import node_dofs_mode1
-
     model = law.model
     it = model.interface
     res = law.normal(F_N=float(F_N))
     base = nodal_fields(model, res)
     T = np.asarray(state.T, dtype=float)
-    u_plate = float(state.u) + law.c_bulk * float(T.sum())  # law.u may exclude the bulk compliance
+    u_plate = plate_from_contact(float(state.u), float(T.sum()), law.c_bulk)  # law.u may exclude c_bulk
     out = {k: {} for k in ("u_x0", "u_x180", "mises_x0", "mises_x180")}
     for name in ("indenter", "block"):
         _, basis, dofs, cond = law.mode1[name]

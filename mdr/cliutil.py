@@ -11,6 +11,8 @@
   stdout, the default); bad input (``InputError``) exits 2 with
   ``<prog> <command>: error: <message>``, a solver that does not converge
   (``ConvergenceError``) exits 3 with ``<prog> <command>: solver failed: <message>``.
+  A command that writes its own output (``write_result=False``, e.g.
+  ``validation.compare``) returns its exit code instead of a result.
 """
 from __future__ import annotations
 
@@ -37,8 +39,11 @@ def add_output_args(p):
     p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
 
 
-def run_command(parser: argparse.ArgumentParser, argv=None) -> int:
-    """Run the subcommand ``args.func`` of ``parser`` with the exit codes of the module docstring."""
+def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: bool = True) -> int:
+    """Run the subcommand ``args.func`` of ``parser`` with the exit codes of the module docstring.
+
+    ``write_result=False``: ``args.func`` writes its own output and returns the exit code
+    (``None`` = 0) instead of a result to write to ``--json``."""
     args = parser.parse_args(argv)
     where = " ".join(filter(None, (parser.prog, getattr(args, "command", None))))
     try:
@@ -47,6 +52,8 @@ def run_command(parser: argparse.ArgumentParser, argv=None) -> int:
             if path not in (None, "-"):
                 check_output_path(path, "--" + flag)
         result = args.func(args)
+        if not write_result:
+            return result or 0
         if getattr(args, "json", None) is not None:
             write_json(args.json, result)
     except InputError as exc:

@@ -28,6 +28,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from .errors import InputError, nonnegative, positive, positive_int
+from .solve import bisect_increasing
 
 # 8-point Gauss-Legendre rule on [0, 1]
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(8)
@@ -95,21 +96,13 @@ class Profile:
         return total + np.where(x > lo, self.cell_integral(lo, np.maximum(x, lo)), 0.0)
 
     def g_inv(self, d, hi=None):
-        """Contact radius ``a`` with g(a) = d (bisection + secant; vectorised)."""
+        """Contact radius ``a`` with g(a) = d (bisection, ``mdr.solve.bisect_increasing``; vectorised)."""
         d = np.asarray(d, dtype=float)
         if hi is None:
             hi = self.x_limit
         lo = np.zeros(np.broadcast_shapes(d.shape, np.shape(hi)))
         hi = np.broadcast_to(np.asarray(hi, dtype=float), lo.shape).copy()
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            gm = self.g(mid)
-            below = gm < d
-            lo = np.where(below, mid, lo)
-            hi = np.where(below, hi, mid)
-            if np.all(hi - lo <= 1e-15 * np.maximum(hi, 1e-30)):
-                break
-        return 0.5 * (lo + hi)
+        return bisect_increasing(self.g, d, lo, hi, rtol=1e-15, max_iter=200)
 
     @property
     def batch_shape(self) -> tuple:
@@ -366,13 +359,8 @@ class GeneralProfile(Profile):
                              f"profile's sampled radius r_max={self._r[-1]:.4g} m; give a larger r_max")
         j = np.clip(np.searchsorted(self._gtab, d), 1, len(self._r) - 1)
         lo, hi_ = self._r[j - 1], self._r[j]
-        # bisection on the bracketing interval of the table, then exact to roundoff
-        for _ in range(60):
-            mid = 0.5 * (lo + hi_)
-            below = self._interp(mid) < d
-            lo = np.where(below, mid, lo)
-            hi_ = np.where(below, hi_, mid)
-        return 0.5 * (lo + hi_)
+        # bisection on the bracketing interval of the table, exact to roundoff
+        return bisect_increasing(self._interp, d, lo, hi_, rtol=0.0, max_iter=60)
 
     def describe(self):
         return {"profile": "general", "r_max": float(self._r[-1]), "samples": int(self._r.size)}

@@ -1,10 +1,19 @@
-"""Safeguarded Newton iteration for monotone scalar equations, vectorised.
+"""Root finding for monotone scalar equations, vectorised (the one home of the project's
+root finders).
 
-Used wherever an equilibrium reduces to one monotone equation per scene: a
-tangential force prescribed on a contact law, or the apparatus equilibrium.
-The functions involved are piecewise linear (spring cells sticking or
-slipping), for which Newton terminates exactly once it lands on the right
-piece; a bracket that shrinks every iteration makes it robust.
+- :func:`solve_increasing`: safeguarded Newton, for a function with a slope. Used
+  wherever an equilibrium reduces to one monotone equation per scene: a tangential
+  force prescribed on a contact law, or the apparatus equilibrium. The functions
+  involved are piecewise linear (spring cells sticking or slipping), for which Newton
+  terminates exactly once it lands on the right piece; a bracket that shrinks every
+  iteration makes it robust.
+- :func:`bisect_increasing`: bisection, for a function without a slope (a profile's
+  contact radius from its approach, ``mdr.profiles``).
+
+Solvers tied to one problem stay with it: the FE friction's force-control fallback
+(``fem.friction._force_by_secant``: regula falsi on a sum of return-map solves, with its
+bracket expanded from the return map's own scales) and the semi-smooth Newton methods of
+the FE contact problems (``fem.normal``, ``fem.friction``).
 """
 from __future__ import annotations
 
@@ -42,3 +51,18 @@ def solve_increasing(fun, target, lo, hi, x0=None, atol=0.0, xtol=0.0, max_iter=
     worst = float(np.max(np.abs(f - target)))
     raise ConvergenceError(f"{what}: safeguarded Newton did not converge in {max_iter} iterations "
                            f"(worst residual {worst:.3e}, tolerance {float(np.max(atol)):.3e})")
+
+
+def bisect_increasing(fun, target, lo, hi, rtol=0.0, max_iter=200):
+    """Solve fun(x) = target for nondecreasing ``fun`` (values only) by bisection on [lo, hi],
+    elementwise. Stops when every bracket is below ``rtol`` times its upper end (floored at
+    1e-30; ``rtol=0``: until the brackets collapse to round-off) or after ``max_iter``
+    halvings, and returns the brackets' midpoints (no error: the caller's bracket decides)."""
+    for _ in range(max_iter):
+        mid = 0.5 * (lo + hi)
+        below = fun(mid) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+        if np.all(hi - lo <= rtol * np.maximum(hi, 1e-30)):
+            break
+    return 0.5 * (lo + hi)

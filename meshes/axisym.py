@@ -20,7 +20,7 @@ at the origin; all lengths in m):
   Its top surface r <= ``r_contact`` is the block's contact curve.
 - Both axes are split at the *probe depth* ``probe_depth`` (a node at (0, +-z0)),
   where the FE model measures the axial displacement used to remove the finite
-  bodies' bulk compliance (see ``fem.normal``).
+  bodies' bulk compliance (see ``fem.bulk``).
 
 Mesh size: the contact curves are meshed uniformly with ``h_min = h_contact *
 a_ref`` (transfinite curves, identical node counts on both bodies so that the

@@ -20,7 +20,7 @@ Exit codes: 0 all scenes ran, 1 a scene failed (the others are reported),
 from __future__ import annotations
 
 import argparse
-import concurrent.futures as cf
+import concurrent.futures as futures
 import glob
 import multiprocessing
 import os
@@ -32,6 +32,7 @@ import time
 import traceback
 from pathlib import Path
 
+from mdr.cliutil import OneLineParser, run_command
 from mdr.errors import ConvergenceError, InputError, positive_int
 
 from . import report
@@ -146,7 +147,7 @@ def _summary(res) -> str:
             + (f" ({', '.join(failed)} beyond error bars + tolerance)" if failed else ""))
 
 
-def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, force: bool = False,
+def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int = 1, force: bool = False,
             fields: bool = True, log=print, detail=True) -> dict:
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
 
@@ -172,7 +173,7 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
     if executor is None and jobs > 1 and n > 1:
         # spawn, not fork: a forked child of a process whose BLAS, gmsh or VTK threads hold a
         # lock deadlocks (seen under pytest); spawned workers import afresh (~1 s each)
-        executor = own = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
+        executor = own = futures.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
     try:
         if executor is None:
             for i, (s, fp) in enumerate(todo, 1):
@@ -186,7 +187,7 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
         else:
             futs = {executor.submit(_work, s, out, fp, fields, False): s for s, fp in todo}
             log(f"running {n} scene(s) on {jobs if own else 'the given'} executor workers")
-            for i, f in enumerate(cf.as_completed(futs), 1):
+            for i, f in enumerate(futures.as_completed(futs), 1):
                 s = futs[f]
                 try:
                     msg = f.result()
@@ -203,8 +204,6 @@ def run_all(scenes, out, *, executor: cf.Executor | None = None, jobs: int = 1, 
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from mdr.cli import OneLineParser
-
     p = OneLineParser(
         prog="python -m validation.compare",
         description="Run the scene catalogue through the MDR and FE contact models and write a report "
@@ -219,25 +218,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-fields", action="store_true", help="skip the pyvista field plots")
     p.add_argument("--no-hard-cases", action="store_true", help="skip the hard-cases table")
     p.add_argument("--list", action="store_true", help="list the scenes and exit")
+    p.set_defaults(func=compare)
     return p
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    try:
-        jobs = positive_int("jobs", args.jobs)
-        if args.list:
-            for s in CATALOGUE.values():
-                print(f"{s.name:16s} {'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
-            return 0
-        scenes = select(args.scenes, quick=args.quick)
-        out = Path(args.out)
-        if out.exists() and not out.is_dir():
-            raise InputError(f"out must be a directory, got the file {out}")
-    except InputError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return 2
+    """The command line: exit 0, 1 if a scene failed, 2 on bad input (``mdr.cliutil.run_command``)."""
+    return run_command(build_parser(), argv, write_result=False)
+
+
+def compare(args) -> int:
+    """Run the selected scenes and write the report (the body of :func:`main`); returns the exit code."""
+    jobs = positive_int("jobs", args.jobs)
+    if args.list:
+        for s in CATALOGUE.values():
+            print(f"{s.name:16s} {'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
+        return 0
+    scenes = select(args.scenes, quick=args.quick)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"out must be a directory, got the file {out}")
     t0 = time.perf_counter()
     # progress goes to stderr when the JSON goes to stdout
     stream = sys.stderr if args.json == "-" else sys.stdout
