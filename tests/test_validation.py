@@ -255,3 +255,19 @@ def test_json_to_stdout_keeps_stdout_clean(quick_report, capsys):
     data = json.loads(cap.out)
     assert data["status"] == {"sphere-md": "skipped"} and "sphere-md" in data["scenes"]
     assert "[skip] sphere-md" in cap.err
+
+
+def test_report_module_makes_no_solver_calls():
+    """report.py only reads stored results: it neither imports the hard cases nor calls a runner."""
+    import ast
+
+    from validation import report
+
+    tree = ast.parse(Path(report.__file__).read_text())
+    imported = {a.name for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom)) for a in n.names}
+    imported |= {n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    assert not any("hard_cases" in m or m.startswith("fem") for m in imported), imported
+    called = {n.func.id if isinstance(n.func, ast.Name) else getattr(n.func, "attr", "")
+              for n in ast.walk(tree) if isinstance(n, ast.Call)}
+    assert not called & {"hard_cases", "run_scene", "write_scene", "run_fe", "run_mdr", "run_contact",
+                         "run_apparatus", "solve_normal"}, called

@@ -250,7 +250,9 @@ def compare(args) -> int:
         status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields, log=say)
         hard = None
         if not args.no_hard_cases:
-            hard = report.hard_cases_cached(out, quick=args.quick, log=say)
+            from .hard_cases import hard_cases_cached
+
+            hard = hard_cases_cached(out, quick=args.quick, log=say)
         say("writing the report and the summary figures")
         path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
                                    quick=args.quick)

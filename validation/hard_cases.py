@@ -653,3 +653,31 @@ if __name__ == "__main__":  # pragma: no cover
         it = "-" if r["iterations"] is None else f"{r['iterations']:.3g}"
         print(f"{r['status']:8s} {r['model']:4s} {r['name'][:55]:55s} err {err:9s} it {it:5s} "
               f"{r['time_s']:6.2f}s  {r['note']}")
+
+
+def hard_cases_cached(out, quick: bool, log=print):
+    """Rows of :func:`hard_cases`, stored in ``out`` per code version (a rerun with unchanged
+    code reads them back); ``log`` reports each phase and case."""
+    import json
+    from pathlib import Path
+
+    from mdr.io import write_json
+
+    from .scenes import code_version
+
+    out = Path(out)
+    path = out / ("hard_cases_quick.json" if quick else "hard_cases.json")
+    version = code_version()
+    try:
+        stored = json.loads(path.read_text())
+        if stored.get("code") == version:
+            log("[skip] hard cases: unchanged since the last run")
+            return stored["rows"]
+    except (OSError, ValueError, KeyError):
+        pass
+    log(f"hard cases ({'quick' if quick else 'full'}) ...")
+    t0 = time.perf_counter()
+    rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))
+    log(f"hard cases done in {time.perf_counter() - t0:.0f} s")
+    write_json(path, {"code": version, "rows": rows})
+    return rows

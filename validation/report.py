@@ -9,10 +9,8 @@ not finite is undetermined, never "holds". The scene verdict is the conjunction.
 """
 from __future__ import annotations
 
-import json
 import os
 import platform
-import time
 from pathlib import Path
 
 from mdr.io import write_bytes_atomic, write_json
@@ -104,30 +102,6 @@ def summary_cell(q, res) -> str:
     d = "-" if v["difference"] is None else ("0" if v["difference"] == 0 else f"{v['difference'] * k:+.2g}")
     return (f"{d} ({_g(v['fem_error'], k, 2)} + {_g(v['mdr_error'], k, 2)} + {_g(v['tolerance'], k, 2)}){unit}: "
             f"{_holds(v['holds'])}")
-
-
-def hard_cases_cached(out, quick: bool, log=print):
-    """Rows of ``validation.hard_cases.hard_cases`` (stored per code version), or None if unavailable."""
-    try:
-        from .hard_cases import hard_cases
-    except ImportError:
-        return None
-    out = Path(out)
-    path = out / ("hard_cases_quick.json" if quick else "hard_cases.json")
-    version = code_version()
-    try:
-        stored = json.loads(path.read_text())
-        if stored.get("code") == version:
-            log("[skip] hard cases: unchanged since the last run")
-            return stored["rows"]
-    except (OSError, ValueError, KeyError):
-        pass
-    log(f"hard cases ({'quick' if quick else 'full'}) ...")
-    t0 = time.perf_counter()
-    rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))
-    log(f"hard cases done in {time.perf_counter() - t0:.0f} s")
-    write_json(path, {"code": version, "rows": rows})
-    return rows
 
 
 def _scene_table(res):
