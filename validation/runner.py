@@ -42,7 +42,6 @@ from . import metrics
 from .scenes import Scene, a_ref
 
 
-
 def materials_of(s: Scene) -> Materials:
     return Materials(s.E1, s.nu1, s.E2, s.nu2)
 
