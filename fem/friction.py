@@ -72,7 +72,6 @@ class _Factors:
 
 def _solve_sets(M, fac, b, g, sgn, u, F):
     """Linear solve for fixed sets: free pairs sgn == 0 (with g > 0), bound T = sgn g."""
-    n = b.size
     T = np.where(sgn != 0, sgn * g, 0.0)
     free = (sgn == 0) & (g > 0)
     if not np.any(free):

@@ -43,7 +43,7 @@ from .axisym import boundary_nodes, lame, node_coords
 
 def strain_mode1(u, r):
     """Strain amplitudes (e_rr, e_zz, e_tt, e_rz, e_rt, e_tz) of a mode-1 field (S, D, W)."""
-    S, D, W = u[0], u[1], u[2]
+    D, W = u[1], u[2]
     gS, gD, gW = u.grad[0], u.grad[1], u.grad[2]
     U_r, U_z = gS[0] + gD[0], gS[1] + gD[1]
     V_r, V_z = gS[0] - gD[0], gS[1] - gD[1]

@@ -12,9 +12,7 @@ from __future__ import annotations
 import time
 import warnings
 
-import numpy as np
-
-from mdr.errors import ConvergenceError, InputError, in_range, positive
+from mdr.errors import ConvergenceError, in_range, positive
 from mdr.materials import Materials
 from mdr.profiles import make_profile
 from mdr.reference import hertz, truncated_contact_radius

@@ -38,7 +38,7 @@ from .errors import InputError, finite, nonnegative, positive
 from .grid import DEFAULT_CELLS, SpringGrid, make_grid
 from .materials import Materials
 from .normal import approach_from_force
-from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
+from .profiles import FlatPunch, Profile, TruncatedSphere
 from .solve import solve_increasing
 from .stick import at_limit, per_step, stick_radius
 
