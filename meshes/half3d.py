@@ -1,0 +1,357 @@
+"""3D half-model (y >= 0) of the block, meshed with gmsh tetrahedra (issue 13, first increment).
+
+Geometry (z is the contact normal, the block below its top face z = 0, the
+contact centred at the origin; all lengths in m):
+
+- ``shape="cylinder"`` (default): the half (y >= 0) of a cylinder of radius
+  ``size`` and height ``height`` (both default 20 ``a_ref``), i.e. the same
+  block as the axisymmetric model of ``meshes.axisym`` cut along its symmetry
+  plane, so the two models can be compared without a finite-body difference.
+- ``shape="box"``: x in [-size, size], y in [0, size], z in [-height, 0].
+
+The candidate contact zone is the half disk r <= ``contact_extent * a_ref``
+(default 1.25 a_ref) of the top face, its own gmsh surface. Tetrahedra are
+graded from ``h_min = h_contact * a_ref`` on that half disk to ``h_max`` far
+away: a gmsh ``Distance`` field from the half disk and a ``Threshold`` field,
+``h = h_min`` on the disk, growing linearly with the distance d,
+``h = h_min + growth * d``, capped at ``h_max``.
+
+Physical groups (names used by ``fem.elastic3d``): surfaces ``contact`` (the
+half disk), ``top`` (the rest of the top face), ``bottom`` (z = -height,
+clamped), ``symmetry`` (y = 0), ``sides`` (the rest); volume ``block``.
+
+Elements: linear tetrahedra from gmsh, returned as a skfem ``MeshTet1`` with
+named boundaries (facet indices); the FE model puts P2 elements
+(``ElementVector(ElementTetP2())``) on it, as the 2D code does with order-1
+meshes: the map stays affine (exact low-order quadrature). On the curved side
+of the cylinder and the rim of the disk the geometry is the faceted one.
+
+Cache: like ``meshes.cache`` (SHA-256 of the resolved parameters, the format
+version and gmsh's major.minor; ``.npz`` written atomically, verified on read),
+file ``<cache_dir>/half3d-<key[:24]>.npz``.
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import time
+import warnings
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mdr.errors import InputError, in_range, positive
+from mdr.io import write_bytes_atomic
+
+from .axisym import _GMSH_LOCK
+from .cache import CacheError, _digest, _gmsh_version, default_cache_dir
+
+SHAPES = ("cylinder", "box")
+GROUPS = ("contact", "top", "bottom", "symmetry", "sides")
+#: bump when the geometry or the stored format changes (part of the cache key)
+MESH3D_FORMAT_VERSION = 1
+#: element size on the contact disk / a_ref: default and allowed range (3D meshes are coarser
+#: than the 2D ones: a/10 already gives ~50k P2 DOFs)
+H_CONTACT_3D_DEFAULT = 0.1
+H_CONTACT_3D_RANGE = (1.0 / 200.0, 0.5)
+
+
+@dataclass(frozen=True)
+class Half3DMeshParams:
+    """All parameters that determine a 3D half-model mesh (SI). Defaults via :meth:`resolved`.
+
+    ``a_ref`` reference contact radius; ``h_contact`` element size on the
+    contact disk as a fraction of it (range ``H_CONTACT_3D_RANGE``);
+    ``contact_extent`` radius of the contact disk / a_ref in (1, 5];
+    ``size`` block radius (cylinder) or half-width (box), ``height`` its depth
+    (default 20 a_ref each, > 2 * contact_extent * a_ref); ``growth`` in
+    [0.02, 1]; ``h_max`` far-field size (default size / 4, >= h_min).
+    """
+
+    a_ref: float
+    h_contact: float = H_CONTACT_3D_DEFAULT
+    contact_extent: float = 1.25
+    shape: str = "cylinder"
+    size: float | None = None
+    height: float | None = None
+    growth: float = 0.3
+    h_max: float | None = None
+
+    def __post_init__(self):
+        if self.shape not in SHAPES:
+            raise InputError(f"shape must be one of {', '.join(SHAPES)}; got {self.shape!r}")
+        positive("a_ref", self.a_ref)
+        in_range("h_contact", self.h_contact, *H_CONTACT_3D_RANGE)
+        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
+        in_range("growth", self.growth, 0.02, 1.0)
+        for name in ("size", "height", "h_max"):
+            v = getattr(self, name)
+            if v is not None:
+                positive(name, v)
+
+    @property
+    def h_min(self) -> float:
+        return self.h_contact * self.a_ref
+
+    @property
+    def r_contact(self) -> float:
+        return self.contact_extent * self.a_ref
+
+    def resolved(self) -> "Half3DMeshParams":
+        L = self.size if self.size is not None else 20.0 * self.a_ref
+        H = self.height if self.height is not None else L
+        hmax = self.h_max if self.h_max is not None else max(L, H) / 4.0
+        p = Half3DMeshParams(float(self.a_ref), float(self.h_contact), float(self.contact_extent),
+                             self.shape, float(L), float(H), float(self.growth), float(hmax))
+        rc = p.r_contact
+        if p.size <= 2.0 * rc:
+            raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
+        if p.height <= 2.0 * rc:
+            raise InputError(f"height must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.height!r}")
+        if p.h_max < p.h_min:
+            raise InputError(f"h_max must be >= h_min = h_contact * a_ref = {p.h_min:.4g} m, got {p.h_max!r}")
+        return p
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class Half3DMesh:
+    """skfem ``MeshTet1`` with boundaries ``contact, top, bottom, symmetry, sides``."""
+
+    params: Half3DMeshParams
+    mesh: object
+    key: str = ""
+    info: dict = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        m = self.mesh
+        return {"params": self.params.as_dict(), "key": self.key, "vertices": int(m.p.shape[1]),
+                "elements": int(m.t.shape[1]), "p2_nodes": int(m.p.shape[1] + m.edges.shape[1])}
+
+
+# --------------------------------------------------------------------- gmsh
+
+
+def _classify(p: Half3DMeshParams, bb):
+    """Name of a boundary surface of the block from its bounding box."""
+    tol = 1e-6 * p.size
+    xmin, ymin, zmin, xmax, ymax, zmax = bb
+    if abs(zmax) < tol and abs(zmin) < tol:
+        return "contact" if max(abs(xmin), abs(xmax), abs(ymax)) <= p.r_contact + tol else "top"
+    if abs(zmax + p.height) < tol and abs(zmin + p.height) < tol:
+        return "bottom"
+    if abs(ymax) < tol and abs(ymin) < tol:
+        return "symmetry"
+    return "sides"
+
+
+def _generate(p: Half3DMeshParams):
+    """Run gmsh; return (points (3, n), tets (4, m), {group: boundary triangles (k, 3)}) in
+    gmsh node order (compacted to the used nodes)."""
+    try:
+        import gmsh
+    except OSError as exc:  # pragma: no cover - depends on the machine image
+        raise RuntimeError(f"gmsh could not load a system library ({exc})") from exc
+    L, H, rc = p.size, p.height, p.r_contact
+    with _GMSH_LOCK:
+        gmsh.initialize(argv=["fretting"], readConfigFiles=False, interruptible=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.model.add("half3d")
+            occ = gmsh.model.occ
+            if p.shape == "cylinder":
+                cyl = occ.addCylinder(0, 0, -H, 0, 0, H, L)
+                cut = occ.addBox(-2 * L, -2 * L, -2 * H, 4 * L, 2 * L, 4 * H)
+                (vol,), _ = occ.cut([(3, cyl)], [(3, cut)])
+            else:
+                vol = (3, occ.addBox(-L, 0, -H, 2 * L, L, H))
+            disk = occ.addDisk(0, 0, 0, rc, rc)
+            cut2 = occ.addRectangle(-2 * rc, -2 * rc, 0, 4 * rc, 2 * rc)
+            (hdisk,), _ = occ.cut([(2, disk)], [(2, cut2)])
+            occ.fragment([vol], [hdisk])
+            occ.synchronize()
+            vols = gmsh.model.getEntities(3)
+            if len(vols) != 1:
+                raise RuntimeError(f"gmsh geometry: expected one volume, got {len(vols)}")
+            groups = {g: [] for g in GROUPS}
+            for dim, tag in gmsh.model.getBoundary(vols, oriented=False):
+                bb = gmsh.model.getBoundingBox(dim, tag)
+                groups[_classify(p, bb)].append(tag)
+            missing = [g for g in GROUPS if not groups[g]]
+            if missing:
+                raise RuntimeError(f"gmsh geometry: no surface classified as {missing}")
+            for g, tags in groups.items():
+                gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, tags), g)
+            gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [vols[0][1]]), "block")
+            fm = gmsh.model.mesh.field
+            dist = fm.add("Distance")
+            fm.setNumbers(dist, "SurfacesList", groups["contact"])
+            fm.setNumber(dist, "Sampling", int(2 * rc / p.h_min) + 20)
+            thr = fm.add("Threshold")
+            fm.setNumber(thr, "InField", dist)
+            fm.setNumber(thr, "SizeMin", p.h_min)
+            fm.setNumber(thr, "SizeMax", p.h_max)
+            fm.setNumber(thr, "DistMin", 0.0)
+            fm.setNumber(thr, "DistMax", (p.h_max - p.h_min) / p.growth)
+            fm.setAsBackgroundMesh(thr)
+            for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),
+                             ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 6),
+                             ("Mesh.Algorithm3D", 1), ("Mesh.ElementOrder", 1),
+                             ("Mesh.Optimize", 1), ("General.NumThreads", 1)):
+                gmsh.option.setNumber(opt, val)
+            gmsh.model.mesh.generate(3)
+            tags, coords, _ = gmsh.model.mesh.getNodes()
+            coords = coords.reshape(-1, 3)
+            _, etags, enodes = gmsh.model.mesh.getElements(3, vols[0][1])
+            tets = np.asarray(enodes[0], dtype=np.int64).reshape(-1, 4)
+            tris = {}
+            for g, stags in groups.items():
+                parts = []
+                for s in stags:
+                    types, _, nodes = gmsh.model.mesh.getElements(2, s)
+                    for ty, nd in zip(types, nodes):
+                        if ty != 2:
+                            raise RuntimeError(f"unexpected surface element type {ty}")
+                        parts.append(np.asarray(nd, dtype=np.int64).reshape(-1, 3))
+                tris[g] = np.vstack(parts)
+        finally:
+            gmsh.finalize()
+    # compact gmsh tags -> 0..n-1 over the nodes used by tetrahedra
+    tagpos = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+    tagpos[np.asarray(tags, dtype=np.int64)] = np.arange(tags.size)
+    used = np.unique(tets)
+    newidx = np.full(tagpos.size, -1, dtype=np.int64)
+    newidx[used] = np.arange(used.size)
+    pts = coords[tagpos[used]].T
+    t = newidx[tets].T
+    tris = {g: newidx[v] for g, v in tris.items()}
+    for g, v in tris.items():
+        if np.any(v < 0):
+            raise RuntimeError(f"boundary {g!r} has nodes outside the tetrahedra")
+    return np.ascontiguousarray(pts), np.ascontiguousarray(t, dtype=np.int32), tris
+
+
+def _facet_keys(tri, nv):
+    s = np.sort(np.asarray(tri, dtype=np.int64), axis=-1)
+    return (s[..., 0] * nv + s[..., 1]) * nv + s[..., 2]
+
+
+def to_skfem(pts, t, tris):
+    """``MeshTet1`` with named boundaries from triangles given by vertex triples."""
+    from skfem import MeshTet1
+
+    mesh = MeshTet1(pts, t)
+    nv = mesh.p.shape[1]
+    if nv >= 2_000_000:  # pragma: no cover - key would overflow int64
+        raise InputError(f"mesh too large for the facet lookup ({nv} vertices, at most 2e6)")
+    fkeys = _facet_keys(mesh.facets.T, nv)
+    order = np.argsort(fkeys)
+    sk = fkeys[order]
+    bnd = {}
+    for g, tri in tris.items():
+        k = _facet_keys(tri, nv)
+        pos = np.minimum(np.searchsorted(sk, k), sk.size - 1)
+        if not np.all(sk[pos] == k):
+            raise RuntimeError(f"boundary {g!r}: triangles do not match facets of the tetrahedra")
+        bnd[g] = np.sort(order[pos]).astype(np.int32)
+    return mesh.with_boundaries(bnd)
+
+
+def build_mesh3d(params: Half3DMeshParams) -> Half3DMesh:
+    """Mesh from scratch (no cache)."""
+    p = params.resolved()
+    pts, t, tris = _generate(p)
+    return Half3DMesh(params=p, mesh=to_skfem(pts, t, tris))
+
+
+# --------------------------------------------------------------------- cache
+
+
+def mesh3d_key(params: Half3DMeshParams) -> str:
+    p = params.resolved()
+    blob = json.dumps({"params": p.as_dict(), "format": MESH3D_FORMAT_VERSION, "gmsh": _gmsh_version(),
+                       "kind": "half3d"}, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _arrays(hm: Half3DMesh) -> dict:
+    m = hm.mesh
+    arrs = {"p": np.ascontiguousarray(m.p, dtype=np.float64), "t": np.ascontiguousarray(m.t, dtype=np.int32)}
+    for name, facets in sorted(m.boundaries.items()):
+        # stored as vertex triples: facet numbering is skfem's, the triples are not
+        arrs[f"boundary/{name}"] = np.ascontiguousarray(m.facets[:, facets].T, dtype=np.int32)
+    return arrs
+
+
+def save_mesh3d(hm: Half3DMesh, path) -> Path:
+    arrs = _arrays(hm)
+    header = {"params": hm.params.as_dict(), "key": hm.key, "format": MESH3D_FORMAT_VERSION,
+              "digest": _digest(arrs), "info": {k: v for k, v in hm.info.items() if k != "cache"}}
+    buf = io.BytesIO()
+    np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8),
+             **arrs)
+    return write_bytes_atomic(path, buf.getvalue())
+
+
+def load_mesh3d(path, expected: Half3DMeshParams | None = None) -> Half3DMesh:
+    """Read and verify a cached 3D mesh; :class:`meshes.cache.CacheError` if anything is off."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            header = json.loads(bytes(z["__header__"]).decode())
+            arrs = {k: z[k] for k in z.files if k != "__header__"}
+    except Exception as exc:
+        raise CacheError(f"unreadable mesh cache file {path}: {exc}") from exc
+    if not isinstance(header, dict) or header.get("format") != MESH3D_FORMAT_VERSION:
+        raise CacheError(f"{path}: not a half3d mesh of format {MESH3D_FORMAT_VERSION}")
+    if _digest(arrs) != header.get("digest"):
+        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
+    try:
+        params = Half3DMeshParams(**header["params"])
+    except Exception as exc:
+        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
+    if expected is not None and params.as_dict() != expected.resolved().as_dict():
+        raise CacheError(f"{path}: stored parameters differ from the request")
+    tris = {k.split("/", 1)[1]: v for k, v in arrs.items() if k.startswith("boundary/")}
+    mesh = to_skfem(arrs["p"], arrs["t"], tris)
+    return Half3DMesh(params=params, mesh=mesh, key=header.get("key", ""), info=header.get("info", {}))
+
+
+def cached_mesh3d(params: Half3DMeshParams, cache_dir=None, *, refresh: bool = False) -> Half3DMesh:
+    """The mesh for ``params`` from the cache if valid, else built and stored.
+
+    ``info["cache"]``: ``hit``, ``miss``, ``rebuilt`` or ``unsaved`` (as ``meshes.cache.cached_mesh``).
+    """
+    p = params.resolved()
+    key = mesh3d_key(p)
+    d = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    if d.exists() and not d.is_dir():
+        raise InputError(f"cache_dir must be a directory (mesh cache), got the file {str(d)!r}")
+    path = d / f"half3d-{key[:24]}.npz"
+    status = "miss"
+    if path.exists() and not refresh:
+        try:
+            hm = load_mesh3d(path, expected=p)
+            if hm.key == key:
+                hm.info = dict(hm.info, cache="hit", path=str(path))
+                return hm
+            status = "rebuilt"
+        except CacheError as exc:
+            warnings.warn(f"rebuilding mesh: {exc}", RuntimeWarning, stacklevel=2)
+            status = "rebuilt"
+    t0 = time.perf_counter()
+    hm = build_mesh3d(p)
+    hm.key = key
+    hm.info = {"build_s": time.perf_counter() - t0}
+    try:
+        save_mesh3d(hm, path)
+    except OSError as exc:
+        warnings.warn(f"mesh cache not written ({exc}); the mesh will be rebuilt next time",
+                      RuntimeWarning, stacklevel=2)
+        status = "unsaved"
+    hm.info = dict(hm.info, cache=status, path=str(path))
+    return hm
