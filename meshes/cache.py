@@ -128,34 +128,43 @@ def cached_mesh(params: AxisymMeshParams, cache_dir=None, *, refresh: bool = Fal
     directory could not be written: warned, the mesh is still returned).
     ``cache_dir`` naming an existing file is an InputError.
     """
+    return cached_artifact(params, cache_dir, refresh, prefix="axisym", key_of=mesh_key, load=load_mesh,
+                           build=build_mesh, save=save_mesh)
+
+
+def cached_artifact(params, cache_dir, refresh, *, prefix, key_of, load, build, save):
+    """The cache protocol every mesh kind shares: the artifact for ``params`` (resolved) from
+    ``<cache_dir>/<prefix>-<key>.npz`` if present and verified (``load(path, expected=p)``
+    raising CacheError otherwise), else ``build(p)`` stored by ``save(obj, path)``; an
+    unwritable cache is warned, not fatal. ``obj.info["cache"]``: hit, miss, rebuilt, unsaved."""
     import time
 
     p = params.resolved()
-    key = mesh_key(p)
+    key = key_of(p)
     d = Path(cache_dir) if cache_dir is not None else default_cache_dir()
     if d.exists() and not d.is_dir():
         raise InputError(f"cache_dir must be a directory (mesh cache), got the file {str(d)!r}")
-    path = d / f"axisym-{key[:24]}.npz"
+    path = d / f"{prefix}-{key[:24]}.npz"
     status = "miss"
     if path.exists() and not refresh:
         try:
-            amesh = load_mesh(path, expected=p)
-            if amesh.key == key:
-                amesh.info = dict(amesh.info, cache="hit", path=str(path))
-                return amesh
+            obj = load(path, expected=p)
+            if obj.key == key:
+                obj.info = dict(obj.info, cache="hit", path=str(path))
+                return obj
             status = "rebuilt"
         except CacheError as exc:
-            warnings.warn(f"rebuilding mesh: {exc}", RuntimeWarning, stacklevel=2)
+            warnings.warn(f"rebuilding mesh: {exc}", RuntimeWarning, stacklevel=3)
             status = "rebuilt"
     t0 = time.perf_counter()
-    amesh = build_mesh(p)
-    amesh.key = key
-    amesh.info = {"build_s": time.perf_counter() - t0}
+    obj = build(p)
+    obj.key = key
+    obj.info = {"build_s": time.perf_counter() - t0}
     try:
-        save_mesh(amesh, path)
+        save(obj, path)
     except OSError as exc:  # the cache is an optimisation: an unwritable one costs time, not the answer
         warnings.warn(f"mesh cache not written ({exc}); the mesh will be rebuilt next time",
-                      RuntimeWarning, stacklevel=2)
+                      RuntimeWarning, stacklevel=3)
         status = "unsaved"
-    amesh.info = dict(amesh.info, cache=status, path=str(path))
-    return amesh
+    obj.info = dict(obj.info, cache=status, path=str(path))
+    return obj

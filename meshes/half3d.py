@@ -35,9 +35,6 @@ from __future__ import annotations
 import hashlib
 import io
 import json
-import math
-import time
-import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -47,7 +44,7 @@ from mdr.errors import InputError, in_range, positive
 from mdr.io import write_bytes_atomic
 
 from .axisym import _GMSH_LOCK
-from .cache import CacheError, _digest, _gmsh_version, default_cache_dir
+from .cache import CacheError, _digest, _gmsh_version, cached_artifact
 
 SHAPES = ("cylinder", "box")
 GROUPS = ("contact", "top", "bottom", "symmetry", "sides")
@@ -326,32 +323,5 @@ def cached_mesh3d(params: Half3DMeshParams, cache_dir=None, *, refresh: bool = F
 
     ``info["cache"]``: ``hit``, ``miss``, ``rebuilt`` or ``unsaved`` (as ``meshes.cache.cached_mesh``).
     """
-    p = params.resolved()
-    key = mesh3d_key(p)
-    d = Path(cache_dir) if cache_dir is not None else default_cache_dir()
-    if d.exists() and not d.is_dir():
-        raise InputError(f"cache_dir must be a directory (mesh cache), got the file {str(d)!r}")
-    path = d / f"half3d-{key[:24]}.npz"
-    status = "miss"
-    if path.exists() and not refresh:
-        try:
-            hm = load_mesh3d(path, expected=p)
-            if hm.key == key:
-                hm.info = dict(hm.info, cache="hit", path=str(path))
-                return hm
-            status = "rebuilt"
-        except CacheError as exc:
-            warnings.warn(f"rebuilding mesh: {exc}", RuntimeWarning, stacklevel=2)
-            status = "rebuilt"
-    t0 = time.perf_counter()
-    hm = build_mesh3d(p)
-    hm.key = key
-    hm.info = {"build_s": time.perf_counter() - t0}
-    try:
-        save_mesh3d(hm, path)
-    except OSError as exc:
-        warnings.warn(f"mesh cache not written ({exc}); the mesh will be rebuilt next time",
-                      RuntimeWarning, stacklevel=2)
-        status = "unsaved"
-    hm.info = dict(hm.info, cache=status, path=str(path))
-    return hm
+    return cached_artifact(params, cache_dir, refresh, prefix="half3d", key_of=mesh3d_key, load=load_mesh3d,
+                           build=build_mesh3d, save=save_mesh3d)
