@@ -3,7 +3,7 @@
 One graded mesh: contact half disk of radius c = 1.25 with h = 0.25 (m = 227 P2 contact
 nodes), block radius and height 20 c, about 14k DOFs; each condensation ~2.5 s on 2 cores.
 Closed forms: Boussinesq and Cerruti point-load surface displacements of the half-space
-(Johnson 1985, Contact Mechanics, eqs. 3.19 and 3.86).
+(Johnson 1985, Contact Mechanics, ch. 3: concentrated normal and tangential forces).
 """
 import numpy as np
 import pytest
@@ -82,11 +82,11 @@ def test_normal_flexibility_spd(normal):
 
 def test_tangential_flexibility_cerruti(model):
     """Uniform shear q (x direction) on the contact half disk, x-DOF flexibility. Half-space mean
-    u_x over the disk: the Cerruti surface displacement of a point force Q_x (Johnson 1985, eq.
-    3.86a), u_x = (1 + nu) Q / (2 pi E rho) [2 (1 - nu) + 2 nu x^2 / rho^2], averaged over the disk
+    u_x over the disk: the Cerruti surface displacement of a point force Q_x (Johnson 1985,
+    ch. 3, concentrated tangential force), u_x = (1 + nu) Q / (2 pi E rho) [2 (1 - nu) + 2 nu x^2 / rho^2], averaged over the disk
     pairs (isotropic, so <x^2/rho^3> = <1/rho> / 2, and <1/rho> * area = 16 c / 3 from the
     Boussinesq mean 16 (1 - nu^2) p c / (3 pi E)): u_mean = 8 (1 + nu) (2 - nu) q c / (3 pi E)
-    = 4 (2 - nu) q c / (3 pi G). Consistent with Johnson eq. 3.92 (shear/normal ratio
+    = 4 (2 - nu) q c / (3 pi G). Consistent with Johnson ch. 3's q0 (1 - r^2/a^2)^(-1/2) traction results (shear/normal ratio
     (2 - nu) / (2 (1 - nu)) for the same traction).
     Measured: +3.19 % for the 20 c block; +7.2 % at 10 c, +1.2 % at 40 c: the finite block with
     free sides is more compliant in shear and the difference vanishes as the block grows (the
