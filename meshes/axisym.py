@@ -74,8 +74,38 @@ H_CONTACT_DEFAULT = 0.0125
 H_CONTACT_RANGE = (1.0 / 1000.0, 0.25)
 
 
+class ContactZoneParams:
+    """What every mesh's parameters share (a mixin of the frozen parameter dataclasses): the
+    contact zone r <= contact_extent * a_ref meshed at h_contact * a_ref, graded with ``growth``
+    up to ``h_max``; the checks of these common fields."""
+
+    @property
+    def h_min(self) -> float:
+        return self.h_contact * self.a_ref
+
+    @property
+    def r_contact(self) -> float:
+        return self.contact_extent * self.a_ref
+
+    def _check_zone(self, h_range, optional_sizes):
+        """a_ref > 0, h_contact in ``h_range``, contact_extent in (1, 5], growth in [0.02, 1],
+        each of ``optional_sizes`` positive when given."""
+        positive("a_ref", self.a_ref)
+        in_range("h_contact", self.h_contact, *h_range)
+        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
+        in_range("growth", self.growth, 0.02, 1.0)
+        for name in optional_sizes:
+            v = getattr(self, name)
+            if v is not None:
+                positive(name, v)
+
+    def _check_h_max(self):
+        if self.h_max < self.h_min:
+            raise InputError(f"h_max must be >= h_min = h_contact * a_ref = {self.h_min:.4g} m, got {self.h_max!r}")
+
+
 @dataclass(frozen=True)
-class AxisymMeshParams:
+class AxisymMeshParams(ContactZoneParams):
     """All parameters that determine a mesh (SI). Resolve defaults with :meth:`resolved`.
 
     ``a_ref`` is the largest contact radius the mesh must serve (the scene's
@@ -101,7 +131,6 @@ class AxisymMeshParams:
     def __post_init__(self):
         if self.profile not in PROFILES:
             raise InputError(f"profile must be one of {', '.join(PROFILES)}; got {self.profile!r}")
-        positive("a_ref", self.a_ref)
         nonnegative("b", self.b)
         if self.profile in ("sphere", "truncated"):
             if self.R is None:
@@ -113,23 +142,9 @@ class AxisymMeshParams:
                 raise InputError(f"b must be 0 for profile 'sphere', got {self.b!r}")
         else:
             positive("b", self.b)
-        in_range("h_contact", self.h_contact, *H_CONTACT_RANGE)
-        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
-        in_range("growth", self.growth, 0.02, 1.0)
-        for name in ("block_radius", "block_height", "indenter_height", "probe_depth", "h_max"):
-            v = getattr(self, name)
-            if v is not None:
-                positive(name, v)
+        self._check_zone(H_CONTACT_RANGE, ("block_radius", "block_height", "indenter_height", "probe_depth", "h_max"))
 
     # ------------------------------------------------------------------ derived
-    @property
-    def h_min(self) -> float:
-        return self.h_contact * self.a_ref
-
-    @property
-    def r_contact(self) -> float:
-        return self.contact_extent * self.a_ref
-
     def resolved(self) -> "AxisymMeshParams":
         """Fill the size defaults from a_ref (the cache key uses the resolved values)."""
         L_r = self.block_radius if self.block_radius is not None else 200.0 * self.a_ref
@@ -168,8 +183,7 @@ class AxisymMeshParams:
         if not (rc < self.probe_depth < zmax):
             raise InputError(f"probe_depth must be in ({rc:.4g}, {zmax:.4g}) m (beyond the contact zone, "
                              f"inside both bodies), got {self.probe_depth!r}")
-        if self.h_max < self.h_min:
-            raise InputError(f"h_max must be >= h_min = {self.h_min:.4g} m, got {self.h_max!r}")
+        self._check_h_max()
         if self.profile != "flat":
             if self.r_contact >= 0.5 * self.R:
                 raise InputError(f"contact_extent * a_ref = {rc:.4g} m must be < R/2 (small contact against "

@@ -40,10 +40,10 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.errors import InputError, in_range, positive
+from mdr.errors import InputError
 from mdr.io import write_bytes_atomic
 
-from .axisym import _GMSH_LOCK
+from .axisym import _GMSH_LOCK, ContactZoneParams
 from .cache import CacheError, _digest, _gmsh_version, cached_artifact
 
 SHAPES = ("cylinder", "box")
@@ -57,7 +57,7 @@ H_CONTACT_3D_RANGE = (1.0 / 200.0, 0.5)
 
 
 @dataclass(frozen=True)
-class Half3DMeshParams:
+class Half3DMeshParams(ContactZoneParams):
     """All parameters that determine a 3D half-model mesh (SI). Defaults via :meth:`resolved`.
 
     ``a_ref`` reference contact radius; ``h_contact`` element size on the
@@ -80,22 +80,7 @@ class Half3DMeshParams:
     def __post_init__(self):
         if self.shape not in SHAPES:
             raise InputError(f"shape must be one of {', '.join(SHAPES)}; got {self.shape!r}")
-        positive("a_ref", self.a_ref)
-        in_range("h_contact", self.h_contact, *H_CONTACT_3D_RANGE)
-        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
-        in_range("growth", self.growth, 0.02, 1.0)
-        for name in ("size", "height", "h_max"):
-            v = getattr(self, name)
-            if v is not None:
-                positive(name, v)
-
-    @property
-    def h_min(self) -> float:
-        return self.h_contact * self.a_ref
-
-    @property
-    def r_contact(self) -> float:
-        return self.contact_extent * self.a_ref
+        self._check_zone(H_CONTACT_3D_RANGE, ("size", "height", "h_max"))
 
     def resolved(self) -> "Half3DMeshParams":
         L = self.size if self.size is not None else 20.0 * self.a_ref
@@ -108,8 +93,7 @@ class Half3DMeshParams:
             raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
         if p.height <= 2.0 * rc:
             raise InputError(f"height must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.height!r}")
-        if p.h_max < p.h_min:
-            raise InputError(f"h_max must be >= h_min = h_contact * a_ref = {p.h_min:.4g} m, got {p.h_max!r}")
+        p._check_h_max()
         return p
 
     def as_dict(self) -> dict:
