@@ -70,3 +70,118 @@ def contact_flexibility(K, basis, mesh, cn: ContactNodes, component: int = 2, pr
     2: z) of the contact nodes, with the block's boundary conditions."""
     dofs = node_dofs3d(basis)[component, cn.nodes]
     return Condensation(K, dirichlet_dofs(basis, mesh), dofs, probe_dofs=probe_dofs, backend=backend)
+
+
+# --------------------------------------------------------------------- mortar interface
+#
+# Contact tractions as a P1 field on the contact facets (values at the mesh vertices),
+# displacements P2: the pairing of the two is the mortar matrix
+#
+#     B_jk = integral over the contact facets of phi_j psi_k dA
+#
+# (phi_j the P1 hat function of vertex j, psi_k the P2 basis function of node k). A traction
+# field t = sum_j t_j phi_j gives the consistent P2 nodal forces f = B^T t; the weighted
+# displacement of vertex j is (B u)_j, and row sums A_j = sum_k B_jk = integral phi_j dA
+# (the partition of unity of the P2 basis) are the vertex areas. This is the standard
+# P2-displacement / P1-multiplier pairing (Wohlmuth, Acta Numerica 20 (2011) 569; the
+# contact constraints are imposed on the weighted gap (B g)_j), and it removes the zero
+# vertex weights of P2 triangles: every multiplier has A_j > 0.
+
+
+@dataclass(frozen=True)
+class MortarInterface:
+    """P1 multiplier vertices of the contact facets and the mortar matrix.
+
+    ``vertices`` mesh vertex numbers (n); ``x``, ``y``, ``r`` (m); ``A`` vertex areas
+    (integral of phi_j, m^2); ``on_plane`` vertices on the symmetry plane y = 0 (their q_y
+    vanishes by symmetry); ``B`` (n, m) CSR mortar matrix against the P2 nodes ``nodes``.
+    """
+
+    vertices: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    r: np.ndarray
+    A: np.ndarray
+    on_plane: np.ndarray
+    B: object
+    nodes: ContactNodes
+
+    @property
+    def n(self) -> int:
+        return self.vertices.size
+
+
+def mortar_interface(mesh, boundary: str = "contact", intorder: int = 4) -> MortarInterface:
+    """Mortar matrix of the contact facets (P1 multipliers against P2 displacements)."""
+    from skfem import BilinearForm, ElementTetP1
+
+    cn = contact_nodes(mesh, boundary, intorder)
+    F = mesh.boundaries[boundary]
+    fb2 = FacetBasis(mesh, ElementTetP2(), facets=F, intorder=intorder)
+    fb1 = FacetBasis(mesh, ElementTetP1(), facets=F, intorder=intorder)
+
+    @BilinearForm
+    def mass(u, v, w):
+        return u * v
+
+    Bfull = asm(mass, fb2, fb1).tocsr()  # rows: P1 DOFs (vertices), columns: P2 DOFs
+    sb = Basis(mesh, ElementTetP2(), intorder=2)
+    sdofs = np.concatenate([sb.nodal_dofs[0], sb.edge_dofs[0]])
+    verts = np.unique(mesh.facets[:, F])
+    B = Bfull[verts][:, sdofs[cn.nodes]].tocsr()
+    B.eliminate_zeros()
+    X = mesh.p[:, verts]
+    tol = 1e-9 * float(np.max(np.abs(X)))
+    return MortarInterface(vertices=verts, x=X[0], y=X[1], r=np.hypot(X[0], X[1]),
+                           A=np.asarray(B.sum(axis=1)).ravel(), on_plane=np.abs(X[1]) <= tol, B=B, nodes=cn)
+
+
+def mortar_flexibility(K, basis, mesh, mi: MortarInterface, components=(0, 1, 2), backend=None,
+                       chunk: int = 512):
+    """Weighted flexibility of the block at the multiplier vertices, (3 n, 3 n) (m^3/N... per Pa).
+
+    Entry ((c1, j1), (c2, j2)) is the weighted displacement (B u_c1)_j1 (m^3) of vertex j1 in
+    component c1 for a unit traction (1 Pa, P1 field phi_j2) in component c2 on the contact
+    facets; rows and columns ordered component-major (x block, y block, z block). Components
+    not in ``components`` are left zero. Forces at DOFs fixed by the boundary conditions (u_y on
+    the symmetry plane) are reactions and move nothing. Solves in chunks of ``chunk``
+    right-hand sides and keeps only the contact rows, so memory is O(free DOFs * chunk).
+    Returns ``(D, backend_name, factor)``.
+    """
+    import scipy.sparse as sp
+
+    from .solvers import blas_threads, factorize
+
+    n_dof = K.shape[0]
+    fixed = np.zeros(n_dof, dtype=bool)
+    fixed[dirichlet_dofs(basis, mesh)] = True
+    free = np.flatnonzero(~fixed)
+    loc = -np.ones(n_dof, dtype=np.int64)
+    loc[free] = np.arange(free.size)
+    nd = node_dofs3d(basis)
+    n, m = mi.n, mi.nodes.m
+    # R[c] (free, n): the P2 nodal forces of traction phi_j in component c
+    BT = mi.B.T.tocsr()  # (m, n)
+    rows_c = [loc[nd[c, mi.nodes.nodes]] for c in range(3)]  # free position of each node's DOF
+    D = np.zeros((3 * n, 3 * n))
+    Kff = K[free][:, free].tocsc()
+    with blas_threads(1):
+        fac = factorize(Kff, backend)
+        cols = [(c, j) for c in components for j in range(n)]
+        for s in range(0, len(cols), chunk):
+            part = cols[s:s + chunk]
+            R = np.zeros((free.size, len(part)))
+            for q, (c, j) in enumerate(part):
+                ok = rows_c[c] >= 0
+                col = BT[:, [j]].toarray().ravel()
+                R[rows_c[c][ok], q] += col[ok]
+            X = fac.solve(R)
+            for c1 in range(3):
+                U = np.zeros((m, len(part)))
+                ok = rows_c[c1] >= 0
+                U[ok] = X[rows_c[c1][ok]]
+                W = mi.B @ U  # (n, chunk) weighted displacements
+                for q, (c2, j2) in enumerate(part):
+                    D[c1 * n:(c1 + 1) * n, c2 * n + j2] = W[:, q]
+    D = 0.5 * (D + D.T)
+    return D, fac.backend, fac

@@ -49,7 +49,7 @@ from .cache import CacheError, _digest, _gmsh_version, cached_artifact
 SHAPES = ("cylinder", "box")
 GROUPS = ("contact", "top", "bottom", "symmetry", "sides")
 #: bump when the geometry or the stored format changes (part of the cache key)
-MESH3D_FORMAT_VERSION = 1
+MESH3D_FORMAT_VERSION = 2
 #: element size on the contact disk / a_ref: default and allowed range (3D meshes are coarser
 #: than the 2D ones: a/10 already gives ~50k P2 DOFs)
 H_CONTACT_3D_DEFAULT = 0.1
@@ -133,7 +133,14 @@ def _classify(p: Half3DMeshParams, bb):
 
 def _generate(p: Half3DMeshParams):
     """Run gmsh; return (points (3, n), tets (4, m), {group: boundary triangles (k, 3)}) in
-    gmsh node order (compacted to the used nodes)."""
+    gmsh node order (compacted to the used nodes).
+
+    gmsh runs in units of ``a_ref`` and the points are scaled back to metres: OpenCASCADE pads
+    bounding boxes by an absolute tolerance (about 1e-7), larger than a micrometre contact
+    would allow the surface classification."""
+    unit = p.a_ref
+    p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
+                         p.h_max / unit)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -214,7 +221,7 @@ def _generate(p: Half3DMeshParams):
     for g, v in tris.items():
         if np.any(v < 0):
             raise RuntimeError(f"boundary {g!r} has nodes outside the tetrahedra")
-    return np.ascontiguousarray(pts), np.ascontiguousarray(t, dtype=np.int32), tris
+    return np.ascontiguousarray(pts * unit), np.ascontiguousarray(t, dtype=np.int32), tris
 
 
 def _facet_keys(tri, nv):

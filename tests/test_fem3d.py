@@ -40,6 +40,16 @@ def test_mesh_groups(small):
     assert np.array_equal(np.sort(tagged), np.sort(small.boundary_facets()))
 
 
+def test_mesh_in_metres_is_the_scaled_unit_mesh(small):
+    """A micrometre contact meshes like the unit one, scaled (gmsh runs in units of a_ref; in
+    metres OpenCASCADE's bounding-box padding of ~1e-7 m hid the surface classification)."""
+    s = 2.5e-5
+    m = build_mesh3d(Half3DMeshParams(a_ref=s, h_contact=0.5, size=4.0 * s, height=4.0 * s, h_max=1.5 * s)).mesh
+    assert m.p.shape == small.p.shape and np.array_equal(m.t, small.t)
+    assert np.max(np.abs(m.p - s * small.p)) < 1e-12 * s
+    assert {k: v.size for k, v in m.boundaries.items()} == {k: v.size for k, v in small.boundaries.items()}
+
+
 def _rigid_modes(X):
     x, y, z = X
     one, zero = np.ones_like(x), np.zeros_like(x)

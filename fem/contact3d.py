@@ -1,0 +1,388 @@
+"""Frictional contact of two bodies on the condensed 3D mortar interface (issue 13).
+
+Unknowns are P1 traction fields on the contact facets (``fem.interface3d.MortarInterface``):
+at every multiplier vertex j the pressure p_j >= 0 and the tangential traction
+q_j = (q_x, q_y) on the block (Pa); q_y = 0 on the symmetry plane y = 0. The kinematics
+are weighted by the mortar matrix, so every displacement-like quantity below is a
+weighted one (m^3: integral of phi_j times a displacement):
+
+    gap_j  = g0_j - d A_j + (D_n p)_j            (weighted normal gap, >= 0)
+    s_j    = delta A_j e_x - (D_t q)_j           (weighted relative tangential displacement,
+                                                  indenter minus block)
+
+with g0_j = (B f)_j the weighted initial gap of the profile f, d the approach and delta the
+tangential displacement of the indenter's clamped top against the block's clamped bottom,
+A_j the vertex areas, D_n = D1_zz + D2_zz and D_t = D1_tt + D2_tt the relative
+flexibilities of block (1) and indenter (2). The indenter is modelled as the mirror image
+of the block's mesh (z -> -z) with its own elastic constants, so both contact faces are
+flat and the profile enters only through the initial gap (module ``fem.law3d``). For
+identical materials the normal-tangential cross terms of the two bodies cancel exactly
+(Dundurs' beta = 0); for dissimilar ones they enter as the antisymmetric coupling
+``K = D1_tz - D2_tz`` (see :class:`RelativeFlexibility`).
+
+Conditions (exact, no penalty): Signorini p >= 0, gap >= 0, p gap = 0 at every vertex;
+Coulomb with the slip limit g_j = mu p_j: |q_j| <= g_j, the slip increment
+s_j - P_j,old (P the weighted slip of the last step) vanishes where |q_j| < g_j and is
+parallel to q_j where |q_j| = g_j. Each increment is the convex programme
+
+    min_q 1/2 q^T D_t q - q^T (delta A e_x - P_old),   |q_j| <= g_j,
+
+(force control: sum_j A_j q_xj = F_x/2 with delta its multiplier; the half model carries
+half of every force). Both problems are solved by semi-smooth Newton methods on their
+nonlinear complementarity functions, the min-map for Signorini and the disk projection
+for Coulomb (Alart & Curnier, Comput. Methods Appl. Mech. Eng. 92 (1991) 353; Hueeber,
+Stadler & Wohlmuth, SIAM J. Sci. Comput. 30 (2008) 572):
+
+    R_n = p - max(0, p - c gap),   R_t,j = q_j - proj_{|.| <= g_j}(q_j + c_j (s_j - P_j,old)),
+
+with c = 1 / diag(D). For the normal problem the full Newton step is the primal-dual
+active-set method. A step that does not lower ||R|| is backtracked; if Newton stalls, the
+increment falls back to an accelerated projected gradient method (FISTA with restart;
+Beck & Teboulle, SIAM J. Imaging Sci. 2 (2009) 183), which converges for any convex
+problem of this kind. A solve that does not reach its tolerance raises
+``ConvergenceError`` with the residual.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+
+from mdr.errors import ConvergenceError
+
+from .solvers import blas_threads
+
+#: relative tolerance of the complementarity residuals (of the largest pressure / slip limit)
+TOL = 1e-10
+_DEBUG = False
+
+
+@dataclass
+class RelativeFlexibility:
+    """Relative weighted flexibilities of the contact pair at the multiplier vertices.
+
+    ``Dn`` (n, n) normal, ``Dt`` (2n, 2n) tangential (x block, then y block), ``K`` (2n, n)
+    the normal-tangential coupling (weighted tangential displacement per unit pressure,
+    ``D1_tz - D2_tz``; zero for identical materials).
+    """
+
+    Dn: np.ndarray
+    Dt: np.ndarray
+    K: np.ndarray | None = None
+
+    @classmethod
+    def from_bodies(cls, D1, D2):
+        """From the block's and the (mirrored) indenter's weighted flexibilities (3n, 3n),
+        component-major as returned by ``fem.interface3d.mortar_flexibility``. The indenter's
+        normal component is mirrored: its z-z block enters with the same sign, its cross terms
+        with the opposite one, so they cancel for identical bodies."""
+        n = D1.shape[0] // 3
+        t, z = slice(0, 2 * n), slice(2 * n, 3 * n)
+        Dn = D1[z, z] + D2[z, z]
+        Dt = D1[t, t] + D2[t, t]
+        K = D1[t, z] - D2[t, z]
+        if np.max(np.abs(K)) <= 1e-12 * np.max(np.abs(Dt)):
+            K = None
+        return cls(Dn=Dn, Dt=Dt, K=K)
+
+
+def _factor(M):
+    return sla.lu_factor(M, check_finite=False)
+
+
+def solve_normal3d(Dn, g0, A, *, force=None, approach=None, p0=None, max_iter=100):
+    """Signorini problem of the weighted gap (module docstring).
+
+    Give the half model's normal force ``force`` (N; sum A_j p_j) or the ``approach`` d (m).
+    Returns ``(p, d, gap, iterations)``.
+    """
+    if (force is None) == (approach is None):
+        raise ValueError("give exactly one of force and approach")
+    n = A.size
+    c = 1.0 / np.diag(Dn)
+    d = 0.0 if approach is None else float(approach)
+    if p0 is not None and np.any(np.asarray(p0) > 0):
+        act = np.asarray(p0) > 0
+    elif force is not None:  # rigid-indenter guess: the vertices of smallest initial gap
+        act = g0 / A <= np.quantile(g0 / A, 0.1)
+    else:
+        act = g0 - d * A < 0
+    scale_gap = float(np.max(np.abs(g0))) + abs(d) * float(np.max(A)) + 1e-300
+    seen = set()
+    for it in range(1, max_iter + 1):
+        ia = np.flatnonzero(act)
+        p = np.zeros(n)
+        if ia.size == 0:
+            if force is not None and force > 0:
+                raise ConvergenceError("normal contact: no vertex in contact under a positive force")
+            return p, d, g0 - d * A, it
+        M = Dn[np.ix_(ia, ia)]
+        cho = sla.cho_factor(M, check_finite=False)
+        if force is None:
+            p[ia] = sla.cho_solve(cho, d * A[ia] - g0[ia], check_finite=False)
+        else:
+            x = sla.cho_solve(cho, -g0[ia], check_finite=False)
+            y = sla.cho_solve(cho, A[ia], check_finite=False)
+            d = (force - A[ia] @ x) / (A[ia] @ y)
+            p[ia] = x + d * y
+        gap = g0 - d * A + Dn @ p
+        new = p - c * gap > TOL * float(np.max(np.abs(p)) + 1e-300)
+        if np.array_equal(new, act) and np.all(p >= 0) and np.all(gap[~act] >= -TOL * scale_gap):
+            return p, d, gap, it
+        key = new.tobytes()
+        if key in seen:
+            break
+        seen.add(key)
+        act = new
+    raise ConvergenceError(f"normal contact: the active set cycled or did not settle in {it} iterations "
+                           f"({int(act.sum())} of {n} vertices active, min p {p.min():.3g} Pa)")
+
+
+def _proj_disk(z, g):
+    """Project the rows of z (n, 2) onto the disks |z_j| <= g_j."""
+    nz = np.hypot(z[:, 0], z[:, 1])
+    f = np.where(nz > g, g / np.maximum(nz, 1e-300), 1.0)
+    return z * f[:, None]
+
+
+@dataclass
+class TangentialResult:
+    q: np.ndarray  # (n, 2) tangential traction on the block (Pa)
+    delta: float  # tangential displacement of the indenter's top (m)
+    s: np.ndarray  # (n, 2) weighted relative tangential displacement (m^3)
+    iterations: int
+    method: str
+
+
+def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=None, delta0=None,
+                       max_iter=50, fista_iter=20000):
+    """One Coulomb increment (module docstring): displacement ``delta`` (m) or the half model's
+    tangential force ``force`` (N; sum A_j q_xj) prescribed. ``g`` (n,) slip limits mu p (Pa),
+    ``P_old`` (n, 2) the weighted slip of the last step, ``on_plane`` (n,) vertices on y = 0
+    (q_y = 0 there). ``q0``, ``delta0``: a start (e.g. the previous step); by default under force
+    control the full-stick solution scaled to the force. Returns a :class:`TangentialResult`."""
+    if (force is None) == (delta is None):
+        raise ValueError("give exactly one of force and delta")
+    n = A.size
+    # unknown layout: q_x (n), q_y at vertices off the plane (ny), [delta]
+    yi = np.flatnonzero(~on_plane)
+    idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
+    D = Dt[np.ix_(idx, idx)]
+    m = idx.size
+    ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d delta, restricted
+    Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
+    cd = 1.0 / np.diag(D)
+    c = np.zeros(n)
+    c[:] = cd[:n]
+    cy = np.zeros(n)
+    cy[yi] = cd[n:]
+    gmax = float(np.max(g)) if np.any(g > 0) else 1.0
+    fc = force is not None
+    if fc and abs(force) > float(A @ g) * (1 + 1e-12):
+        raise ConvergenceError(f"Coulomb increment: |F_x|/2 = {abs(force):.6g} N exceeds the friction limit "
+                               f"sum A mu p = {float(A @ g):.6g} N of the half model (gross slip has no "
+                               "force-controlled solution; drive the displacement instead)")
+
+    def unpack(v):
+        q = np.zeros((n, 2))
+        q[:, 0] = v[:n]
+        q[yi, 1] = v[n:]
+        return q
+
+    def pack(q):
+        return np.concatenate([q[:, 0], q[yi, 1]])
+
+    def residual(v, dl):
+        s = dl * ex - D @ v  # weighted relative displacement
+        r = unpack(s - Pold)  # slip increments (n, 2)
+        q = unpack(v)
+        z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
+        pz = _proj_disk(z, g)
+        R = pack(q - pz)
+        if fc:
+            R = np.append(R, (A @ q[:, 0] - force) / (A.sum() + 1e-300))
+        return R, s, z
+
+    v = pack(q0) if q0 is not None else np.zeros(m)
+    v = pack(_proj_disk(unpack(v), g))
+    dl = float(delta) if delta is not None else (0.0 if delta0 is None else float(delta0))
+    if fc and q0 is None:  # full stick of the vertices in contact, scaled to the force
+        kin = np.flatnonzero(np.concatenate([g > 0, g[yi] > 0]))
+        if kin.size:
+            x0, x1 = np.zeros(m), np.zeros(m)
+            sol = sla.solve(D[np.ix_(kin, kin)], np.column_stack([-Pold[kin], ex[kin]]), assume_a="pos",
+                            check_finite=False)
+            x0[kin], x1[kin] = sol[:, 0], sol[:, 1]
+            dl = (force - A @ x0[:n]) / max(A @ x1[:n], 1e-300)
+            v = pack(_proj_disk(unpack(x0 + dl * x1), g))
+    tolR = TOL * gmax
+    dscale = 1.0 / float(np.mean(np.concatenate([c, cy[yi]])[:n] * A))
+    R, s, z = residual(v, dl)
+    for it in range(1, max_iter + 1):
+        if np.max(np.abs(R)) <= tolR:
+            return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
+        # generalized Jacobian of R (module docstring)
+        q = unpack(v)
+        nz = np.hypot(z[:, 0], z[:, 1])
+        slip = (nz > g) & (g > 0)
+        free0 = g <= 0
+        J = np.zeros((m + fc, m + fc))
+        # dz/dv = I - C D (C = diag(c)), dz/d delta = C ex
+        Cvec = np.concatenate([c, cy[yi]])
+        dz_dv = np.eye(m) - Cvec[:, None] * D
+        dz_dd = Cvec * ex
+        # per vertex 2x2 projection derivative P'_j
+        tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
+        ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
+        fac = np.where(slip, g / np.maximum(nz, 1e-300), 1.0)
+        fac = np.where(free0, 0.0, fac)
+        # P' = fac (I - t t^T) for slip, I for stick, 0 for g = 0
+        Pxx = fac * (1 - tx * tx)
+        Pyy = fac * (1 - ty * ty)
+        Pxy = -fac * tx * ty
+        # rows of P' dz in the packed layout
+        rows_x = Pxx[:, None] * dz_dv[:n]
+        rows_x[yi] += Pxy[yi, None] * dz_dv[n:]
+        rows_y = Pyy[yi, None] * dz_dv[n:] + Pxy[yi, None] * dz_dv[yi]
+        Pdz = np.vstack([rows_x, rows_y])
+        Pdd = np.concatenate([Pxx * dz_dd[:n], Pxy[yi] * dz_dd[yi]])  # dz_y/d delta = 0
+        J[:m, :m] = np.eye(m) - Pdz
+        if fc:
+            J[:m, m] = -Pdd
+            J[m, :n] = A / (A.sum() + 1e-300)
+        if fc:  # scale the delta column to O(1) entries (delta in m, q in Pa)
+            J[:m, m] *= dscale
+        try:
+            step = -sla.solve(J, R, check_finite=False)
+        except (sla.LinAlgError, ValueError):
+            break
+        dv = step[:m]
+        ddl = step[m] * dscale if fc else 0.0
+        if _DEBUG:
+            print(it, np.max(np.abs(R)) / gmax, int(slip.sum()), int(((~slip) & (g > 0)).sum()))
+        nr0 = np.linalg.norm(R)
+        t = 1.0
+        for _ in range(30):
+            Rt, st, zt = residual(v + t * dv, dl + t * ddl)
+            if np.linalg.norm(Rt) < (1 - 1e-4 * t) * nr0:
+                break
+            t *= 0.5
+        else:
+            break
+        v, dl, R, s, z = v + t * dv, dl + t * ddl, Rt, st, zt
+    if fc:
+        return _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter)
+    vq, r = _fista(D, dl * ex - Pold, unpack, pack, g, fista_iter, tolR, v)
+    return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
+
+
+def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
+    """Accelerated projected gradient with adaptive restart for min 1/2 v^T D v - v^T b over
+    the disks (O'Donoghue & Candes, Found. Comput. Math. 15 (2015) 715). Returns (v, s) with
+    s = b + P_old - D v the weighted relative displacement."""
+    L = float(sla.eigh(D, eigvals_only=True, subset_by_index=[D.shape[0] - 1, D.shape[0] - 1])[0])
+    x = v0.copy()
+    y = x.copy()
+    tk = 1.0
+    cmin = 1.0 / np.max(np.diag(D))
+    for it in range(max_iter):
+        grad = D @ y - b
+        xn = pack(_proj_disk(unpack(y - grad / L), g))
+        if (xn - x) @ (y - xn) > 0:  # restart when the momentum points uphill
+            tk = 1.0
+            y = xn.copy()
+        tn = 0.5 * (1 + np.sqrt(1 + 4 * tk * tk))
+        y = xn + (tk - 1) / tn * (xn - x)
+        x, tk = xn, tn
+        if it % 50 == 0:
+            r = b - D @ x  # slip increments
+            R = np.max(np.abs(x - pack(_proj_disk(unpack(x + cmin * r), g))))
+            if R <= tolR:
+                return x, r
+    raise ConvergenceError(f"Coulomb increment: projected gradient did not converge in {max_iter} iterations "
+                           f"(residual {R / (np.max(g) + 1e-300):.3g} of the largest slip limit)")
+
+
+def _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter):
+    """Force control fallback: the total force is continuous and nondecreasing in delta; regula
+    falsi (Illinois) on displacement-controlled increments."""
+    def total(dl):
+        out = solve_tangential3d(Dt, A, g, P_old, on_plane, delta=dl, q0=q0, fista_iter=fista_iter)
+        return A @ out.q[:, 0] - force, out
+
+    scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(Dt)) / np.min(A)) + 1e-300
+    lo, hi = -scale, scale
+    flo, _ = total(lo)
+    fhi, out = total(hi)
+    while fhi < 0:
+        hi *= 2
+        fhi, out = total(hi)
+    while flo > 0:
+        lo *= 2
+        flo, out = total(lo)
+    side = 0
+    tol = 1e-10 * float(np.sum(A * g))
+    for _ in range(200):
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        fx, out = total(x)
+        if abs(fx) <= tol:
+            out.method = "secant"
+            return out
+        if fx < 0:
+            lo, flo = x, fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi, fhi = x, fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+    raise ConvergenceError("Coulomb increment under force control: secant search on delta did not converge")
+
+
+@dataclass
+class Cycle3D:
+    """A tangential history at fixed pressure (half model; forces and work of the full body)."""
+
+    Fx: np.ndarray  # (k,) tangential force, full body (N)
+    delta: np.ndarray  # (k,) tangential displacement of the indenter's top (m)
+    work: np.ndarray  # (k,) friction work of each increment, full body (J)
+    q: list  # tractions (n, 2) per step
+    P: list  # weighted slip (n, 2) per step
+
+
+def tangential_history(Dt, A, g, on_plane, Fx=None, delta=None):
+    """Run a tangential history (full-body forces ``Fx`` or displacements ``delta``, starting from
+    a tangentially unloaded contact) at fixed slip limits ``g`` (Pa). The friction work of an
+    increment is sum_j q_j . (P_j,new - P_j,old) over the vertices in contact (weighted slip,
+    exact for the P1 traction field: the power of q against the slip rate), doubled for the
+    full body; it is >= 0 by the normal-cone condition of the Coulomb law."""
+    if (Fx is None) == (delta is None):
+        raise ValueError("give exactly one of Fx and delta")
+    hist = np.asarray(Fx if Fx is not None else delta, dtype=float)
+    n = A.size
+    P = np.zeros((n, 2))
+    q, dl = None, None
+    out = Cycle3D(np.zeros(hist.size), np.zeros(hist.size), np.zeros(hist.size), [], [])
+    contact = g > 0
+    with blas_threads(1):
+        return _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact)
+
+
+def _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact):
+    for k, h in enumerate(hist):
+        if Fx is not None:
+            r = solve_tangential3d(Dt, A, g, P, on_plane, force=h / 2, q0=q, delta0=dl)
+        else:
+            r = solve_tangential3d(Dt, A, g, P, on_plane, delta=h, q0=q)
+        q, dl = r.q, r.delta
+        Pn = r.s
+        out.work[k] = 2.0 * float(np.sum((r.q * (Pn - P))[contact]))
+        P = Pn
+        out.Fx[k] = 2.0 * float(A @ r.q[:, 0])
+        out.delta[k] = r.delta
+        out.q.append(r.q)
+        out.P.append(P)
+    return out
