@@ -1,4 +1,4 @@
-"""Command line: ``python -m fem {normal,contact} ...`` (axisymmetric FE contact, SI units).
+"""Command line: ``python -m fem {normal,contact} ...`` (axisymmetric or 3D FE contact, SI units).
 
 Same convention as ``python -m mdr`` (``mdr.cliutil``): the profile, material,
 load and ``--json`` flags are those of ``mdr.cli`` (JSON to stdout by default),
@@ -13,6 +13,7 @@ from mdr.cli import (add_contact_args, add_material_args, add_profile_args, mate
                      profile_from_args)
 from mdr.cliutil import OneLineParser, add_output_args, run_command
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
+from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
@@ -22,10 +23,11 @@ def add_fe_options(c, friction: bool = True):
     """The FE model flags of ``python -m fem normal|contact`` and ``python -m mdr apparatus --law fem``
     (``friction=False``: without the tangential ``--friction-al-tol``)."""
     g = c.add_argument_group("FE model (mesh, penalty, solver)")
-    g.add_argument("--h-contact", type=float, default=H_CONTACT_DEFAULT,
+    g.add_argument("--h-contact", type=float, default=None,
                    help=f"element size in the contact zone / contact radius at the largest normal force "
                         f"(range [{H_CONTACT_RANGE[0]:g}, {H_CONTACT_RANGE[1]:g}]; default "
-                        f"{H_CONTACT_DEFAULT:g} = a/{1 / H_CONTACT_DEFAULT:.0f})")
+                        f"{H_CONTACT_DEFAULT:g} = a/{1 / H_CONTACT_DEFAULT:.0f}; --model 3d: range "
+                        f"[{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}], default {H_CONTACT_3D_DEFAULT:g})")
     g.add_argument("--contact-extent", type=float, default=1.25,
                    help="radius of the finely meshed contact segment / a (> 1; default 1.25)")
     g.add_argument("--block-size", type=float, default=None,
@@ -86,10 +88,17 @@ def build_parser() -> argparse.ArgumentParser:
     add_material_args(c)
     add_contact_args(c)
     add_fe_options(c)
-    c.add_argument("--displacement", choices=("contact", "plate"), default="contact",
+    c.add_argument("--displacement", choices=("contact", "plate"), default=None,
                    help="measure of --ua and the output displacements: 'contact' (half-space comparable, as in "
-                        "python -m mdr contact) or 'plate' (indenter top plate vs block bottom, includes the "
-                        "finite bodies' compliance)")
+                        "python -m mdr contact; the default of --model axisym) or 'plate' (indenter top plate vs "
+                        "block bottom, includes the finite bodies' compliance; the only one of --model 3d)")
+    c.add_argument("--model", choices=("axisym", "3d"), default="axisym",
+                   help="'axisym' (default): Fourier modes 0 + 1, traction along x (Mindlin's assumption); '3d': "
+                        "the 3D half model (y >= 0) with a two-component traction of free direction and exact "
+                        "contact constraints (identical materials, sphere or truncated sphere; --penalty, "
+                        "--al-tol, --friction-al-tol do not apply; --block-size default 20 a). Adds model, "
+                        "vertices, stick_radius_x, stick_radius_y, stick_center_x, traction_angle_max (at the "
+                        "peak of F_x of the last cycle) and peak_memory_bytes")
     add_output_args(c)
     c.set_defaults(func=_contact)
     return p
@@ -98,9 +107,15 @@ def build_parser() -> argparse.ArgumentParser:
 def _contact(args) -> dict:
     from .contact_run import run_fem_contact
 
+    opts = fe_options(args)
+    if args.model == "3d":
+        opts["h_contact"] = H_CONTACT_3D_DEFAULT if args.h_contact is None else args.h_contact
+        for k in ("penalty", "al_tol", "friction_al_tol"):
+            opts.pop(k)
+    disp = args.displacement or ("plate" if args.model == "3d" else "contact")
     return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
                            args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
-                           **fe_options(args), displacement=args.displacement)
+                           **opts, displacement=disp, model=args.model)
 
 
 def _normal(args) -> dict:
@@ -123,7 +138,7 @@ def main(argv=None) -> int:
 
 def fe_options(args) -> dict:
     """Keyword arguments of the FE law from the flags of :func:`add_fe_options`."""
-    return dict(h_contact=args.h_contact, contact_extent=args.contact_extent, block_size=args.block_size,
+    return dict(h_contact=H_CONTACT_DEFAULT if args.h_contact is None else args.h_contact, contact_extent=args.contact_extent, block_size=args.block_size,
                 penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=getattr(args, "friction_al_tol", None),
                 cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
 

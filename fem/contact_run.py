@@ -20,7 +20,7 @@ from __future__ import annotations
 import time
 
 from mdr.drive import check_loading, run_contact
-from mdr.errors import in_range
+from mdr.errors import InputError, in_range
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
@@ -31,9 +31,18 @@ from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
                     h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
-                    backend=None, displacement="contact", return_law=False):
-    """FE fretting run; returns the result dict (and the law if ``return_law``)."""
+                    backend=None, displacement="contact", return_law=False, model="axisym"):
+    """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
+    ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
+    constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
+    in the 3D range; displacement ``"plate"`` only)."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
+    if model == "3d":
+        return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
+                       contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
+                       displacement=displacement, return_law=return_law)
+    if model != "axisym":
+        raise InputError(f"model must be 'axisym' or '3d', got {model!r}")
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
     t0 = time.perf_counter()
     law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
@@ -49,3 +58,22 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     if return_law:
         return out, law
     return out
+
+
+def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_contact, contact_extent, block_size,
+            cache_dir, backend, displacement, return_law):
+    import resource
+
+    from .law3d import FEContact3D
+
+    t0 = time.perf_counter()
+    law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+                      block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement)
+    t1 = time.perf_counter()
+    out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
+    t2 = time.perf_counter()
+    out.update(law.result_keys(F0, t0, t1, t2))
+    out["model"] = "3d"
+    out["displacement"] = law.displacement
+    out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
+    return (out, law) if return_law else out

@@ -1,0 +1,72 @@
+"""Convergence and cost of the 3D frictional contact (issue 13): one force-controlled fretting run
+per mesh level, each in its own process (peak memory per level).
+
+Sphere R = 6 mm on a block, identical steel bodies, F_N = 0.5 N, mu = 0.2, tangential force
+amplitude mu F_N / 2 (Mindlin & Deresiewicz partial slip), 3 cycles; the stationary cycle's
+dissipation against Mindlin & Deresiewicz and the ladder's extrapolation
+(``validation.metrics.ladder_error``). Run:
+
+    python benchmarks/bench_fem3d_contact.py [--steps 100] [h_contact ...]
+"""
+import argparse
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+R, F0, MU = 6e-3, 0.5, 0.2
+
+
+def one(h, steps):
+    from fem.contact_run import run_fem_contact
+    from mdr.materials import Materials
+    from mdr.profiles import Sphere
+
+    out = run_fem_contact(Sphere(R), Materials(), MU, F0, fa=0.5 * MU * F0, cycles=3, steps=steps, h_contact=h,
+                          model="3d", displacement="plate")
+    keys = ("contact_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "traction_angle_max",
+            "dissipation", "dofs", "vertices", "runtime_s", "peak_memory_bytes")
+    return {k: out[k] for k in keys}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--steps", type=int, default=100)
+    ap.add_argument("--one", type=float, default=None, help=argparse.SUPPRESS)
+    ap.add_argument("levels", type=float, nargs="*", default=[0.2, 0.14, 0.1, 0.07])
+    args = ap.parse_args(argv)
+    if args.one is not None:
+        print(json.dumps(one(args.one, args.steps)))
+        return
+    from mdr import reference as ref
+    from mdr.materials import Materials
+    from validation.metrics import ladder_error
+
+    mat = Materials()
+    hz = ref.hertz(F0, R, mat.E_star)
+    us = ref.gross_slip_displacement(hz["d"], MU, mat.E_star, mat.G_star)
+    W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F0, F0, MU, us)
+    c_cm = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F0, F0, MU, hz["a"])
+    rows = []
+    print("| h / a | DOFs | vertices | setup (s) | cycles (s) | peak memory (GB) | dW / MD | c_x / CM | c_y / CM "
+          "| max angle |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for h in args.levels:
+        res = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--one", str(h)],
+                             capture_output=True, text=True, check=True)
+        r = json.loads(res.stdout.strip().splitlines()[-1])
+        r["h"] = h
+        rows.append(r)
+        print(f"| {h:g} | {r['dofs']} | {r['vertices']} | {r['runtime_s']['setup']:.1f} | "
+              f"{r['runtime_s']['cycles']:.1f} | {r['peak_memory_bytes'] / 1e9:.2f} | "
+              f"{r['dissipation'] / W_md:.4f} | {r['stick_radius_x'] / c_cm:.4f} | {r['stick_radius_y'] / c_cm:.4f} | "
+              f"{r['traction_angle_max']:.3f} |", flush=True)
+    if len(rows) >= 3:
+        for key, scale in (("dissipation", W_md), ("traction_angle_max", 1.0), ("stick_radius_x", c_cm)):
+            e = ladder_error([r["h"] for r in rows], [r[key] / scale for r in rows])
+            print(f"{key}: {json.dumps(e, default=float)}")
+
+
+if __name__ == "__main__":
+    main()

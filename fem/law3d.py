@@ -1,0 +1,344 @@
+"""The 3D FE contact law: the contact-law protocol of ``mdr.protocol`` on the 3D half model.
+
+Where the axisymmetric law (``fem.law.FEContact``) assumes with Mindlin that the tangential
+traction points along x and that the pressure does not feel the tangential load, this law
+solves the contact on the 3D half model (y >= 0) with a two-component traction of free
+direction (``fem.contact3d``), so both assumptions become results.
+
+Model (assumptions, each stated where it lives):
+
+- block: the graded half cylinder of ``meshes.half3d`` (radius and height ``block_size``,
+  default 20 a_ref), P2 tetrahedra, bottom clamped, u_y = 0 on the symmetry plane
+  (``fem.elastic3d``), condensed to the P1 traction vertices of the contact half disk
+  (``fem.interface3d``, mortar pairing);
+- indenter: the block's mirror image (z -> -z) with the indenter's elastic constants, so
+  both contact faces are flat and the profile (sphere, truncated sphere) enters as the
+  initial gap, interpolated in the P2 space (exact for the parabola). What this leaves out,
+  the cap's curvature and the indenter's real shape and size, the axisymmetric model
+  measures (README: validity-curvature, validity);
+- identical elastic constants of the two bodies (Dundurs' beta = 0: the normal-tangential
+  coupling of the two bodies cancels exactly). A dissimilar pair is refused until the
+  coupled solve lands;
+- small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
+
+Displacement measure: ``u`` is the tangential displacement of the indenter's clamped top
+against the block's clamped bottom (the "plate" measure of ``fem.law``), which contains
+the bodies' series compliance. Under force control the loop area (dissipation), the stick
+zone and the force history do not depend on it (a series spring is a shear of the loop
+plane); the half-space comparable "contact" measure is not offered yet.
+
+Stick zone (``mdr.stick``, onset 1/2 as for any traction): along the x axis from the
+vertices on the symmetry plane (+x and -x separately), along y from the vertices within
+``SECTOR`` of the y axis; ``stick_nodes`` are the +x vertices (the protocol's one stick
+radius is the extent along +x).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from mdr.errors import InputError, nonnegative, positive
+from mdr.law import History, StepResult
+from mdr.materials import Materials
+from mdr.profiles import Profile, Sphere, TruncatedSphere
+from mdr.stick import at_limit, per_step
+from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
+
+from .contact3d import RelativeFlexibility, solve_normal3d, solve_tangential3d
+from .elastic3d import stiffness3d
+from .interface3d import mortar_flexibility, mortar_interface
+from .run import reference_radius
+from .solvers import blas_threads
+
+#: half-angle of the vertex sector around the y axis that resolves the stick extent along y (rad)
+SECTOR = np.deg2rad(12.0)
+#: default block radius and height / a_ref (the Cerruti mean shear of a 20 a block is +3 %
+#: of the half-space's; it is a series compliance, see the module docstring)
+BLOCK_SIZE_DEFAULT = 20.0
+
+
+def _frozen(a):
+    a = np.array(a)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True)
+class FE3DState:
+    """History of the 3D law: tractions ``q`` (n, 2) and pressures ``p`` (n,) at the vertices (Pa),
+    weighted slip ``P`` (n, 2) (m^3), tangential displacement ``u`` and approach ``d`` (m)."""
+
+    q: np.ndarray
+    P: np.ndarray
+    p: np.ndarray
+    u: float
+    d: float
+
+
+@dataclass(frozen=True)
+class Normal3D:
+    """Normal contact at one load: vertex pressures ``p`` (Pa), full-body force ``force`` (N),
+    plate ``approach`` (m), ``contact_radius`` (m, :meth:`FEContact3D._edge_radius`)."""
+
+    p: np.ndarray
+    force: float
+    approach: float
+    contact_radius: float
+    iterations: int
+
+
+class FEContact3D:
+    """3D FE contact law of one profile (see the module docstring for the model).
+
+    ``profile``: Sphere or TruncatedSphere; ``materials`` (identical bodies); ``mu``;
+    ``F_max`` (N) sizes the mesh (a_ref = the half-space contact radius at F_max);
+    ``h_contact`` element size on the contact half disk / a_ref (range
+    ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref;
+    ``block_size`` block radius and height (m; default ``BLOCK_SIZE_DEFAULT`` a_ref);
+    ``cache_dir``; ``backend`` (sparse solver).
+    """
+
+    stick_onset = 0.5
+    batch = ()
+
+    def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
+                 h_contact=H_CONTACT_3D_DEFAULT, contact_extent=1.25, block_size=None,
+                 cache_dir=None, backend=None, displacement="plate"):
+        if not isinstance(profile, (Sphere, TruncatedSphere)):
+            kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
+            raise InputError(f"profile must be sphere or truncated for the 3D model, got {kind!r}")
+        self.profile = profile
+        self.materials = m = materials if materials is not None else Materials()
+        if (m.E1, m.nu1) != (m.E2, m.nu2):
+            raise InputError("the 3D model needs identical elastic constants of indenter and block (E1 = E2, "
+                             "nu1 = nu2): the normal-tangential coupling of a dissimilar pair is not solved yet; "
+                             f"got E1={m.E1:g}, nu1={m.nu1:g}, E2={m.E2:g}, nu2={m.nu2:g}")
+        if displacement != "plate":
+            raise InputError("displacement must be 'plate' for the 3D model (the half-space comparable "
+                             f"'contact' measure is not offered yet), got {displacement!r}")
+        self.displacement = displacement
+        if np.ndim(mu) != 0:
+            raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
+        self.mu = float(nonnegative("mu", mu))
+        if F_max is None:
+            raise InputError("FEContact3D needs F_max (> 0, the largest normal force) to size its mesh")
+        self.F_max = float(positive("F_max", F_max))
+        if not H_CONTACT_3D_RANGE[0] <= h_contact <= H_CONTACT_3D_RANGE[1]:
+            raise InputError(f"h_contact must be in [{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}] for the "
+                             f"3D model, got {h_contact!r}")
+        desc = profile.describe()
+        kind = desc["profile"]
+        a_ref = reference_radius(kind, desc.get("R"), float(desc.get("b") or 0.0), self.F_max, m.E_star)
+        L = BLOCK_SIZE_DEFAULT * a_ref if block_size is None else float(positive("block_size", block_size))
+        t0 = time.perf_counter()
+        params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L)
+        self.hmesh = cached_mesh3d(params, cache_dir)
+        mesh = self.hmesh.mesh
+        t1 = time.perf_counter()
+        K, basis = stiffness3d(mesh, m.E2, m.nu2)
+        self.mi = mi = mortar_interface(mesh)
+        D, self.backend, _ = mortar_flexibility(K, basis, mesh, mi, backend=backend)
+        self.ndofs = int(K.shape[0])
+        self.rf = RelativeFlexibility.from_bodies(D, D)
+        with np.errstate(invalid="ignore"):
+            f = np.asarray(profile.f(mi.nodes.r), dtype=float)
+        self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
+        self._order = np.argsort(mi.r, kind="stable")
+        xp = np.flatnonzero(mi.on_plane & (mi.x >= 0))
+        xm = np.flatnonzero(mi.on_plane & (mi.x <= 0))
+        phi = np.arctan2(mi.y, mi.x)
+        ys = np.flatnonzero((np.abs(phi - np.pi / 2) <= SECTOR) | (mi.r == 0))
+        self._rays = {"+x": xp[np.argsort(mi.x[xp])], "-x": xm[np.argsort(-mi.x[xm])],
+                      "y": ys[np.argsort(mi.r[ys])]}
+        self._normal_cache = {}
+        self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "normal_solves": 0}
+        self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
+        self.last_run = None
+
+    # ----------------------------------------------------------------- info
+    @property
+    def stick_nodes(self):
+        return self.mi.r[self._rays["+x"]]
+
+    @property
+    def n(self) -> int:
+        return self.mi.n
+
+    def describe(self) -> dict:
+        return {"law": "fem3d", "dofs": self.ndofs, "vertices": self.n, "displacement": self.displacement,
+                "mesh": dict(self.hmesh.params.as_dict(), key=self.hmesh.key), "backend": self.backend}
+
+    def mesh_summary(self) -> dict:
+        return dict(self.hmesh.params.as_dict(), key=self.hmesh.key, cache=self.hmesh.info.get("cache"))
+
+    def normal_load(self, F_N) -> dict:
+        return {"F_N": np.asarray(F_N, dtype=float)}
+
+    def rest_state(self) -> FE3DState:
+        z2, z = _frozen(np.zeros((self.n, 2))), _frozen(np.zeros(self.n))
+        return FE3DState(q=z2, P=z2, p=z, u=0.0, d=0.0)
+
+    # ----------------------------------------------------------------- normal
+    def normal(self, *, F_N=None, d=None) -> Normal3D:
+        """Normal contact at full-body force F_N (> 0) or plate approach d, cached per value."""
+        key = ("F", float(f"{F_N:.13g}")) if F_N is not None else ("d", float(f"{d:.13g}"))
+        res = self._normal_cache.get(key)
+        if res is None:
+            mi = self.mi
+            with blas_threads(1):
+                p, dd, _, it = solve_normal3d(self.rf.Dn, self.g0, mi.A, force=None if F_N is None else F_N / 2,
+                                              approach=d)
+            o = self._order
+            rim = float(mi.r.max())
+            if p[o][-1] > 0 or np.any(p[mi.r >= 0.999 * rim] > 0):
+                from mdr.errors import ConvergenceError
+
+                raise ConvergenceError(f"the contact reaches the rim of the contact disk (r = {rim:.4g} m): raise "
+                                       "contact_extent")
+            a = self._edge_radius(p)
+            res = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd), contact_radius=a, iterations=it)
+            self._normal_cache[key] = res
+            self.stats["normal_solves"] += 1
+        return res
+
+    def _edge_radius(self, p) -> float:
+        """Contact radius from the vertex pressures: near a smooth edge p^2 is linear in r^2 (exact
+        for Hertz, first order for the truncated sphere), so a least-squares line through
+        (r^2, p^2) of the loaded vertices within 2 h of the outermost one is extrapolated to
+        p = 0, clipped to [outermost loaded vertex, innermost free vertex beyond it]. All angles together: assumes a
+        circular contact (the aligned sphere and truncated sphere)."""
+        mi = self.mi
+        loaded = p > 0
+        if not np.any(loaded):
+            return 0.0
+        h = self.hmesh.params.h_min
+        r1 = float(mi.r[loaded].max())
+        sel = loaded & (mi.r >= r1 - 2.0 * h)
+        if sel.sum() < 3:
+            return r1
+        k, c0 = np.polyfit(mi.r[sel] ** 2, p[sel] ** 2, 1)
+        a = np.sqrt(-c0 / k) if k < 0 and c0 > 0 else r1
+        beyond = mi.r[~loaded & (mi.r > r1)]
+        return float(np.clip(a, r1, beyond.min() if beyond.size else r1 + h))
+
+    # ------------------------------------------------------------------ step
+    def step(self, state: FE3DState, u=None, *, d=None, F_N=None, Fx=None):
+        """One step, pure (``state`` not modified): normal load ``F_N`` (N, >= 0) or ``d``; tangential
+        ``u`` (m) or ``Fx`` (N, |Fx| < mu F_N). Returns (StepResult, FE3DState)."""
+        if (d is None) == (F_N is None):
+            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
+        if (u is None) == (Fx is None):
+            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        if F_N is not None:
+            F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
+            nr = self.normal(F_N=F_N) if F_N > 0 else None
+        else:
+            nr = self.normal(d=float(d)) if d > 0 else None
+        p = nr.p if nr is not None else np.zeros(self.n)
+        g = self.mu * p
+        FN = nr.force if nr is not None else 0.0
+        if Fx is not None and abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0:
+            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                             f"mu*F_N={self.mu * FN:.4g} N under force control")
+        mi = self.mi
+        q0 = np.asarray(state.q)
+        with blas_threads(1):
+            if not np.any(g > 0):
+                uu = float(state.u if u is None else u)
+                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=uu)
+            elif u is not None:
+                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=float(u),
+                                         q0=q0)
+            else:
+                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, force=Fx / 2,
+                                         q0=q0, delta0=state.u)
+        contact = g > 0
+        work = 2.0 * float(np.sum((res.q * (res.s - np.asarray(state.P)))[contact]))
+        qn = np.hypot(res.q[:, 0], res.q[:, 1])
+        slack = np.where(contact, g - qn, 0.0)
+        slipping = ~contact | at_limit(slack, g)
+        ray = self._rays["+x"]
+        a = nr.contact_radius if nr is not None else 0.0
+        c = float(per_step(mi.x[ray], slack[ray], slipping[ray], a, self.stick_onset))
+        self.stats["steps"] += 1
+        self.stats["trial_solves"] += 1
+        self.stats["newton"] += res.iterations
+        new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.delta),
+                        d=float(nr.approach if nr is not None else (d or 0.0)))
+        return StepResult(Fx=2.0 * float(mi.A @ res.q[:, 0]), FN=FN, d=new.d, a=a, c=c, u=new.u, work=work,
+                          slack=slack[ray], slipping=slipping[ray]), new
+
+    def prepare(self, state, *, d=None, F_N=None):
+        raise InputError("the 3D model does not offer trial steps yet (prepare): drive it directly "
+                         "(python -m fem contact --model 3d), not in the apparatus")
+
+    # ------------------------------------------------------------------ runs
+    def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FE3DState | None = None,
+            record_from: int | None = None) -> History:
+        """A load history (arrays (T,)); returns mdr.law.History. The tractions of the recorded steps
+        are kept in ``last_run`` (for the 3D keys of :meth:`stick_zone`)."""
+        if (d is None) == (F_N is None):
+            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
+        if (u is None) == (Fx is None):
+            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+        drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
+        nT = drive.shape[-1]
+        normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
+        state = state if state is not None else self.rest_state()
+        out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+        rec0 = nT if record_from is None else int(record_from)
+        if not 0 <= rec0 <= nT:
+            raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
+        nr = self._rays["+x"].size
+        rec = {"slack": np.empty((nT - rec0, nr)), "slipping": np.empty((nT - rec0, nr), bool)}
+        kept = {"q": [], "p": [], "Fx": [], "a": []}
+        for t in range(nT):
+            kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
+            res, state = self.step(state, **({"u": drive[t]} if u is not None else {"Fx": drive[t]}), **kw)
+            for key in out:
+                out[key][t] = getattr(res, key)
+            if t >= rec0:
+                rec["slack"][t - rec0] = res.slack
+                rec["slipping"][t - rec0] = res.slipping
+                kept["q"].append(state.q)
+                kept["p"].append(state.p)
+                kept["Fx"].append(res.Fx)
+                kept["a"].append(res.a)
+        self.last_run = kept if record_from is not None else None
+        return History(state=state, **out, **(rec if record_from is not None else {}))
+
+    # ------------------------------------------------------------------ 3D keys
+    def stick_zone(self, q, p, a) -> dict:
+        """Stick extents of one instant (m): ``stick_radius_x`` (mean of +x and -x),
+        ``stick_center_x`` (their half difference), ``stick_radius_y``; ``traction_angle_max``,
+        the largest |q_y|/|q| over the vertices in contact that slip."""
+        mi = self.mi
+        g = self.mu * p
+        qn = np.hypot(q[:, 0], q[:, 1])
+        contact = g > 0
+        slack = np.where(contact, g - qn, 0.0)
+        slipping = ~contact | at_limit(slack, g)
+        ext = {}
+        for name, ray in self._rays.items():
+            r = np.abs(mi.x[ray]) if name != "y" else mi.r[ray]
+            ext[name] = float(per_step(r, slack[ray], slipping[ray], a, self.stick_onset))
+        slip = contact & slipping
+        ang = float(np.max(np.abs(q[slip, 1]) / qn[slip])) if np.any(slip) else 0.0
+        return {"stick_radius_x": 0.5 * (ext["+x"] + ext["-x"]), "stick_center_x": 0.5 * (ext["+x"] - ext["-x"]),
+                "stick_radius_y": ext["y"], "traction_angle_max": ang}
+
+    def result_keys(self, F_N, t0, t1, t2) -> dict:
+        """The keys a 3D run adds (``python -m fem contact --model 3d``): the FE's own contact radius
+        and approach at F_N, the stick zone and traction angle at the peak of F_x of the recorded
+        window (the last cycle), ``dofs``, ``vertices``, ``mesh``, ``solver`` and ``runtime_s``."""
+        nr = self.normal(F_N=F_N)
+        out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "dofs": self.ndofs,
+               "vertices": self.n, "mesh": self.mesh_summary(),
+               "solver": {"backend": self.backend, **self.stats},
+               "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
+        if self.last_run and self.last_run["q"]:
+            k = int(np.argmax(self.last_run["Fx"]))
+            out.update(self.stick_zone(self.last_run["q"][k], self.last_run["p"][k], self.last_run["a"][k]))
+        return out
