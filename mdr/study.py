@@ -299,7 +299,7 @@ def plate_readings(readings=PLATE_READINGS + FX_COMPLIANCE_ROWS, res=RES, loop_r
 def plates_markdown(rows):
     """The plate readings against the paper's points as a markdown table."""
     head = ["reading", "R_bed", "k_p (N/um)", "loss A (F_x), Bc (F_bed) (um/N)", "Fig. 4 delta (on limit)", "Fig. 5", "Fig. 6",
-            "Fig. 7", "Fig. 8: max delta at 1 N/um", "Fig. 8 (2-20 N/um): sphere / flat |dev.|",
+            "Fig. 7", "Fig. 8: max delta at 1 N/um", "Fig. 8 (2-20 N/um): max. deviation from sphere / flat punch",
             "Fig. 9: k_x at delta 0.01 / 0.1 (b = 10, 50, 100 um)", "paper points"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     mark = lambda ok: "" if ok else " x"  # noqa: E731
