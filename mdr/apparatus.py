@@ -14,13 +14,57 @@ the fretting contact is du = u_2 - u_1.
   prescribed at the contact.
 - A2 (paper): the indenter sits on the normal axis of tangential stiffness k_x:
   F_x = k_x u_1 (F_x: tangential force of the contact, on the indenter).
-- A3 (reconstruction): the two brass plates join piezo and block as a parallel
-  motion, loaded along their length: each is an Euler-Bernoulli beam in
-  tension/compression, k_p = E B t / l, two in parallel (``plate_model="axial"``,
-  49 N/um with Table 1). The alternative, plates bent across their thickness
-  as guided beams (k_p = 2 * 12 E I / l^3, I = B t^3/12, 1.7 N/mm), is offered
-  as ``plate_model="bending"``; it is far too soft to move the block against its
-  bedding, which rules it out for the experiments of the paper.
+- A3 (reconstruction): the two brass plates ("a bridge of two thin brass plates
+  that is supposed to act as a parallel motion", "modeled as bent beams within the
+  framework of the Euler-Bernoulli theory") join piezo and block. Table 1 gives
+  E, l, B, t and one height h2; Figure 3 (missing) would say how they are placed.
+  Readings (``plate_model``; heights z above the bedding plane, contact at z = h):
+
+  * ``axial`` (default): plates along x, loaded along their length, side by side at
+    z = h2: k_p = 2 E B t / l = 49 N/um. Their bending across the thickness (1.7 N/mm,
+    vertical) is the parallel motion's free direction: it lets the block settle on
+    its bedding; 1e-4 of the bedding's normal stiffness, neglected. No tilt.
+  * ``bending``: plates upright, thickness along x, bent across it as guided beams
+    (both ends clamped, the classic parallel-spring guide): 2 x 12 E I / l^3,
+    I = B t^3 / 12: 1.7 N/mm, far too soft to move the block against its bedding
+    (mu2 (m1 g + F0) = 0.38 N needs 0.22 mm): the block and the contact stick.
+  * ``inplane``: plates upright, width along x, bent in their own plane as guided
+    beams: I = t B^3 / 12, 2 x 12 E I / l^3 = 75 N/um (Euler-Bernoulli, as the
+    paper says, although B/l = 1.2 makes them deep beams).
+  * ``rigid``: the limit (u_2 = u_3).
+  * ``tilt``: as ``axial``, but the rigid block also tilts by theta on its three
+    bedding contacts under the moment of F_x (at h) and of the plate force (at h2);
+    the bedding resists with the rocking stiffness k_theta of its Hertz contacts
+    (``Apparatus.rocking_stiffness``: 1.6 / 2.7 / 3.4e3 N m/rad at R_bed = 1 / 5 /
+    10 mm), linearised at the static load m1 g + F0 (the moment changes the sphere
+    loads by up to 20 %, k_theta by up to 7 %, of a term that moves delta by < 0.03).
+  * ``parallel``: the plates as a parallelogram, each E B t / l, one at the bottom
+    (z = 0) and one at the top (z = h2) of the block; the block tilts on its bedding
+    and the plates' couple resists the tilt too (k_a h2^2 / 2 = 4.9e3 N m/rad). An ideal
+    parallel motion (no tilt at all) is ``axial`` but for the split of the bedding
+    loads (equal approach, so W/3 each), which only shifts the bedding's short stick
+    phase.
+
+  Tilting block (``tilt``, ``parallel``): a point at height z moves u_b + theta z
+  (u_b: bedding plane, where the bedding's tangential forces act); the contact point
+  moves u_2 = u_b + theta h. Plate j (stiffness k_j at z_j) pulls with
+  F_j = k_j (u_3 - u_b - theta z_j). Equilibrium of the block in x and of its moments
+  about the bedding point below the contact (F_N and the weight act on the vertical
+  through it; their moments F_N h theta + m1 g (h/2) theta ~ 0.04 N m/rad are 1e-5 of
+  k_theta, as are the plates' bending moments 4 E I / l = 3e-4 N m/rad: neglected):
+
+      sum_j F_j = F_x + F_bed,        sum_j F_j z_j - F_x h = k_theta theta.
+
+  With S_n = sum_j k_j z_j^n, for a given contact displacement (F_x and u_2 known)
+  the moment equation gives theta in closed form,
+
+      theta = (S1 (u_3 - u_2) - F_x h) / (k_theta + S2 - S1 h),   u_b = u_2 - theta h,
+
+  so the step stays one monotone equation in du (below). Without tilt theta = 0 and
+  u_b = u_2. The piezo-to-contact loss is linear: u_3 - u_2 = A F_x + Bc F_bed
+  (``Apparatus.stroke_loss``); one resultant at h2 gives A = 1/k_p + (h2 - h)^2 /
+  k_theta and Bc = 1/k_p + h2 (h2 - h) / k_theta: as h2 ~ h the tilt barely reaches
+  the contact (A rises by < 1e-3 um/N; the parallelogram: by < 0.013 um/N).
 - A4 (reconstruction): the block rests on three Si3N4 half-spheres of radius
   ``R_bed`` (not given in the paper; default 5 mm), MDR contact laws with
   friction mu_2, all displaced by u_2 (no block rotation). One sphere lies at
@@ -34,13 +78,15 @@ the fretting contact is du = u_2 - u_1.
   quasi-static equilibrium in x and are not used.
 
 Equilibrium of the block, written with compliances so that an infinitely stiff
-apparatus (c = 1/k = 0) is allowed:
+apparatus (c = 1/k = 0) is allowed (c_p = 1/S0, zbar = S1/S0):
 
-    r(du) = u_3 - u_2 - c_p (F_x + F_bed),    u_2 = du + c_x F_x,
+    r(du) = u_3 - u_b - zbar theta - c_p (F_x + F_bed),    u_2 = du + c_x F_x,
 
-with F_x = F_x(du) of the contact law and F_bed(u_2) of the bedding laws. r is
-strictly decreasing in du (all contact forces are nondecreasing in their
-displacement), so each step is solved by a safeguarded Newton iteration in a
+with F_x = F_x(du) of the contact law and F_bed(u_b) of the bedding laws (without
+tilt: r = u_3 - u_2 - c_p (F_x + F_bed)). r is strictly decreasing in du (all contact
+forces are nondecreasing in their displacement; with tilt when k_theta + S2 - S1 h > 0,
+checked, and the plates' resultant not far below the contact, as in every reading),
+so each step is solved by a safeguarded Newton iteration in a
 shrinking bracket (``mdr.solve``) over trial, uncommitted steps of the laws:
 their ``force`` gives F_x and its slope. Any contact law of the protocol
 (``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``, ``prepare`` with
@@ -49,7 +95,7 @@ the trials' ``force``/``commit``) drops in; ``prepare`` is required.
 from __future__ import annotations
 
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 
@@ -64,7 +110,8 @@ from .solve import solve_increasing
 from .stick import stick_radius
 
 G_ACC = 9.81
-PLATE_MODELS = ("axial", "bending", "rigid")
+PLATE_MODELS = ("axial", "bending", "inplane", "rigid", "tilt", "parallel")
+TILT_MODELS = ("tilt", "parallel")  # plate models whose block tilts on its bedding
 
 
 @dataclass(frozen=True)
@@ -74,7 +121,8 @@ class Apparatus:
     ``kx``, ``mu2``, ``R_bed`` and ``plate_model`` may be arrays of the batch
     shape of the contact law (one apparatus per scene, run in one pass).
     ``bedding=False`` (no bedding contacts) is the same as ``mu2 = 0``: a
-    frictionless bedding carries no tangential force.
+    frictionless bedding carries no tangential force. ``plate_model``: one of
+    ``PLATE_MODELS`` (module docstring, A3).
     """
 
     kx: float = 1.9e6          # tangential stiffness of the normal axis, N/m
@@ -104,18 +152,80 @@ class Apparatus:
             raise InputError(f"kx must be > 0 (inf allowed: rigid axis), got {kx!r}")
         nonnegative("mu2", self.mu2)
         if not np.all(np.isin(np.asarray(self.plate_model), PLATE_MODELS)):
-            raise InputError(f"plate_model must be one of axial, bending, rigid; got {self.plate_model!r}")
+            raise InputError(f"plate_model must be one of {', '.join(PLATE_MODELS)}; got {self.plate_model!r}")
+
+    def _per_model(self, values):
+        """``values[name]`` for each scene's plate model (scalar for a scalar model)."""
+        pm = np.asarray(self.plate_model)
+        if pm.ndim == 0:
+            return values[str(pm)]
+        return np.select([pm == name for name in PLATE_MODELS], [values[name] for name in PLATE_MODELS])
+
+    def plate_springs(self):
+        """The plates as springs in x on the block: ``[(k_j, z_j), ...]`` for a scalar
+        plate model (stiffness in N/m, height of the attachment above the bedding plane
+        in m; A3)."""
+        if np.asarray(self.plate_model).ndim:
+            raise InputError("plate_springs needs a scalar plate_model")
+        pm = str(self.plate_model)
+        E, B, t, l, h2 = self.E_plate, self.B, self.t, self.l, self.h2
+        axial_one = E * B * t / l
+        k = {"axial": 2.0 * axial_one, "tilt": 2.0 * axial_one,
+             "bending": 2.0 * 12.0 * E * (B * t**3 / 12.0) / l**3,
+             "inplane": 2.0 * 12.0 * E * (t * B**3 / 12.0) / l**3, "rigid": np.inf}
+        if pm == "parallel":
+            return [(axial_one, 0.0), (axial_one, h2)]
+        return [(k[pm], h2)]
 
     @property
     def k_plates(self):
-        """Stiffness of the two plates between piezo and block (N/m; array for a batch of plate models)."""
-        I = self.B * self.t**3 / 12.0
-        k = {"axial": 2.0 * self.E_plate * self.B * self.t / self.l,
-             "bending": 2.0 * 12.0 * self.E_plate * I / self.l**3, "rigid": np.inf}
-        pm = np.asarray(self.plate_model)
-        if pm.ndim == 0:
-            return k[str(pm)]
-        return np.select([pm == name for name in PLATE_MODELS], [k[name] for name in PLATE_MODELS])
+        """Stiffness in x of the plates between piezo and block, all plates together
+        (N/m; array for a batch of plate models)."""
+        return self._per_model({pm: sum(k for k, _ in replace(self, plate_model=pm).plate_springs())
+                                for pm in PLATE_MODELS})
+
+    def rocking_stiffness(self, F0):
+        """Resistance of the bedding to a tilt theta of the block, k_theta = dM/dtheta
+        (N m/rad), at the static load m1 g + F0 without moment: each sphere a Hertz
+        contact of normal stiffness k_i = 2 E* a_i, a_i = (3 N_i R_bed / (4 E*))^(1/3),
+        at x_i = +l1 (one) and -l2 (two); the block turns about the bedding's elastic
+        centre: k_theta = sum k_i x_i^2 - (sum k_i x_i)^2 / sum k_i."""
+        E_star = Materials(self.E_bed, self.nu_bed, 200e9, 0.29).E_star
+        N1, N2 = self.bedding_loads(F0, 0.0)
+        k1, k2 = (2.0 * E_star * (3.0 * N * self.R_bed / (4.0 * E_star)) ** (1.0 / 3.0) for N in (N1, N2))
+        s0 = k1 + 2.0 * k2
+        s1 = k1 * self.l1 - 2.0 * k2 * self.l2
+        s2 = k1 * self.l1**2 + 2.0 * k2 * self.l2**2
+        return s2 - s1**2 / s0
+
+    def plate_terms(self, F0):
+        """Per-scene coefficients of the block equilibrium (module docstring, "Equilibrium"):
+        ``cp`` = 1/S0 (0: rigid plates), ``zbar`` = S1/S0, ``S1``, ``S2``, ``J`` = S2 - S1^2/S0
+        and ``c_tilt`` = 1/k_theta, with S0, S1, S2 the sums of k_j, k_j z_j, k_j z_j^2 over
+        the plates; for a model without tilt S1 = S2 = J = c_tilt = 0 (not needed)."""
+        terms = {}
+        for pm in PLATE_MODELS:
+            springs = replace(self, plate_model=pm).plate_springs()
+            S0 = sum(k for k, _ in springs)
+            zbar = sum(k * z for k, z in springs) / S0 if np.isfinite(S0) else self.h2
+            tilt = pm in TILT_MODELS
+            S1 = sum(k * z for k, z in springs) if tilt else 0.0
+            S2 = sum(k * z * z for k, z in springs) if tilt else 0.0
+            terms[pm] = dict(cp=1.0 / S0, zbar=zbar, S1=S1, S2=S2, J=S2 - S1**2 / S0 if tilt else 0.0,
+                             c_tilt=1.0 / self.rocking_stiffness(F0) if tilt else 0.0)
+        return {key: self._per_model({pm: terms[pm][key] for pm in PLATE_MODELS}) for key in terms["axial"]}
+
+    def stroke_loss(self, F0):
+        """Compliances (A, Bc) of the piezo-to-contact path, u_3 - u_2 = A F_x + Bc F_bed
+        (m/N, per scene): exact at every step of ``run_apparatus`` (the plates and the
+        tilt are linear). Without tilt A = Bc = 1/k_plates; a single plate resultant at
+        h2 over a tilting block gives A = 1/k_p + (h2 - h)^2 / k_theta and
+        Bc = 1/k_p + h2 (h2 - h) / k_theta."""
+        pt = self.plate_terms(F0)
+        ct, S1, zbar, h = pt["c_tilt"], pt["S1"], pt["zbar"], self.h
+        den = 1.0 + ct * (pt["S2"] - S1 * h)
+        lead = 1.0 - (zbar - h) * ct * S1 / den
+        return (pt["cp"] - (zbar - h) * ct * h / den) / lead, pt["cp"] / lead
 
     def bedding_loads(self, FN, M):
         """Normal forces (front sphere, each rear sphere) for normal force FN and moment M."""
@@ -140,7 +250,8 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
 
     ``dF``, ``alpha`` and the array fields of ``app`` may be batch arrays (one
     value per scene of the law's batch); ``F0`` and ``ua`` are scalars.
-    Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed) and the
+    Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed; ub and tilt:
+    bedding-plane displacement and tilt of the block, A3) and the
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle);
     ``state_at`` (a step index): also the law's state after that step, as
     ``out["state_at"]``.
@@ -159,7 +270,14 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
         FN = np.broadcast_to(FN, batch + t.shape)
     u3 = ua * np.sin(2 * np.pi * t)
     cx = 0.0 if np.all(np.isinf(app.kx)) else 1.0 / np.asarray(app.kx, dtype=float)
-    cp = 1.0 / np.asarray(app.k_plates, dtype=float)
+    pt = app.plate_terms(F0)
+    cp, zbar = pt["cp"], pt["zbar"]
+    tilting = bool(np.any(pt["c_tilt"] > 0))
+    if tilting:  # theta(du) = c_tilt (S1 (u3 - u_c) - F_x h) / den (module docstring)
+        ct, S1, h = pt["c_tilt"], pt["S1"], app.h
+        den = 1.0 + ct * (pt["S2"] - S1 * h)
+        if np.any(den <= 0):
+            raise InputError("plate heights and bedding give an unstable block (1 + (S2 - S1 h) / k_theta <= 0)")
     use_bed = bool(app.bedding and np.any(np.asarray(app.mu2) > 0))
     if use_bed:
         Wmax = app.m1 * G_ACC + F0 + np.asarray(dF)
@@ -169,7 +287,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
     normal = law.normal_load(np.broadcast_to(FN, batch + t.shape))
     iters = 0
     du_prev = np.zeros(batch)
-    out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c")}
+    out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c", "ub", "tilt")}
     first = (cycles - 1) * steps  # the last (stationary) cycle, whose stick radius is reported
     window = []
     M = np.zeros(batch)
@@ -182,7 +300,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
             d_bed = bed.approach(N_b)
         load = {key: v[..., k] for key, v in normal.items()}
         span = (np.asarray(mu) * FN[..., k] + (app.mu2 * (app.m1 * G_ACC + FN[..., k]) if use_bed else 0.0)) \
-            * (cp + cx) + 1e-12
+            * (cp + cx + (2.0 * ct * (h + zbar) ** 2 if tilting else 0.0)) + 1e-12
         lo = np.broadcast_to(u3[k] - span, batch).astype(float)
         hi = np.broadcast_to(u3[k] + span, batch).astype(float)
 
@@ -196,19 +314,28 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
             F, kF = tr.force(du)
             u2 = du + cx * F
             du2 = 1.0 + cx * kF
+            if tilting:  # block tilt and bedding-level displacement ub = u2 - theta h
+                th = ct * (S1 * (u3[k] - u2) - F * h) / den
+                dth = -ct * (S1 * du2 + kF * h) / den
+                ub, dub = u2 - th * h, du2 - dth * h
+            else:
+                th = dth = 0.0
+                ub, dub = u2, du2
             if use_bed:
-                Fb2, kb2 = trb.force(np.stack([u2, u2], axis=-1))
+                Fb2, kb2 = trb.force(np.stack([ub, ub], axis=-1))
                 Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
             else:
                 Fb, kb = 0.0, 0.0
-            return u2 + cp * (F + Fb) - u3[k], du2 + cp * (kF + kb * du2)
+            return ub + zbar * th + cp * (F + Fb) - u3[k], dub + zbar * dth + cp * (kF + kb * dub)
 
         du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
                               atol=xtol, xtol=xtol, what="apparatus equilibrium")
         res, st_new = tr.commit(du)
         u2 = du + cx * res.Fx
+        th = ct * (S1 * (u3[k] - u2) - res.Fx * h) / den if tilting else np.zeros_like(u2)
+        ub = u2 - th * app.h
         if use_bed:
-            rb, bst = trb.commit(np.stack([u2, u2], axis=-1))
+            rb, bst = trb.commit(np.stack([ub, ub], axis=-1))
             Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
         else:
             bst, Fbed = None, np.zeros_like(u2)
@@ -218,14 +345,17 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
             out["state_at"] = st
         if use_bed:
             bed_state = bst
-            # moment about the bedding plane for the next step's sphere loads (A4)
-            M = -res.Fx * app.h + (res.Fx + Fbed) * app.h2
+            # moment about the bedding plane for the next step's sphere loads (A4):
+            # sum_j F_j z_j - F_x h = zbar (F_x + F_bed) - J theta - F_x h
+            M = -res.Fx * app.h + (res.Fx + Fbed) * zbar - pt["J"] * th
         out["Fx"][..., k] = res.Fx
         out["FN"][..., k] = res.FN
         out["u1"][..., k] = cx * res.Fx
         out["u2"][..., k] = u2
         out["du"][..., k] = du
         out["Fbed"][..., k] = Fbed
+        out["ub"][..., k] = ub
+        out["tilt"][..., k] = th
         out["a"][..., k] = res.a
         out["c"][..., k] = res.c
         if k >= first and res.slack is not None:

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 
+from .apparatus import PLATE_MODELS
 from .cliutil import OneLineParser, add_output_args, run_command
 from .materials import STEEL_E, STEEL_NU, Materials
 from .plugins import GROUP, law_plugins
@@ -106,12 +107,18 @@ def _cmd_study(args):
 
     names = study_names(args.name)
     t0 = time.perf_counter()
-    out = run_studies(names, args.out, jobs=args.jobs)
+    app_kw = {k: v for k, v in (("plate_model", args.plate_model), ("R_bed", args.R_bed)) if v is not None}
+    out = run_studies(names, args.out, jobs=args.jobs, app_kw=app_kw or None)
     for res in out:
         sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
     if len(out) > 1:
         sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s on {args.jobs} process(es)\n")
     return out[0] if len(out) == 1 else {"studies": out}
+
+
+PLATE_HELP = ("brass plates: axial = loaded along their length (default), bending = bent across their thickness, "
+              "inplane = bent in their plane, rigid, tilt = axial with the block tilting on its bedding, "
+              "parallel = parallelogram at the block's bottom and top, block tilting (mdr/apparatus.py, A3)")
 
 
 def build_parser():
@@ -157,8 +164,8 @@ def build_parser():
     g.add_argument("--cycles", type=int, default=4, help="cycles (the last one is reported)")
     g.add_argument("--steps", type=int, default=200, help="steps per cycle (multiple of 4)")
     g.add_argument("--R-bed", dest="R_bed", type=float, default=5e-3, help="radius of the bedding half-spheres in m")
-    g.add_argument("--plate-model", choices=["axial", "bending", "rigid"], default="axial",
-                   help="brass plates loaded along their length (default), bent across their thickness, or rigid")
+    g.add_argument("--plate-model", choices=list(PLATE_MODELS), default="axial",
+                   help=PLATE_HELP)
     g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
     plugins = law_plugins()
     pa.add_argument("--law", choices=["mdr", *plugins], default="mdr",
@@ -171,15 +178,20 @@ def build_parser():
     add_output_args(pa)
     pa.set_defaults(func=_cmd_apparatus, law_plugins=plugins)
 
-    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity",
+    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity, plates",
                         description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, the "
                                     "four experiment loops of Figs. 4-7 (loops), or the slip index at the Table 2 "
                                     "point as each reconstructed apparatus quantity varies (sensitivity: CSV + "
-                                    "markdown table). Writes CSV/JSON and PNG to --out.")
-    ps.add_argument("name", help="fig8, fig9, loops or sensitivity, a comma list of them, or all")
+                                    "markdown table), or every reading of the brass plates against the paper's "
+                                    "Figs. 4-9 (plates: CSV + markdown table). Writes CSV/JSON and PNG to --out.")
+    ps.add_argument("name", help="fig8, fig9, loops, sensitivity or plates, a comma list of them, or all")
     ps.add_argument("--jobs", type=int, default=1, metavar="N",
                     help="run several studies in N parallel processes (default 1)")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
+    ps.add_argument("--plate-model", choices=list(PLATE_MODELS), default=None,
+                    help="fig8, fig9, loops: reading of the brass plates (default axial; " + PLATE_HELP + ")")
+    ps.add_argument("--R-bed", dest="R_bed", type=float, default=None,
+                    help="fig8, fig9, loops: radius of the bedding half-spheres in m (default 5e-3)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
     ps.set_defaults(func=_cmd_study)
     return parser

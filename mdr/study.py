@@ -6,7 +6,9 @@ radius b beside it. ``fig9``: slip index against k_x for b = 10, 50, 100 um.
 ``loops``: the four experiment cases of Figs. 4-7 (loop plots F_x-F_N, F_x-du).
 ``sensitivity``: slip index at the Table 2 point as each reconstructed quantity
 (bedding radius, mu2, plate model, bedding on/off, dF, alpha) varies one at a
-time (CSV + markdown table).
+time (CSV + markdown table). ``plates``: every reading of the brass plates
+(``mdr.apparatus``, A3) against the paper's points of Figs. 4-9 (CSV + markdown
+table). fig8, fig9 and loops take ``--plate-model`` and ``--R-bed``.
 Table 2 values: F0 = 0.5 N, dF = 0.1 N, mu1 = 0.2, mu2 = 0.1, u_A = 150 nm.
 All points of a study run as one batch (one pass of the vectorised laws).
 Study resolution: 100 spring cells, 120 steps per cycle, 3 cycles (the slip
@@ -34,31 +36,34 @@ TABLE1_B, TABLE1_KX = 0.6e-3, 1.9e6   # Table 1: flat-face radius of the truncat
 RES = dict(cycles=3, steps=120, n=100)
 
 
-def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=0.0, res=RES):
+def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=0.0, res=RES, app_kw=None):
+    """Slip index of ``profile`` in the apparatus (``app_kw``: further Apparatus fields,
+    e.g. plate_model and R_bed, scalars or arrays of the batch shape)."""
     law = MDRContact(profile, Materials(), mu1, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None,
                      n=res["n"]) if not isinstance(profile, FlatPunch) else MDRContact(profile, Materials(), mu1, n=8)
-    out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2), mu1, F0, dF, alpha, ua, cycles=res["cycles"], steps=res["steps"])
+    out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2, **(app_kw or {})), mu1, F0, dF, alpha, ua,
+                        cycles=res["cycles"], steps=res["steps"])
     return out["slip_index"], out
 
 
-def fig8(nb=25):
-    kx = np.array([1, 2, 10, 20]) * 1e6
-    b = np.geomspace(1e-6, 1e-3, nb)
+def fig8(nb=25, app_kw=None, kx=(1e6, 2e6, 10e6, 20e6), b_range=(1e-6, 1e-3), res=RES):
+    kx = np.asarray(kx, dtype=float)
+    b = np.geomspace(*b_range, nb)
     B = np.broadcast_to(b, (kx.size, nb))
     K = np.broadcast_to(kx[:, None], B.shape)
-    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K)
-    d_fl, _ = _slip_index(FlatPunch(B.copy()), K)
+    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K, res=res, app_kw=app_kw)
+    d_fl, _ = _slip_index(FlatPunch(B.copy()), K, res=res, app_kw=app_kw)
     rows = [{"kx": float(K[i, j]), "b": float(B[i, j]), "delta_truncated": float(d_tr[i, j]),
              "delta_flat": float(d_fl[i, j])} for i in range(kx.size) for j in range(nb)]
     return rows
 
 
-def fig9(nk=30):
+def fig9(nk=30, app_kw=None, res=RES):
     b = np.array([10e-6, 50e-6, 100e-6])
     kx = np.geomspace(0.3e6, 30e6, nk)
     K = np.broadcast_to(kx, (b.size, nk))
     B = np.broadcast_to(b[:, None], K.shape)
-    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K.copy())
+    d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K.copy(), res=res, app_kw=app_kw)
     return [{"b": float(B[i, j]), "kx": float(K[i, j]), "delta_truncated": float(d_tr[i, j])}
             for i in range(b.size) for j in range(nk)]
 
@@ -146,26 +151,178 @@ LOOP_CASES = {  # Figs. 4-7: profile, F0, u_A, mu1, mu2; b and k_x from Table 1
 LOOP_RES = dict(cycles=4, steps=400, n=400)
 
 
-def loops(res=LOOP_RES, cases=None):
+def loops(res=LOOP_RES, cases=None, app_kw=None, kx=TABLE1_KX):
     """The four experiment cases of Figs. 4-7 (``LOOP_CASES``; dF = 0.2 F0, alpha = 0,
     b = 0.6 mm and k_x = 1.9 N/um from Table 1). Per case: the stationary last
     cycle (Fx, FN, du), the slip index, ``friction_ratio_max`` = max |F_x| / (mu1 F_N)
     and ``on_limit`` = the fraction of the cycle's steps with F_x on the friction
-    limit (|F_x| >= (1 - 1e-9) mu1 F_N): 0 in partial slip, finite in gross slip."""
+    limit (|F_x| >= (1 - 1e-9) mu1 F_N): 0 in partial slip, finite in gross slip.
+    ``app_kw`` (Apparatus fields) may hold arrays of one batch shape: then every
+    value of a case is an array of that shape (one pass per case)."""
     out = {}
     cycles, steps = res["cycles"], res["steps"]
+    shape = np.broadcast_shapes(np.shape(kx), *(np.shape(v) for v in (app_kw or {}).values()))
     for name in cases or LOOP_CASES:
         kind, F0, ua, mu1, mu2 = LOOP_CASES[name]
-        prof = Sphere(R_IND) if kind == "sphere" else TruncatedSphere(R_IND, TABLE1_B)
-        delta, o = _slip_index(prof, TABLE1_KX, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res)
+        R = np.full(shape, R_IND) if shape else R_IND
+        prof = Sphere(R) if kind == "sphere" else TruncatedSphere(R, np.full(shape, TABLE1_B) if shape else TABLE1_B)
+        delta, o = _slip_index(prof, kx, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res, app_kw=app_kw)
         last = slice((cycles - 1) * steps, cycles * steps + 1)
-        ratio = np.abs(o["Fx"][last]) / (mu1 * o["FN"][last])
-        out[name] = {"profile": kind, "F0": F0, "ua": ua, "mu1": mu1, "mu2": mu2, "slip_index": float(delta),
-                     "friction_ratio_max": float(np.max(ratio)),
-                     "on_limit": float(np.mean(ratio[1:] >= 1 - 1e-9)),
-                     "stationary": bool(o["cycles"].last_is_stationary),
-                     "Fx": o["Fx"][last], "FN": o["FN"][last], "du": o["du"][last]}
+        ratio = np.abs(o["Fx"][..., last]) / (mu1 * o["FN"][..., last])
+        stat = o["cycles"].last_is_stationary
+        out[name] = {"profile": kind, "F0": F0, "ua": ua, "mu1": mu1, "mu2": mu2,
+                     "slip_index": float(delta) if not shape else np.asarray(delta),
+                     "friction_ratio_max": _scalar_or(np.max(ratio, axis=-1)),
+                     "on_limit": _scalar_or(np.mean(ratio[..., 1:] >= 1 - 1e-9, axis=-1)),
+                     "stationary": bool(stat) if not shape else np.asarray(stat),
+                     "Fx": o["Fx"][..., last], "FN": o["FN"][..., last], "du": o["du"][..., last]}
     return out
+
+
+def _scalar_or(a):
+    a = np.asarray(a, dtype=float)
+    return float(a) if a.ndim == 0 else a
+
+
+# ------------------------------------------------------------------ plate readings
+# Each reading of the brass plates (mdr.apparatus, A3) with the bedding radius R_bed,
+# the one quantity of the apparatus the paper leaves open (1-10 mm; it sets the
+# rocking stiffness of the tilting readings). The other readings do not depend on
+# R_bed beyond 1e-4 in delta (sensitivity study), so they run at 5 mm.
+PLATE_READINGS = (("axial", 5e-3), ("bending", 5e-3), ("inplane", 5e-3), ("rigid", 5e-3),
+                  ("tilt", 1e-3), ("tilt", 5e-3), ("tilt", 10e-3),
+                  ("parallel", 1e-3), ("parallel", 5e-3), ("parallel", 10e-3))
+# Not readings of Table 1: today's reading plus a compliance c (m/N) carrying the
+# contact force F_x alone (in series with the axis, 1/k_x -> 1/k_x + c), the kind
+# of compliance no plate reading has; the rows show what the readings lack.
+FX_COMPLIANCE_ROWS = (("axial", 5e-3, 0.25e-6), ("axial", 5e-3, 0.5e-6), ("axial", 5e-3, 0.75e-6))
+# the paper's statements, one check each (Willert 2023, Sections 4-5)
+PAPER_POINTS = {
+    "fig4": "Fig. 4 sphere: partial slip (F_x below mu1 F_N all cycle, a loop: delta > 1e-3)",
+    "fig5": "Fig. 5 sphere: partial slip (as Fig. 4; the truncation pushes towards sliding)",
+    "fig6": "Fig. 6 truncated: gross slip (F_x on mu1 F_N part of the cycle)",
+    "fig7": "Fig. 7 truncated: sliding (F_x on mu1 F_N part of the cycle)",
+    "fig8_kx1": "Fig. 8: at k_x = 1 N/um delta close to zero for all b (max_b delta < 0.05)",
+    "fig8_profile": "Fig. 8: at k_x = 2, 10, 20 N/um (curves well above zero, max delta > 0.1) b <= 10 um "
+                    "acts as the sphere, b >= 30 um as the flat punch (|delta difference| < 0.01)",
+    "fig9": "Fig. 9: the transition (delta = 0.1) lies between 1 and 2 N/um for b = 10, 50, 100 um",
+}
+PLATES_RES = dict(fig9_nk=31, fig8_nb=7)
+
+
+def _crossing(kx, delta, level):
+    """k_x (log-interpolated) where delta first rises through ``level``; nan if never, 0 if from the start."""
+    above = np.nonzero(delta >= level)[0]
+    if above.size == 0:
+        return float("nan")
+    j = above[0]
+    if j == 0:
+        return 0.0
+    f = (level - delta[j - 1]) / (delta[j] - delta[j - 1])
+    return float(np.exp(np.log(kx[j - 1]) + f * (np.log(kx[j]) - np.log(kx[j - 1]))))
+
+
+def plate_readings(readings=PLATE_READINGS + FX_COMPLIANCE_ROWS, res=RES, loop_res=LOOP_RES, nk=PLATES_RES["fig9_nk"],
+                   nb=PLATES_RES["fig8_nb"]):
+    """Every plate reading against the paper's points (``PAPER_POINTS``): Figs. 4-7 at the
+    loops' resolution, the Fig. 9 transition (k_x where delta passes 0.01 and 0.1, on
+    ``nk`` log-spaced k_x in 0.3-30 N/um) and Fig. 8 (``nb`` log-spaced b in 1 um - 1 mm at
+    k_x = 1, 2, 10, 20 N/um, flat punches beside), each study one batch over the readings.
+    Returns one row per reading with the measured numbers, ``ok_<point>`` per paper
+    point and ``score`` = the number of points reproduced. A reading is (plate_model,
+    R_bed) or (plate_model, R_bed, c): c (m/N) a compliance carrying F_x alone, added in
+    series with the axis (``FX_COMPLIANCE_ROWS``)."""
+    readings = [tuple(r) + (0.0,) * (3 - len(r)) for r in readings]
+    pm = np.array([r[0] for r in readings])
+    Rb = np.array([r[1] for r in readings], dtype=float)
+    cf = np.array([r[2] for r in readings], dtype=float)
+    nr = len(readings)
+
+    def soft(kx, c):  # the axis with the extra compliance in series
+        return 1.0 / (1.0 / kx + c)
+
+    # Figs. 4-7: one batch of the readings per case
+    lp = loops(res=loop_res, app_kw=dict(plate_model=pm, R_bed=Rb), kx=soft(TABLE1_KX, cf))
+    # Fig. 9: readings x b x k_x in one batch
+    b9 = np.array([10e-6, 50e-6, 100e-6])
+    k9 = np.geomspace(0.3e6, 30e6, nk)
+    shape9 = (nr, b9.size, nk)
+    d9, _ = _slip_index(TruncatedSphere(np.full(shape9, R_IND), np.array(np.broadcast_to(b9[:, None], shape9))),
+                        soft(k9, cf[:, None, None]) * np.ones(shape9), res=res,
+                        app_kw=dict(plate_model=np.array(np.broadcast_to(pm[:, None, None], shape9)),
+                                    R_bed=np.array(np.broadcast_to(Rb[:, None, None], shape9))))
+    # Fig. 8: readings x k_x x b, truncated spheres and flat punches
+    k8 = np.array([1e6, 2e6, 10e6, 20e6])
+    b8 = np.geomspace(1e-6, 1e-3, nb)
+    shape8 = (nr, k8.size, nb)
+    B8 = np.array(np.broadcast_to(b8, shape8))
+    kw8 = dict(plate_model=np.array(np.broadcast_to(pm[:, None, None], shape8)),
+               R_bed=np.array(np.broadcast_to(Rb[:, None, None], shape8)))
+    K8 = soft(k8[:, None], cf[:, None, None]) * np.ones(shape8)
+    d8, _ = _slip_index(TruncatedSphere(np.full(shape8, R_IND), B8.copy()), K8, res=res, app_kw=kw8)
+    f8, _ = _slip_index(FlatPunch(B8.copy()), K8.copy(), res=res, app_kw=kw8)
+    sph = b8 <= 10e-6
+    flat = b8 >= 30e-6
+    rows = []
+    for i, (model, R_bed, c) in enumerate(readings):
+        app = Apparatus(plate_model=model, R_bed=R_bed)
+        A, Bc = app.stroke_loss(TABLE2["F0"])
+        row = {"plate_model": model, "R_bed": R_bed, "fx_compliance": c, "k_plates": float(app.k_plates),
+               "loss_contact": float(A + c), "loss_bedding": float(Bc)}
+        for name in LOOP_CASES:
+            row[f"{name}_delta"] = float(lp[name]["slip_index"][i])
+            row[f"{name}_on_limit"] = float(lp[name]["on_limit"][i])
+            row[f"{name}_ratio_max"] = float(lp[name]["friction_ratio_max"][i])
+            row[f"{name}_stationary"] = bool(lp[name]["stationary"][i])
+        for j, b in enumerate(b9):
+            row[f"fig9_k001_b{b * 1e6:g}um"] = _crossing(k9, d9[i, j], 0.01)
+            row[f"fig9_k01_b{b * 1e6:g}um"] = _crossing(k9, d9[i, j], 0.1)
+        row["fig8_kx1_max_delta"] = float(np.max(d8[i, 0]))
+        row["fig8_kx2_delta_b10um"] = float(np.interp(np.log(10e-6), np.log(b8), d8[i, 1]))
+        stiff = d8[i, 1:]  # k_x = 2, 10, 20 N/um
+        row["fig8_stiff_max_delta"] = float(np.max(stiff))
+        row["fig8_sphere_dev"] = float(np.max(np.abs(stiff[:, sph] - stiff[:, :1])))  # b = 1 um: the sphere
+        row["fig8_flat_dev"] = float(np.max(np.abs(stiff[:, flat] - f8[i, 1:][:, flat])))
+        ok = {"fig4": row["fig4_on_limit"] == 0.0 and row["fig4_delta"] > 1e-3,
+              "fig5": row["fig5_on_limit"] == 0.0 and row["fig5_delta"] > 1e-3,
+              "fig6": row["fig6_on_limit"] > 0.0, "fig7": row["fig7_on_limit"] > 0.0,
+              "fig8_kx1": row["fig8_kx1_max_delta"] < 0.05,
+              "fig8_profile": row["fig8_stiff_max_delta"] > 0.1 and row["fig8_sphere_dev"] < 0.01
+              and row["fig8_flat_dev"] < 0.01,
+              "fig9": all(1e6 <= row[f"fig9_k01_b{b * 1e6:g}um"] <= 2e6 for b in b9)}
+        row.update({f"ok_{k}": bool(v) for k, v in ok.items()})
+        row["score"] = int(sum(ok.values()))
+        rows.append(row)
+    return rows
+
+
+def plates_markdown(rows):
+    """The plate readings against the paper's points as a markdown table."""
+    head = ["reading", "R_bed", "k_p (N/um)", "loss A (F_x), Bc (F_bed) (um/N)", "Fig. 4 delta (on limit)", "Fig. 5", "Fig. 6",
+            "Fig. 7", "Fig. 8: max delta at 1 N/um", "Fig. 8 (2-20 N/um): max. deviation from sphere / flat punch",
+            "Fig. 9: k_x at delta 0.01 / 0.1 (b = 10, 50, 100 um)", "paper points"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    mark = lambda ok: "" if ok else " x"  # noqa: E731
+
+    def k(v):
+        return "never" if not np.isfinite(v) else f"{v / 1e6:.2f}"
+
+    for r in rows:
+        name = r["plate_model"] + (f" + c = {r['fx_compliance'] * 1e6:g} um/N on F_x (not a reading)"
+                                   if r["fx_compliance"] else "")
+        cells = [name, f"{r['R_bed'] * 1e3:g} mm", f"{r['k_plates'] / 1e6:.3g}",
+                 f"{r['loss_contact'] * 1e6:.3g}, {r['loss_bedding'] * 1e6:.3g}"]
+        for name in LOOP_CASES:
+            cells.append(f"{r[f'{name}_delta']:.3f} ({100 * r[f'{name}_on_limit']:.0f} %){mark(r[f'ok_{name}'])}")
+        cells.append(f"{r['fig8_kx1_max_delta']:.3f}{mark(r['ok_fig8_kx1'])}")
+        cells.append(f"{r['fig8_sphere_dev']:.4f} / {r['fig8_flat_dev']:.4f}"
+                     + (" (delta 0)" if r["fig8_stiff_max_delta"] <= 0.1 else "") + mark(r["ok_fig8_profile"]))
+        cells.append(" / ".join(f"{k(r[f'fig9_k001_b{b}um'])}-{k(r[f'fig9_k01_b{b}um'])}" for b in (10, 50, 100))
+                     + mark(r["ok_fig9"]))
+        cells.append(f"{r['score']} of {len(PAPER_POINTS)}")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n\n" + "x: the paper's point is not reproduced. Points: " + "; ".join(
+        PAPER_POINTS.values()) + ".\n"
 
 
 def _csv(rows):
@@ -182,12 +339,18 @@ def _png(fig, path):
     write_bytes_atomic(path, buf.getvalue())
 
 
-STUDIES = ("fig8", "fig9", "loops", "sensitivity")
+STUDIES = ("fig8", "fig9", "loops", "sensitivity", "plates")
+APP_KW_STUDIES = ("fig8", "fig9", "loops")  # the studies that take one apparatus (app_kw)
 
 
-def run_study(name: str, out_dir) -> dict:
-    """Run study ``name`` (fig8, fig9, loops, sensitivity) and write CSV/JSON + PNG
-    (sensitivity: CSV + markdown table) into out_dir."""
+def run_study(name: str, out_dir, app_kw=None) -> dict:
+    """Run study ``name`` (fig8, fig9, loops, sensitivity, plates) and write CSV/JSON + PNG
+    (sensitivity, plates: CSV + markdown table) into out_dir. ``app_kw``: Apparatus fields
+    (plate_model, R_bed) for fig8, fig9 and loops (the other two vary them themselves)."""
+    if app_kw and name not in APP_KW_STUDIES:
+        raise InputError(f"plate_model/R_bed apply to the studies {', '.join(APP_KW_STUDIES)}, not to {name}")
+    if app_kw:
+        Apparatus(**app_kw)  # checked before the work
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -195,7 +358,7 @@ def run_study(name: str, out_dir) -> dict:
     out_dir = Path(out_dir)
     t0 = time.perf_counter()
     if name == "fig8":
-        rows = fig8()
+        rows = fig8(app_kw=app_kw)
         write_bytes_atomic(out_dir / "fig8.csv", _csv(rows))
         fig, ax = plt.subplots(figsize=(6, 4))
         for kx in sorted({r["kx"] for r in rows}):
@@ -210,7 +373,7 @@ def run_study(name: str, out_dir) -> dict:
         fig.tight_layout()
         _png(fig, out_dir / "fig8.png")
     elif name == "fig9":
-        rows = fig9()
+        rows = fig9(app_kw=app_kw)
         write_bytes_atomic(out_dir / "fig9.csv", _csv(rows))
         fig, ax = plt.subplots(figsize=(6, 4))
         for b in sorted({r["b"] for r in rows}):
@@ -223,7 +386,7 @@ def run_study(name: str, out_dir) -> dict:
         fig.tight_layout()
         _png(fig, out_dir / "fig9.png")
     elif name == "loops":
-        data = loops()
+        data = loops(app_kw=app_kw)
         write_json(out_dir / "loops.json", data)
         fig, axes = plt.subplots(len(data), 2, figsize=(8, 2.6 * len(data)))
         for row, (key, d) in zip(axes, data.items()):
@@ -242,6 +405,10 @@ def run_study(name: str, out_dir) -> dict:
         rows = sensitivity()
         write_bytes_atomic(out_dir / "sensitivity.csv", _csv(rows))
         write_bytes_atomic(out_dir / "sensitivity.md", sensitivity_markdown(rows).encode())
+    elif name == "plates":
+        rows = plate_readings()
+        write_bytes_atomic(out_dir / "plates.csv", _csv(rows))
+        write_bytes_atomic(out_dir / "plates.md", plates_markdown(rows).encode())
     else:
         raise InputError(f"study must be one of {', '.join(STUDIES)}; got {name!r}")
     return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0}
@@ -258,7 +425,7 @@ def study_names(names) -> list:
     return names
 
 
-def run_studies(names, out_dir, jobs: int = 1) -> list:
+def run_studies(names, out_dir, jobs: int = 1, app_kw=None) -> list:
     """Run several studies, each one batch pass, in up to ``jobs`` spawned processes.
 
     The studies are independent and each is already vectorised over its points,
@@ -269,8 +436,11 @@ def run_studies(names, out_dir, jobs: int = 1) -> list:
 
     names = study_names(names)
     jobs = positive_int("jobs", jobs)
+    bad = [n for n in names if app_kw and n not in APP_KW_STUDIES]
+    if bad:
+        raise InputError(f"--plate-model/--R-bed apply to the studies {', '.join(APP_KW_STUDIES)}, not to {', '.join(bad)}")
     if jobs == 1 or len(names) == 1:
-        return [run_study(n, out_dir) for n in names]
+        return [run_study(n, out_dir, app_kw) for n in names]
     import concurrent.futures as futures
     import multiprocessing
 
@@ -278,6 +448,6 @@ def run_studies(names, out_dir, jobs: int = 1) -> list:
     order = sorted(names, key=STUDIES.index)
     with futures.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
                                 mp_context=multiprocessing.get_context("spawn")) as ex:
-        futs = {n: ex.submit(run_study, n, out_dir) for n in order}
+        futs = {n: ex.submit(run_study, n, out_dir, app_kw) for n in order}
         res = {n: f.result() for n, f in futs.items()}
     return [res[n] for n in names]

@@ -131,6 +131,9 @@ def test_studies_in_parallel_processes_equal_sequential(tmp_path):
     for a, b in zip(par, seq):
         assert a["rows"] == b["rows"]
     assert (tmp_path / "par" / "fig9.csv").is_file() and (tmp_path / "par" / "sensitivity.md").is_file()
-    assert study_names("all") == ["fig8", "fig9", "loops", "sensitivity"]
+    assert study_names("all") == ["fig8", "fig9", "loops", "sensitivity", "plates"]
     rc = main(["study", "fig9,nope", "--out", str(tmp_path / "x")])
     assert rc == 2 and not (tmp_path / "x").exists()
+    # the plate reading applies to fig8, fig9, loops only (sensitivity, plates vary it themselves)
+    rc = main(["study", "fig9,sensitivity", "--plate-model", "tilt", "--out", str(tmp_path / "y")])
+    assert rc == 2 and not (tmp_path / "y").exists()
