@@ -221,3 +221,29 @@ def test_cli_model_3d_bad_input(flags, msg, capsys):
 
     assert main(["contact", "--model", "3d", *flags, "--mu", "0.2", "--F0", "0.5", "--fa", "0.05"]) == 2
     assert msg in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_convergence_ladder(tmp_path):
+    """The three coarse levels of the README's convergence table (benchmarks/bench_fem3d_contact.py;
+    40 steps per cycle here, 100 there): the largest traction angle falls monotonically towards
+    the half-space value ~0.1 (measured 0.168, 0.150, 0.118), the dissipation reaches
+    Mindlin-Deresiewicz within a few % at a/10 (measured +1.7 %) from +14.7 % at a/5, and the
+    stick extents along x and y lie within one element of Cattaneo-Mindlin at every level."""
+    from fem.contact_run import run_fem_contact
+    from mdr.profiles import Sphere
+
+    us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
+    W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us)
+    c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
+    rows = []
+    for h in (0.2, 0.14, 0.1):
+        out = run_fem_contact(Sphere(R), MAT, MU, F, fa=0.5 * MU * F, cycles=3, steps=40, h_contact=h, model="3d",
+                              displacement="plate", cache_dir=tmp_path)
+        rows.append(out)
+        assert abs(out["stick_radius_x"] - c) < 1.5 * h * A_H and abs(out["stick_radius_y"] - c) < 1.5 * h * A_H
+        assert abs(out["contact_radius"] / A_H - 1) < 0.03
+    ang = [r["traction_angle_max"] for r in rows]
+    assert ang[0] > ang[1] > ang[2] and 0.09 < ang[2] < 0.15
+    dw = [r["dissipation"] / W_md - 1 for r in rows]
+    assert 0.05 < dw[0] < 0.35 and abs(dw[2]) < 0.045
