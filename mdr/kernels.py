@@ -11,8 +11,10 @@ whole history and for every scene of a batch (scene by scene):
   ``mdr.solve.solve_increasing`` (same bracket, start and tolerance), which ends
   exactly once it lands on the right linear piece.
 - ``apparatus_loop``: the step loop of ``mdr.apparatus.run_apparatus`` with the MDR
-  law and its three MDR bedding spheres (Hertz approach, sphere normal phase and the
+  law and its MDR bedding spheres (one front, two equal rear ones) (Hertz approach, sphere normal phase and the
   moment coupling of the bedding loads in the loop), the same Newton iteration per step.
+- ``approach_truncated_sphere``: ``mdr.normal.approach_from_force`` of the parabolic
+  truncated sphere, the same batch iteration (identical to the last bit).
 
 What stays in numpy, vectorised over all steps: the contact radius of each step and
 the integral of g over its one partly covered cell (``normal_inputs``; any profile),
@@ -34,6 +36,7 @@ import numpy as np
 
 from .errors import ConvergenceError, InputError
 from .profiles import TruncatedSphere
+from .solve import MAX_ITER
 from .stick import AT_LIMIT
 
 try:  # optional dependency
@@ -43,9 +46,6 @@ except ImportError:  # pragma: no cover - exercised by the fallback test through
 
 #: run histories through the compiled loops (False: the step API of mdr.law everywhere)
 ENABLED = numba is not None and os.environ.get("MDR_PURE_PYTHON", "").strip() in ("", "0")
-
-#: the iteration limit of mdr.solve.solve_increasing
-MAX_ITER = 200
 
 # status codes of a scene (the loop stops that scene at the first failing step)
 OK, BEYOND_FRICTION, NO_CONVERGENCE, LIFT_OFF, BEYOND_GRID = 0, 1, 2, 3, 4
