@@ -23,7 +23,7 @@ from mdr.normal import approach_from_force
 
 from conftest import F0, MU, R, STEEL, harmonic
 
-pytestmark = pytest.mark.skipif(not kernels.enabled(), reason="numba not installed (the fallback is tested below)")
+pytestmark = pytest.mark.skipif(not kernels.enabled(), reason="compiled loops off (numba missing or MDR_PURE_PYTHON=1)")
 
 ROOT = Path(__file__).resolve().parent.parent
 RTOL = 1e-12
