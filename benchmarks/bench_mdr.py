@@ -7,7 +7,9 @@ Reports, in one run on this machine:
   partial slip at constant load, closed-form dissipation; truncated sphere b = 20 um with
   dF = 0.1 N against a 16x finer grid),
 - steps per second, time of one stationary cycle and of three cycles of 400 steps,
-- batch vectorisation: one pass over S scenes against S single-scene runs.
+- a batch: one call over S scenes against S single-scene runs (with numba the compiled
+  loop runs the scenes one by one, so about S single-scene times; ``bench_mdr_kernel.py``
+  has the compiled loop against a plain numpy loop and the step API).
 Timings are medians; compare ratios, not absolute numbers (machines are noisy).
 """
 from __future__ import annotations
@@ -83,7 +85,7 @@ def main(argv=None):
     single = MDRContact(TruncatedSphere(R, 20e-6), mat, mu, F_max=0.6, F_min=0.4)
     ts = median_time(lambda: single.run(u=Ub[0], F_N=FNv), args.repeat)
     print(f"batch of {S} truncated spheres (b = 1 um..1 mm, dF = 0.1 N): {tb:.3f} s in one pass = "
-          f"{tb / ts:.1f} single-scene times ({S} looped scenes would take {S} x)")
+          f"{tb / ts:.1f} single-scene times")
 
 
 if __name__ == "__main__":

@@ -98,6 +98,7 @@ def make_grid(profile: Profile, a_max, n: int = DEFAULT_CELLS, margin: float = 0
     kinks = [np.broadcast_to(np.asarray(k, dtype=float), batch) for k in profile.kinks]
     flat = isinstance(profile, FlatPunch)
     edges = np.empty(batch + (n + 1,))
+    built = {}  # scenes of equal grid parameters share their edges (a batch of identical bedding spheres)
     for idx in np.ndindex(*batch) if batch else [()]:
         am = float(a_arr[idx])
         x_max = float(np.asarray(profile.b)[idx] if np.ndim(profile.b) else profile.b) if flat else am * (1.0 + margin)
@@ -110,7 +111,10 @@ def make_grid(profile: Profile, a_max, n: int = DEFAULT_CELLS, margin: float = 0
             kmax = max(ks)
             if float(np.asarray(profile.g(np.full(batch, min(kmax, x_max))))[idx]) == 0.0:
                 flat_below = min(kmax, x_max)
-        edges[idx] = _edges_1d(x_max, ks, n, band, refine, flat_below)
+        key = (x_max, tuple(ks), band, flat_below)
+        if key not in built:
+            built[key] = _edges_1d(x_max, ks, n, band, refine, flat_below)
+        edges[idx] = built[key]
     lo = edges[..., :-1]
     width = np.diff(edges, axis=-1)
     int_g = profile.cell_integral(lo, edges[..., 1:]) if not flat else np.zeros_like(lo)

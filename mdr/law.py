@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import kernels
 from .errors import InputError, finite, nonnegative, positive
 from .grid import DEFAULT_CELLS, SpringGrid, make_grid
 from .materials import Materials
@@ -344,9 +345,12 @@ class MDRContact:
             record_from: int | None = None) -> History:
         """Run a whole load history (arrays of shape (T,) or batch + (T,)).
 
-        Starts from ``state`` (default: at rest, bodies apart). Displacement
-        control is the fast path: the normal phases of a block of time steps are
-        computed at once, then only the tangential update loops over time.
+        Starts from ``state`` (default: at rest, bodies apart). With numba the
+        whole history runs in the compiled loop of ``mdr.kernels`` (displacement and
+        force control; the same arithmetic as ``step``, equal to round-off); without
+        it, displacement control computes the normal phases of a block of time steps
+        at once and loops over time only for the tangential update, and force control
+        takes one ``step`` (a safeguarded Newton solve) per time step.
         ``record_from`` (a step index): keep the per-cell slack and slip flags of
         the steps from there on (``History.window_stick_radius``).
         """
@@ -371,6 +375,8 @@ class MDRContact:
         rec0 = T if record_from is None else int(record_from)
         if not 0 <= rec0 <= T:
             raise InputError(f"record_from must be a step index in [0, {T}], got {record_from!r}")
+        if T and kernels.enabled() and type(self) is MDRContact:
+            return self._run_compiled(drive, d, state, Fx is not None, rec0, record_from is not None)
         rec = {k: np.empty(self.grid.width.shape[:-1] + (T - rec0,) + self.grid.width.shape[-1:], dtype=dt)
                for k, dt in (("slack", float), ("slipping", bool))}
         if Fx is not None:
@@ -443,6 +449,15 @@ class MDRContact:
         out["u"][...] = drive
         return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out,
                        **(rec if record_from is not None else {}))
+
+    def _run_compiled(self, drive, d, state, force, rec0, record):
+        """``run`` through the compiled loop of ``mdr.kernels`` (same results to round-off)."""
+        h = kernels.law_history(self, drive, d, state, force, rec0)
+        v, ell, u = h.pop("state")
+        # the state's approach as the step API leaves it: as given (displacement control), d_+ (force control)
+        last = h["d"][..., -1] if force else d[..., -1]
+        rec = {k: h.pop(k) for k in ("slack", "slipping")}
+        return History(state=LawState(v=v, ell=ell, u=u, d=np.array(last)), **h, **(rec if record else {}))
 
     # ------------------------------------------------------------ tractions
     def line_loads(self, state: LawState):

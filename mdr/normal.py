@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
 from .errors import ConvergenceError, finite, nonnegative
 from .materials import Materials
 from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
@@ -44,7 +45,8 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
 
     Closed forms for the flat punch (d = F/(2E* b)) and the parabolic sphere;
     otherwise a safeguarded Newton iteration on the contact radius a, using
-    dF/da = 2 E* a g'(a) (monotone for nondecreasing g).
+    dF/da = 2 E* a g'(a) (monotone for nondecreasing g); for the parabolic truncated
+    sphere compiled when numba is there (``mdr.kernels``, the same iteration, bit for bit).
     """
     F = np.asarray(nonnegative("F_N (normal force; no adhesion, so >= 0)", F), dtype=float)
     if F.ndim < len(profile.batch_shape):
@@ -56,6 +58,8 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
         R = _bcast(profile.R, F)
         a = (3.0 * F * R / (4.0 * Es)) ** (1.0 / 3.0)
         return a**2 / R
+    if isinstance(profile, TruncatedSphere) and not profile.exact and kernels.enabled():
+        return _approach_compiled(profile, Es, F, rtol)
     Fp = np.maximum(F, 0.0)
     lo = np.zeros(Fp.shape)
     for k in profile.kinks:
@@ -99,6 +103,22 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
         raise ConvergenceError(f"approach_from_force: Newton on the contact radius did not converge "
                                f"(max residual {float(np.max(np.abs(res))):.3g} N)")
     return np.where(F > 0, profile.g(a), 0.0)
+
+
+def _approach_compiled(profile, Es, F, rtol):
+    """``approach_from_force`` of a parabolic truncated sphere by the compiled loop of
+    ``mdr.kernels`` (the same iteration per element; equal to round-off)."""
+    R, b = _bcast(profile.R, F), _bcast(profile.b, F)
+    shape = np.broadcast_shapes(F.shape, R.shape, b.shape)
+    flat = lambda x: np.array(np.broadcast_to(x, shape), dtype=float).ravel()  # noqa: E731
+    d = np.zeros(flat(F).size)
+    status = kernels.approach_truncated_sphere(flat(F), flat(R), flat(b), float(Es), float(rtol), d)
+    if status == 1:
+        raise ConvergenceError("could not bracket the contact radius for the requested normal force")
+    if status == 2:
+        raise ConvergenceError(f"approach_from_force: Newton on the contact radius did not converge "
+                               f"(max residual {float(np.max(np.abs(d))):.3g} N)")
+    return d.reshape(shape)
 
 
 def pressure(profile: Profile, materials: Materials, d, r):

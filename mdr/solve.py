@@ -22,7 +22,11 @@ import numpy as np
 from .errors import ConvergenceError
 
 
-def solve_increasing(fun, target, lo, hi, x0=None, atol=0.0, xtol=0.0, max_iter=200, what="equation"):
+#: iteration limit of ``solve_increasing`` (also of its compiled copies in ``mdr.kernels``)
+MAX_ITER = 200
+
+
+def solve_increasing(fun, target, lo, hi, x0=None, atol=0.0, xtol=0.0, max_iter=MAX_ITER, what="equation"):
     """Solve fun(x) = target for nondecreasing ``fun`` on the bracket [lo, hi].
 
     ``fun(x)`` returns (value, slope) elementwise. Requires

@@ -428,9 +428,10 @@ def study_names(names) -> list:
 def run_studies(names, out_dir, jobs: int = 1, app_kw=None) -> list:
     """Run several studies, each one batch pass, in up to ``jobs`` spawned processes.
 
-    The studies are independent and each is already vectorised over its points,
-    so the second core is used by running two studies at once (splitting one
-    batch gains little: its per-step cost is mostly fixed Python overhead).
+    The studies are independent and each is already one batch pass over its points,
+    so the second core is used by running two studies at once. With the compiled loops
+    (``mdr.kernels``) a study takes about a second and starting a worker (imports,
+    loading the compiled code) costs more: ``jobs`` pays only without numba.
     """
     from .errors import positive_int
 
