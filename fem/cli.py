@@ -95,10 +95,13 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--model", choices=("axisym", "3d"), default="axisym",
                    help="'axisym' (default): Fourier modes 0 + 1, traction along x (Mindlin's assumption); '3d': "
                         "the 3D half model (y >= 0) with a two-component traction of free direction and exact "
-                        "contact constraints (identical materials, sphere or truncated sphere; --penalty, "
-                        "--al-tol, --friction-al-tol do not apply; --block-size default 20 a). Adds model, "
-                        "vertices, stick_radius_x, stick_radius_y, stick_center_x, traction_angle_max (at the "
-                        "peak of F_x of the last cycle) and peak_memory_bytes")
+                        "contact constraints, normal and tangential coupled for a dissimilar pair (sphere or "
+                        "truncated sphere; --penalty, --al-tol, --friction-al-tol do not apply; --block-size "
+                        "default 20 a); the normal load is applied in 20 steps with friction active before the "
+                        "cycles. Adds model, vertices, beta (Dundurs), stick_radius_x, stick_radius_y, "
+                        "traction_angle_max (at the peak of F_x of the last cycle), stick_center_x and "
+                        "pressure_center_x (at the first peak of F_x), dissipation_first_cycle and "
+                        "peak_memory_bytes")
     add_output_args(c)
     c.set_defaults(func=_contact)
     return p

@@ -16,9 +16,11 @@ Model (assumptions, each stated where it lives):
   initial gap, interpolated in the P2 space (exact for the parabola). What this leaves out,
   the cap's curvature and the indenter's real shape and size, the axisymmetric model
   measures (README: validity-curvature, validity);
-- identical elastic constants of the two bodies (Dundurs' beta = 0: the normal-tangential
-  coupling of the two bodies cancels exactly). A dissimilar pair is refused until the
-  coupled solve lands;
+- any pair of isotropic elastic materials: for identical ones (Dundurs' beta = 0) the
+  normal-tangential coupling of the two bodies cancels exactly and the normal contact is
+  solved once per load; for a dissimilar pair the two are solved together at every step
+  (``fem.contact3d.solve_coupled3d``), so a tangential load moves the pressure and a normal
+  load with friction locks tangential traction in (Spence 1975, J. Elasticity 5, 297);
 - small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
 
 Displacement measure: ``u`` is the tangential displacement of the indenter's clamped top
@@ -46,7 +48,7 @@ from mdr.profiles import Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
-from .contact3d import RelativeFlexibility, solve_normal3d, solve_tangential3d
+from .contact3d import RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d
 from .elastic3d import stiffness3d
 from .interface3d import mortar_flexibility, mortar_interface
 from .run import reference_radius
@@ -92,7 +94,7 @@ class Normal3D:
 class FEContact3D:
     """3D FE contact law of one profile (see the module docstring for the model).
 
-    ``profile``: Sphere or TruncatedSphere; ``materials`` (identical bodies); ``mu``;
+    ``profile``: Sphere or TruncatedSphere; ``materials``; ``mu``;
     ``F_max`` (N) sizes the mesh (a_ref = the half-space contact radius at F_max);
     ``h_contact`` element size on the contact half disk / a_ref (range
     ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref;
@@ -111,10 +113,6 @@ class FEContact3D:
             raise InputError(f"profile must be sphere or truncated for the 3D model, got {kind!r}")
         self.profile = profile
         self.materials = m = materials if materials is not None else Materials()
-        if (m.E1, m.nu1) != (m.E2, m.nu2):
-            raise InputError("the 3D model needs identical elastic constants of indenter and block (E1 = E2, "
-                             "nu1 = nu2): the normal-tangential coupling of a dissimilar pair is not solved yet; "
-                             f"got E1={m.E1:g}, nu1={m.nu1:g}, E2={m.E2:g}, nu2={m.nu2:g}")
         if displacement != "plate":
             raise InputError("displacement must be 'plate' for the 3D model (the half-space comparable "
                              f"'contact' measure is not offered yet), got {displacement!r}")
@@ -139,9 +137,18 @@ class FEContact3D:
         t1 = time.perf_counter()
         K, basis = stiffness3d(mesh, m.E2, m.nu2)
         self.mi = mi = mortar_interface(mesh)
-        D, self.backend, _ = mortar_flexibility(K, basis, mesh, mi, backend=backend)
+        D_blk, self.backend, _ = mortar_flexibility(K, basis, mesh, mi, backend=backend)
         self.ndofs = int(K.shape[0])
-        self.rf = RelativeFlexibility.from_bodies(D, D)
+        if m.nu1 == m.nu2:  # the flexibility of one mesh scales with 1/E at fixed nu
+            D_ind = D_blk * (m.E2 / m.E1)
+        else:
+            K1, _ = stiffness3d(mesh, m.E1, m.nu1)
+            D_ind, _, _ = mortar_flexibility(K1, basis, mesh, mi, backend=backend)
+            self.ndofs *= 2
+        self.rf = RelativeFlexibility.from_bodies(D_blk, D_ind)
+        #: Dundurs' beta of the pair (0: the normal and tangential problems decouple)
+        G1, G2 = m.G1, m.G2
+        self.beta = 0.5 * ((1 - 2 * m.nu2) / G2 - (1 - 2 * m.nu1) / G1) / ((1 - m.nu2) / G2 + (1 - m.nu1) / G1)
         with np.errstate(invalid="ignore"):
             f = np.asarray(profile.f(mi.nodes.r), dtype=float)
         self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
@@ -233,27 +240,44 @@ class FEContact3D:
             raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
         if F_N is not None:
             F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
-            nr = self.normal(F_N=F_N) if F_N > 0 else None
+            touching = F_N > 0
         else:
-            nr = self.normal(d=float(d)) if d > 0 else None
-        p = nr.p if nr is not None else np.zeros(self.n)
-        g = self.mu * p
-        FN = nr.force if nr is not None else 0.0
-        if Fx is not None and abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0:
-            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
-                             f"mu*F_N={self.mu * FN:.4g} N under force control")
+            d = float(d)
+            touching = d > 0
         mi = self.mi
         q0 = np.asarray(state.q)
+        if Fx is not None and touching and F_N is not None and abs(Fx) >= self.mu * F_N * (1 - 1e-12) and Fx != 0:
+            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                             f"mu*F_N={self.mu * F_N:.4g} N under force control")
         with blas_threads(1):
-            if not np.any(g > 0):
-                uu = float(state.u if u is None else u)
-                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=uu)
-            elif u is not None:
-                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=float(u),
-                                         q0=q0)
+            if touching and self.rf.K is not None:  # dissimilar pair: normal and tangential together
+                p, dd, res, _ = solve_coupled3d(
+                    self.rf, self.g0, mi.A, self.mu, np.asarray(state.P), mi.on_plane,
+                    F_n=None if F_N is None else F_N / 2, d=d, delta=None if u is None else float(u),
+                    F_t=None if Fx is None else Fx / 2, q0=q0, delta0=state.u,
+                    p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
+                self.stats["normal_solves"] += 1
+                nr = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd),
+                              contact_radius=self._edge_radius(p), iterations=0)
+                g = self.mu * p
             else:
-                res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, force=Fx / 2,
-                                         q0=q0, delta0=state.u)
+                nr = (self.normal(F_N=F_N) if F_N is not None else self.normal(d=d)) if touching else None
+                p = nr.p if nr is not None else np.zeros(self.n)
+                g = self.mu * p
+                FN0 = nr.force if nr is not None else 0.0
+                if Fx is not None and abs(Fx) >= self.mu * FN0 * (1 - 1e-12) and Fx != 0.0:
+                    raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                                     f"mu*F_N={self.mu * FN0:.4g} N under force control")
+                if not np.any(g > 0):
+                    uu = float(state.u if u is None else u)
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=uu)
+                elif u is not None:
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane,
+                                             delta=float(u), q0=q0)
+                else:
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane,
+                                             force=Fx / 2, q0=q0, delta0=state.u)
+        FN = nr.force if nr is not None else 0.0
         contact = g > 0
         work = 2.0 * float(np.sum((res.q * (res.s - np.asarray(state.P)))[contact]))
         qn = np.hypot(res.q[:, 0], res.q[:, 1])
@@ -277,8 +301,8 @@ class FEContact3D:
     # ------------------------------------------------------------------ runs
     def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FE3DState | None = None,
             record_from: int | None = None) -> History:
-        """A load history (arrays (T,)); returns mdr.law.History. The tractions of the recorded steps
-        are kept in ``last_run`` (for the 3D keys of :meth:`stick_zone`)."""
+        """A load history (arrays (T,)); returns mdr.law.History. The tractions and pressures of every
+        step are kept in ``last_run`` (for the 3D keys of :meth:`result_keys`)."""
         if (d is None) == (F_N is None):
             raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
         if (u is None) == (Fx is None):
@@ -293,7 +317,7 @@ class FEContact3D:
             raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
         nr = self._rays["+x"].size
         rec = {"slack": np.empty((nT - rec0, nr)), "slipping": np.empty((nT - rec0, nr), bool)}
-        kept = {"q": [], "p": [], "Fx": [], "a": []}
+        kept = {"q": [], "p": [], "Fx": [], "a": [], "first": rec0}
         for t in range(nT):
             kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
             res, state = self.step(state, **({"u": drive[t]} if u is not None else {"Fx": drive[t]}), **kw)
@@ -302,18 +326,19 @@ class FEContact3D:
             if t >= rec0:
                 rec["slack"][t - rec0] = res.slack
                 rec["slipping"][t - rec0] = res.slipping
-                kept["q"].append(state.q)
-                kept["p"].append(state.p)
-                kept["Fx"].append(res.Fx)
-                kept["a"].append(res.a)
-        self.last_run = kept if record_from is not None else None
+            kept["q"].append(state.q)
+            kept["p"].append(state.p)
+            kept["Fx"].append(res.Fx)
+            kept["a"].append(res.a)
+        self.last_run = kept
         return History(state=state, **out, **(rec if record_from is not None else {}))
 
     # ------------------------------------------------------------------ 3D keys
     def stick_zone(self, q, p, a) -> dict:
         """Stick extents of one instant (m): ``stick_radius_x`` (mean of +x and -x),
         ``stick_center_x`` (their half difference), ``stick_radius_y``; ``traction_angle_max``,
-        the largest |q_y|/|q| over the vertices in contact that slip."""
+        the largest |q_y|/|q| over the vertices in contact that slip; ``pressure_center_x``, the
+        x of the pressure's centroid (m)."""
         mi = self.mi
         g = self.mu * p
         qn = np.hypot(q[:, 0], q[:, 1])
@@ -326,19 +351,32 @@ class FEContact3D:
             ext[name] = float(per_step(r, slack[ray], slipping[ray], a, self.stick_onset))
         slip = contact & slipping
         ang = float(np.max(np.abs(q[slip, 1]) / qn[slip])) if np.any(slip) else 0.0
+        w = mi.A * p
         return {"stick_radius_x": 0.5 * (ext["+x"] + ext["-x"]), "stick_center_x": 0.5 * (ext["+x"] - ext["-x"]),
-                "stick_radius_y": ext["y"], "traction_angle_max": ang}
+                "stick_radius_y": ext["y"], "traction_angle_max": ang,
+                "pressure_center_x": float(w @ mi.x / w.sum()) if w.sum() > 0 else 0.0}
 
     def result_keys(self, F_N, t0, t1, t2) -> dict:
         """The keys a 3D run adds (``python -m fem contact --model 3d``): the FE's own contact radius
-        and approach at F_N, the stick zone and traction angle at the peak of F_x of the recorded
-        window (the last cycle), ``dofs``, ``vertices``, ``mesh``, ``solver`` and ``runtime_s``."""
+        and approach at F_N (first step at that load of the last run, else a frictionless solve),
+        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s``; from the last run:
+        ``stick_radius_x``, ``stick_radius_y`` and ``traction_angle_max`` at the peak of F_x of its
+        recorded window (the last cycle), ``stick_center_x`` and ``pressure_center_x`` at its first
+        peak of F_x (the first local maximum)."""
         nr = self.normal(F_N=F_N)
         out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "dofs": self.ndofs,
-               "vertices": self.n, "mesh": self.mesh_summary(),
+               "vertices": self.n, "beta": self.beta, "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},
                "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
-        if self.last_run and self.last_run["q"]:
-            k = int(np.argmax(self.last_run["Fx"]))
-            out.update(self.stick_zone(self.last_run["q"][k], self.last_run["p"][k], self.last_run["a"][k]))
+        run = self.last_run
+        if run and run["q"]:
+            Fx = np.asarray(run["Fx"])
+            k0 = run["first"] if run["first"] < Fx.size else 0
+            k = k0 + int(np.argmax(Fx[k0:]))
+            z = self.stick_zone(run["q"][k], run["p"][k], run["a"][k])
+            out.update({key: z[key] for key in ("stick_radius_x", "stick_radius_y", "traction_angle_max")})
+            peaks = np.flatnonzero((Fx[1:-1] >= Fx[:-2]) & (Fx[1:-1] > Fx[2:]) & (Fx[1:-1] > 0)) + 1
+            k1 = int(peaks[0]) if peaks.size else k
+            z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])
+            out.update({"stick_center_x": z1["stick_center_x"], "pressure_center_x": z1["pressure_center_x"]})
         return out

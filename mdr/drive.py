@@ -77,13 +77,14 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
                 cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law: ContactLaw | None = None,
-                state_at=None):
+                state_at=None, state0=None):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
     ``law`` is any ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
     the load history. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
-    which gives the same result).
+    which gives the same result). ``state0``: the law's state to start from (default its rest
+    state), e.g. after a normal loading with friction active.
     """
     F0, dF, alpha, mu, ua, fa, cycles, steps = check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)
     t_start = time.perf_counter()
@@ -99,12 +100,12 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     kept = None
     first = cycles * steps - steps  # the last (stationary) cycle: steps first .. first + steps
     if state_at is None:
-        H = law.run(**{key: drive}, F_N=FN, record_from=first)
+        H = law.run(**{key: drive}, F_N=FN, record_from=first, state=state0)
     else:
         k = int(state_at)
         if not 0 <= k < t.size - 1:
             raise InputError(f"state_at must be a step index in [0, {t.size - 2}], got {state_at!r}")
-        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1))
+        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1), state=state0)
         H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state, record_from=max(first - k - 1, 0))
         kept = H1.state
         H = type(H2)(state=H2.state, **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-1)
