@@ -106,11 +106,12 @@ def _cmd_study(args):
 
     names = study_names(args.name)
     t0 = time.perf_counter()
-    out = run_studies(names, args.out, jobs=args.jobs)
+    out = run_studies(names, args.out, jobs=args.jobs, scheduler=args.scheduler)
     for res in out:
-        sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
+        sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s on "
+                         f"{res['worker']} -> {args.out}\n")
     if len(out) > 1:
-        sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s on {args.jobs} process(es)\n")
+        sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s ({out[0]['executor']})\n")
     return out[0] if len(out) == 1 else {"studies": out}
 
 
@@ -179,6 +180,9 @@ def build_parser():
     ps.add_argument("name", help="fig8, fig9, loops or sensitivity, a comma list of them, or all")
     ps.add_argument("--jobs", type=int, default=1, metavar="N",
                     help="run several studies in N parallel processes (default 1)")
+    ps.add_argument("--scheduler", metavar="ADDRESS",
+                    help="run the studies on the workers of a running Dask scheduler (e.g. tcp://host:8786; "
+                         "needs the dist extra; excludes --jobs)")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
     ps.set_defaults(func=_cmd_study)

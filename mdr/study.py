@@ -23,7 +23,7 @@ import numpy as np
 
 from .apparatus import Apparatus, run_apparatus
 from .errors import InputError
-from .io import write_bytes_atomic, write_json
+from .io import dumps_json, write_bytes_atomic
 from .law import MDRContact
 from .materials import Materials
 from .profiles import FlatPunch, Sphere, TruncatedSphere
@@ -176,10 +176,10 @@ def _csv(rows):
     return buf.getvalue().encode()
 
 
-def _png(fig, path):
+def _png(fig) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=120)
-    write_bytes_atomic(path, buf.getvalue())
+    return buf.getvalue()
 
 
 STUDIES = ("fig8", "fig9", "loops", "sensitivity")
@@ -188,15 +188,30 @@ STUDIES = ("fig8", "fig9", "loops", "sensitivity")
 def run_study(name: str, out_dir) -> dict:
     """Run study ``name`` (fig8, fig9, loops, sensitivity) and write CSV/JSON + PNG
     (sensitivity: CSV + markdown table) into out_dir."""
+    res, files = study_outputs(name)
+    _write_files(out_dir, files)
+    return res
+
+
+def _write_files(out_dir, files: dict) -> None:
+    for fname, data in files.items():
+        write_bytes_atomic(Path(out_dir) / fname, data)
+
+
+def study_outputs(name: str) -> tuple[dict, dict]:
+    """Run study ``name``; returns its result {study, rows, runtime_s, worker} and its files
+    {file name: bytes} (written by the caller: a remote worker needs no shared disk)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out_dir = Path(out_dir)
+    from .executors import worker_id
+
+    files = {}
     t0 = time.perf_counter()
     if name == "fig8":
         rows = fig8()
-        write_bytes_atomic(out_dir / "fig8.csv", _csv(rows))
+        files["fig8.csv"] = _csv(rows)
         fig, ax = plt.subplots(figsize=(6, 4))
         for kx in sorted({r["kx"] for r in rows}):
             sel = [r for r in rows if r["kx"] == kx]
@@ -208,10 +223,10 @@ def run_study(name: str, out_dir) -> dict:
         ax.set_title("truncated sphere (thick) and flat punch of radius b (thin)")
         ax.legend()
         fig.tight_layout()
-        _png(fig, out_dir / "fig8.png")
+        files["fig8.png"] = _png(fig)
     elif name == "fig9":
         rows = fig9()
-        write_bytes_atomic(out_dir / "fig9.csv", _csv(rows))
+        files["fig9.csv"] = _csv(rows)
         fig, ax = plt.subplots(figsize=(6, 4))
         for b in sorted({r["b"] for r in rows}):
             sel = [r for r in rows if r["b"] == b]
@@ -221,10 +236,10 @@ def run_study(name: str, out_dir) -> dict:
         ax.set_ylabel("slip index delta")
         ax.legend()
         fig.tight_layout()
-        _png(fig, out_dir / "fig9.png")
+        files["fig9.png"] = _png(fig)
     elif name == "loops":
         data = loops()
-        write_json(out_dir / "loops.json", data)
+        files["loops.json"] = dumps_json(data).encode()
         fig, axes = plt.subplots(len(data), 2, figsize=(8, 2.6 * len(data)))
         for row, (key, d) in zip(axes, data.items()):
             row[0].plot(np.asarray(d["FN"]), np.asarray(d["Fx"]) * 1e3, "r")
@@ -236,15 +251,16 @@ def run_study(name: str, out_dir) -> dict:
                              f"delta = {d['slip_index']:.2f}, on limit {100 * d['on_limit']:.0f} %",
                              fontsize=8, loc="left")
         fig.tight_layout()
-        _png(fig, out_dir / "loops.png")
+        files["loops.png"] = _png(fig)
         rows = [{k: v for k, v in d.items() if k not in ("Fx", "FN", "du")} | {"case": k} for k, d in data.items()]
     elif name == "sensitivity":
         rows = sensitivity()
-        write_bytes_atomic(out_dir / "sensitivity.csv", _csv(rows))
-        write_bytes_atomic(out_dir / "sensitivity.md", sensitivity_markdown(rows).encode())
+        files["sensitivity.csv"] = _csv(rows)
+        files["sensitivity.md"] = sensitivity_markdown(rows).encode()
     else:
         raise InputError(f"study must be one of {', '.join(STUDIES)}; got {name!r}")
-    return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0}
+    plt.close("all")
+    return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0, "worker": worker_id()}, files
 
 
 def study_names(names) -> list:
@@ -258,26 +274,32 @@ def study_names(names) -> list:
     return names
 
 
-def run_studies(names, out_dir, jobs: int = 1) -> list:
-    """Run several studies, each one batch pass, in up to ``jobs`` spawned processes.
+def run_studies(names, out_dir, jobs: int = 1, scheduler: str | None = None) -> list:
+    """Run several studies, each one batch pass, in up to ``jobs`` spawned processes or on
+    the workers of the Dask scheduler at ``scheduler`` (``mdr.executors``).
 
     The studies are independent and each is already vectorised over its points,
     so the second core is used by running two studies at once (splitting one
-    batch gains little: its per-step cost is mostly fixed Python overhead).
+    batch gains little: its per-step cost is mostly fixed Python overhead). The
+    files are written here as each study comes back. Each result names its ``worker``
+    and the ``executor`` of the run.
     """
-    from .errors import positive_int
+    from .executors import check_choice, executor_for
 
     names = study_names(names)
-    jobs = positive_int("jobs", jobs)
-    if jobs == 1 or len(names) == 1:
-        return [run_study(n, out_dir) for n in names]
-    import concurrent.futures as futures
-    import multiprocessing
-
-    # longest first, so that the pool balances (fig8 holds two batches)
-    order = sorted(names, key=STUDIES.index)
-    with futures.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
-                                mp_context=multiprocessing.get_context("spawn")) as ex:
-        futs = {n: ex.submit(run_study, n, out_dir) for n in order}
-        res = {n: f.result() for n, f in futs.items()}
-    return [res[n] for n in names]
+    jobs = check_choice(jobs, scheduler)
+    if scheduler is None and (jobs == 1 or len(names) == 1):
+        jobs = 1
+    res = {}
+    with executor_for(min(jobs, len(names)), scheduler) as (ex, label):
+        if ex is None:
+            for n in names:
+                res[n], files = study_outputs(n)
+                _write_files(out_dir, files)
+        else:
+            # longest first, so that the pool balances (fig8 holds two batches)
+            futs = {n: ex.submit(study_outputs, n) for n in sorted(names, key=STUDIES.index)}
+            for n, f in futs.items():
+                res[n], files = f.result()
+                _write_files(out_dir, files)
+    return [dict(res[n], executor=label) for n in names]
