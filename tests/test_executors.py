@@ -71,7 +71,7 @@ def inproc_cluster():
     """A Dask scheduler with one in-process worker thread (fast to start)."""
     from distributed import LocalCluster
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as c:
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as c:
         yield c
 
 
@@ -243,7 +243,7 @@ def test_a_killed_dask_worker_leaves_its_scene_failed_and_a_rerun_completes_it(t
 
     scenes = [tiny(), tiny("geom-flat")]
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
-            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         result = {}
         ex = client.get_executor(pure=False)
@@ -279,7 +279,7 @@ def test_quick_compare_on_two_dask_worker_processes_equals_jobs_2(tmp_path):
     names = "sphere-md,geom-flat"
     argv = ["--quick", "--scenes", names, "--no-hard-cases", "--no-fields"]
     assert compare.main(argv + ["--jobs", "2", "--out", str(tmp_path / "jobs")]) == 0
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         assert compare.main(argv + ["--scheduler", cluster.scheduler_address, "--out", str(tmp_path / "dask")]) == 0
         workers = set(cluster.workers[i].worker_address for i in cluster.workers)
     a = json.loads((tmp_path / "jobs" / "results.json").read_text())
