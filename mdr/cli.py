@@ -13,6 +13,7 @@ import time
 import numpy as np
 
 from .cliutil import OneLineParser, add_output_args, run_command
+from .errors import InputError
 from .materials import STEEL_E, STEEL_NU, Materials
 from .plugins import GROUP, law_plugins
 from .profiles import make_profile
@@ -105,8 +106,13 @@ def _cmd_study(args):
     from .study import run_studies, study_names
 
     names = study_names(args.name)
+    if args.law == "mdr" and (args.points is not None or args.levels is not None):
+        raise InputError("--points and --levels apply to a plugin law's study points; give --law too (e.g. --law fem)")
     t0 = time.perf_counter()
-    out = run_studies(names, args.out, jobs=args.jobs, scheduler=args.scheduler)
+    say = lambda m: sys.stderr.write(m + "\n")  # noqa: E731
+    out = run_studies(names, args.out, jobs=args.jobs, scheduler=args.scheduler, law=args.law,
+                      plugin=args.law_plugins.get(args.law), law_args=args, points=args.points, levels=args.levels,
+                      log=say)
     for res in out:
         sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s on "
                          f"{res['worker']} -> {args.out}\n")
@@ -185,7 +191,17 @@ def build_parser():
                          "needs the dist extra; excludes --jobs)")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
-    ps.set_defaults(func=_cmd_study)
+    ps.add_argument("--law", choices=["mdr", *plugins], default="mdr",
+                    help="mdr (default), or a plugin law run beside MDR at --points points per curve of fig8/fig9 "
+                         "(writes NAME_LAW.csv/png; see mdr/law_study.py)")
+    ps.add_argument("--points", type=int, default=None, metavar="N",
+                    help="with --law: points per curve, evenly spread, ends included (default 5)")
+    ps.add_argument("--levels", type=int, default=None, metavar="L",
+                    help="with --law: mesh levels for the law's own error, element size 2^(L-1)..2, 1 times "
+                         "its own (default 2)")
+    for plugin in plugins.values():
+        plugin.add_arguments(ps)
+    ps.set_defaults(func=_cmd_study, law_plugins=plugins)
     return parser
 
 

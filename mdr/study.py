@@ -274,7 +274,8 @@ def study_names(names) -> list:
     return names
 
 
-def run_studies(names, out_dir, jobs: int = 1, scheduler: str | None = None) -> list:
+def run_studies(names, out_dir, jobs: int = 1, scheduler: str | None = None, *, law: str = "mdr", plugin=None,
+                law_args=None, points=None, levels=None, log=None) -> list:
     """Run several studies, each one batch pass, in up to ``jobs`` spawned processes or on
     the workers of the Dask scheduler at ``scheduler`` (``mdr.executors``).
 
@@ -283,11 +284,17 @@ def run_studies(names, out_dir, jobs: int = 1, scheduler: str | None = None) -> 
     batch gains little: its per-step cost is mostly fixed Python overhead). The
     files are written here as each study comes back. Each result names its ``worker``
     and the ``executor`` of the run.
+
+    ``law`` other than "mdr": fig8/fig9 with that plugin law (``plugin``, its parsed flags
+    ``law_args``) beside MDR at ``points`` points per curve on ``levels`` mesh levels
+    (``mdr.law_study``); its (geometry, level) tasks are what the processes or workers share.
     """
     from .executors import check_choice, executor_for
 
     names = study_names(names)
     jobs = check_choice(jobs, scheduler)
+    if law != "mdr":
+        return _run_law_studies(names, out_dir, jobs, scheduler, law, plugin, law_args, points, levels, log)
     if scheduler is None and (jobs == 1 or len(names) == 1):
         jobs = 1
     res = {}
@@ -303,3 +310,32 @@ def run_studies(names, out_dir, jobs: int = 1, scheduler: str | None = None) -> 
                 res[n], files = f.result()
                 _write_files(out_dir, files)
     return [dict(res[n], executor=label) for n in names]
+
+
+def _run_law_studies(names, out_dir, jobs, scheduler, law, plugin, law_args, points, levels, log) -> list:
+    """fig8/fig9 with a plugin law beside MDR (``mdr.law_study``): CSV + PNG ``NAME_LAW.*``."""
+    from .executors import executor_for
+    from .law_study import DEFAULT_LEVELS, DEFAULT_POINTS, LAW_STUDIES, check_law_study, law_figure, law_study
+
+    bad = [n for n in names if n not in LAW_STUDIES]
+    if bad:
+        raise InputError(f"study with --law {law} must be one of {', '.join(LAW_STUDIES)}; got {', '.join(bad)}")
+    if plugin is None:
+        raise InputError(f"law must be mdr or an installed contact-law plugin; got {law!r}")
+    points, levels = check_law_study(law, plugin, DEFAULT_POINTS if points is None else points,
+                                     DEFAULT_LEVELS if levels is None else levels)
+    out = []
+    with executor_for(jobs, scheduler) as (ex, label):
+        for n in names:
+            t0 = time.perf_counter()
+            mdr_rows = fig8() if n == "fig8" else fig9()
+            rows, tasks = law_study(n, mdr_rows, law, plugin, law_args, R=R_IND, load=TABLE2, res=RES,
+                                    points=points, levels=levels, executor=ex, log=log)
+            fig = law_figure(n, mdr_rows, rows, law)
+            _write_files(out_dir, {f"{n}_{law}.csv": _csv(rows), f"{n}_{law}.png": _png(fig)})
+            import matplotlib.pyplot as plt
+
+            plt.close(fig)
+            out.append({"study": n, "law": law, "rows": rows, "tasks": tasks, "runtime_s": time.perf_counter() - t0,
+                        "worker": ", ".join(sorted({t["worker"] for t in tasks})), "executor": label})
+    return out
