@@ -55,7 +55,7 @@ def study_points(name: str, rows: list, points: int) -> dict:
         return {b: sorted({r["kx"] for r in rows if r["b"] == b}) for b in bs}
     if name == "fig9":
         ks = pick([r["kx"] for r in rows], points)
-        return {b: [k for k in ks] for b in sorted({r["b"] for r in rows})}
+        return {b: list(ks) for b in sorted({r["b"] for r in rows})}
     raise InputError(f"study with --law must be one of {', '.join(LAW_STUDIES)}; got {name!r}")
 
 
@@ -149,7 +149,7 @@ def law_figure(name: str, mdr_rows: list, rows: list, law_name: str):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig, ax = plt.subplots(figsize=(8.5, 4.2))
     curve, x, scale, xlabel = (("kx", "b", 1e6, "flat-face radius b (um)") if name == "fig8"
                                else ("b", "kx", 1e-6, "apparatus stiffness k_x (N/um)"))
     for c in sorted({r[curve] for r in mdr_rows}):
@@ -166,6 +166,6 @@ def law_figure(name: str, mdr_rows: list, rows: list, law_name: str):
     ax.set_ylabel("slip index delta")
     ax.set_title(f"{name}: MDR (lines) and {law_name.upper()} (markers, own error bars), truncated sphere",
                  fontsize=9)
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig
