@@ -207,7 +207,7 @@ def study_outputs(name: str) -> tuple[dict, dict]:
 
     from .executors import worker_id
 
-    files = {}
+    files, fig = {}, None
     t0 = time.perf_counter()
     if name == "fig8":
         rows = fig8()
@@ -259,7 +259,8 @@ def study_outputs(name: str) -> tuple[dict, dict]:
         files["sensitivity.md"] = sensitivity_markdown(rows).encode()
     else:
         raise InputError(f"study must be one of {', '.join(STUDIES)}; got {name!r}")
-    plt.close("all")
+    if fig is not None:
+        plt.close(fig)
     return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0, "worker": worker_id()}, files
 
 
