@@ -19,27 +19,21 @@ from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .law import FEContact
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from .solvers import blas_threads
 
 
-def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                         steps=200, *, h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=None,
-                         al_tol=None, friction_al_tol=None, cache_dir=None, backend=None) -> dict:
-    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
-
-    The law is ``fem.law.FEContact(..., F_max=F0 + dF, displacement="contact")``:
-    its displacement excludes the finite bodies' bulk compliance, so it stands
-    where the half-space law stands and the apparatus compliances are not counted
-    twice (see ``fem.law``). Keys: those of :func:`apparatus_result` (with
-    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
-    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
-    Input is validated before the (costly) FE set-up.
-    """
+def fem_apparatus_law(profile, materials, mu, F_max, *, h_contact=H_CONTACT_DEFAULT, contact_extent=1.25,
+                      block_size=None, penalty=None, al_tol=None, friction_al_tol=None, cache_dir=None,
+                      backend=None) -> FEContact:
+    """The FE law of the apparatus: ``fem.law.FEContact(..., displacement="contact")``, its
+    options validated before the (costly) set-up. Its displacement excludes the finite
+    bodies' bulk compliance, so it stands where the half-space law stands and the apparatus
+    compliances are not counted twice (see ``fem.law``). The law is pure (explicit state):
+    one law serves every apparatus scene of its geometry, materials, mu and F_max."""
     penalty = DEFAULT_PENALTY if penalty is None else penalty
     al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol
     friction_al_tol = DEFAULT_FRICTION_AL_TOL if friction_al_tol is None else friction_al_tol
-    # validate everything before the set-up
     nonnegative("mu", mu)
-    check_load(F0, dF, alpha, ua, cycles, steps)
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
     positive("penalty", penalty)
     nonnegative("al_tol", al_tol)
@@ -48,12 +42,27 @@ def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alp
         positive("block_size", block_size)
     if not (np.ndim(contact_extent) == 0 and np.isfinite(contact_extent) and contact_extent > 1):
         raise InputError(f"contact_extent must be > 1 (finite), got {contact_extent!r}")
+    return FEContact(profile, materials, mu, F_max=F_max, h_contact=h_contact, contact_extent=contact_extent,
+                     block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
+                     cache_dir=cache_dir, backend=backend, displacement="contact")
+
+
+def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
+                         steps=200, **fe_options) -> dict:
+    """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
+
+    The law is :func:`fem_apparatus_law` with ``F_max = F0 + dF`` (``fe_options``: its
+    keyword arguments). Keys: those of :func:`apparatus_result` (with
+    ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
+    ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
+    Input is validated before the (costly) FE set-up.
+    """
+    check_load(F0, dF, alpha, ua, cycles, steps)
     t0 = time.perf_counter()
-    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
-                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
-                    cache_dir=cache_dir, backend=backend, displacement="contact")
-    t1 = time.perf_counter()
-    out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
+    with blas_threads(1):  # once for the whole run: the law's steps are many small dense solves
+        law = fem_apparatus_law(profile, materials, mu, F0 + dF, **fe_options)
+        t1 = time.perf_counter()
+        out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
     t2 = time.perf_counter()
     out.update(law.result_keys(F0, t0, t1, t2))
     out["inputs"]["law"] = law.describe()

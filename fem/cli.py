@@ -160,6 +160,21 @@ class _FEApparatusLaw:
         return fem_apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps,
                                     **fe_options(args))
 
+    @staticmethod
+    def session():
+        """One BLAS thread for the whole block (the law's many small dense solves)."""
+        from .solvers import blas_threads
+
+        return blas_threads(1)
+
+    @staticmethod
+    def make_law(profile, materials, mu, F_max, args, coarsen=1.0):
+        """The apparatus' FE law at ``coarsen`` times the element size of ``--h-contact``."""
+        from .apparatus import fem_apparatus_law
+
+        opts = fe_options(args)
+        return fem_apparatus_law(profile, materials, mu, F_max, **dict(opts, h_contact=opts["h_contact"] * coarsen))
+
 
 #: entry point ``fem`` of the group ``fretting.contact_laws`` (pyproject.toml)
 FE_LAW = _FEApparatusLaw()

@@ -14,6 +14,7 @@ import numpy as np
 
 from .apparatus import PLATE_MODELS
 from .cliutil import OneLineParser, add_output_args, run_command
+from .errors import InputError
 from .materials import STEEL_E, STEEL_NU, Materials
 from .plugins import GROUP, law_plugins
 from .profiles import make_profile
@@ -106,13 +107,19 @@ def _cmd_study(args):
     from .study import run_studies, study_names
 
     names = study_names(args.name)
+    if args.law == "mdr" and (args.points is not None or args.levels is not None):
+        raise InputError("--points and --levels apply to a plugin law's study points; give --law too (e.g. --law fem)")
     t0 = time.perf_counter()
     app_kw = {k: v for k, v in (("plate_model", args.plate_model), ("R_bed", args.R_bed)) if v is not None}
-    out = run_studies(names, args.out, jobs=args.jobs, app_kw=app_kw or None)
+    say = lambda m: sys.stderr.write(m + "\n")  # noqa: E731
+    out = run_studies(names, args.out, jobs=args.jobs, app_kw=app_kw or None, scheduler=args.scheduler, law=args.law,
+                      plugin=args.law_plugins.get(args.law), law_args=args, points=args.points, levels=args.levels,
+                      log=say)
     for res in out:
-        sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s -> {args.out}\n")
+        sys.stderr.write(f"study {res['study']}: {len(res['rows'])} points in {res['runtime_s']:.2f} s on "
+                         f"{res['worker']} -> {args.out}\n")
     if len(out) > 1:
-        sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s on {args.jobs} process(es)\n")
+        sys.stderr.write(f"{len(out)} studies in {time.perf_counter() - t0:.2f} s ({out[0]['executor']})\n")
     return out[0] if len(out) == 1 else {"studies": out}
 
 
@@ -187,13 +194,26 @@ def build_parser():
     ps.add_argument("name", help="fig8, fig9, loops, sensitivity or plates, a comma list of them, or all")
     ps.add_argument("--jobs", type=int, default=1, metavar="N",
                     help="run several studies in N parallel processes (default 1)")
+    ps.add_argument("--scheduler", metavar="ADDRESS",
+                    help="run the studies on the workers of a running Dask scheduler (e.g. tcp://host:8786; "
+                         "needs the dist extra; excludes --jobs)")
     ps.add_argument("--out", default="results/study", help="output directory (default results/study)")
     ps.add_argument("--plate-model", choices=list(PLATE_MODELS), default=None,
                     help="fig8, fig9, loops: reading of the brass plates (default axial; " + PLATE_HELP + ")")
     ps.add_argument("--R-bed", dest="R_bed", type=float, default=None,
                     help="fig8, fig9, loops: radius of the bedding half-spheres in m (default 5e-3)")
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
-    ps.set_defaults(func=_cmd_study)
+    ps.add_argument("--law", choices=["mdr", *plugins], default="mdr",
+                    help="mdr (default), or a plugin law run beside MDR at --points points per curve of fig8/fig9 "
+                         "(writes NAME_LAW.csv/png; see mdr/law_study.py)")
+    ps.add_argument("--points", type=int, default=None, metavar="N",
+                    help="with --law: points per curve, evenly spread, ends included (default 5)")
+    ps.add_argument("--levels", type=int, default=None, metavar="L",
+                    help="with --law: mesh levels for the law's own error, element size 2^(L-1)..2, 1 times "
+                         "its own (default 2)")
+    for plugin in plugins.values():
+        plugin.add_arguments(ps)
+    ps.set_defaults(func=_cmd_study, law_plugins=plugins)
     return parser
 
 

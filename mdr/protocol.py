@@ -74,12 +74,23 @@ class ContactLaw(Protocol):
 
 @runtime_checkable
 class LawPlugin(Protocol):
-    """A contact law offered to ``python -m mdr apparatus --law NAME`` (``mdr.plugins``)."""
+    """A contact law offered to ``python -m mdr apparatus --law NAME`` and
+    ``python -m mdr study fig8|fig9 --law NAME`` (``mdr.plugins``)."""
 
     help: str
 
     def add_arguments(self, parser) -> None:
-        """Add the law's own flags to the apparatus command's parser."""
+        """Add the law's own flags to the apparatus and study commands' parsers."""
 
     def apparatus_result(self, profile, materials, app, mu, F0, dF, alpha, ua, cycles, steps, args) -> dict:
         """The result dict of the apparatus command with this law (``args``: the parsed flags)."""
+
+    def make_law(self, profile, materials, mu, F_max, args, coarsen: float = 1.0) -> ContactLaw:
+        """The law (one scene, reusable from its ``rest_state``) for the apparatus, as
+        ``apparatus_result`` builds it, with its discretisation coarsened by the factor
+        ``coarsen`` (1: as the flags say; 2: twice the element size), for the own error of
+        a study from a ladder of ``coarsen`` = 2^(L-1) .. 2, 1."""
+
+    def session(self):
+        """A context manager that many runs of the law's ``make_law`` laws go inside (e.g.
+        limiting the BLAS thread pools once instead of at every step)."""

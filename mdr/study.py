@@ -25,7 +25,7 @@ import numpy as np
 
 from .apparatus import Apparatus, run_apparatus
 from .errors import InputError
-from .io import write_bytes_atomic, write_json
+from .io import dumps_json, write_bytes_atomic
 from .law import MDRContact
 from .materials import Materials
 from .profiles import FlatPunch, Sphere, TruncatedSphere
@@ -333,10 +333,10 @@ def _csv(rows):
     return buf.getvalue().encode()
 
 
-def _png(fig, path):
+def _png(fig) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=120)
-    write_bytes_atomic(path, buf.getvalue())
+    return buf.getvalue()
 
 
 STUDIES = ("fig8", "fig9", "loops", "sensitivity", "plates")
@@ -347,6 +347,20 @@ def run_study(name: str, out_dir, app_kw=None) -> dict:
     """Run study ``name`` (fig8, fig9, loops, sensitivity, plates) and write CSV/JSON + PNG
     (sensitivity, plates: CSV + markdown table) into out_dir. ``app_kw``: Apparatus fields
     (plate_model, R_bed) for fig8, fig9 and loops (the other two vary them themselves)."""
+    res, files = study_outputs(name, app_kw)
+    _write_files(out_dir, files)
+    return res
+
+
+def _write_files(out_dir, files: dict) -> None:
+    for fname, data in files.items():
+        write_bytes_atomic(Path(out_dir) / fname, data)
+
+
+def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
+    """Run study ``name`` (``app_kw`` as :func:`run_study`); returns its result {study, rows,
+    runtime_s, worker} and its files {file name: bytes} (written by the caller: a remote
+    worker needs no shared disk)."""
     if app_kw and name not in APP_KW_STUDIES:
         raise InputError(f"plate_model/R_bed apply to the studies {', '.join(APP_KW_STUDIES)}, not to {name}")
     if app_kw:
@@ -355,11 +369,13 @@ def run_study(name: str, out_dir, app_kw=None) -> dict:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    out_dir = Path(out_dir)
+    from .executors import worker_id
+
+    files, fig = {}, None
     t0 = time.perf_counter()
     if name == "fig8":
         rows = fig8(app_kw=app_kw)
-        write_bytes_atomic(out_dir / "fig8.csv", _csv(rows))
+        files["fig8.csv"] = _csv(rows)
         fig, ax = plt.subplots(figsize=(6, 4))
         for kx in sorted({r["kx"] for r in rows}):
             sel = [r for r in rows if r["kx"] == kx]
@@ -371,10 +387,10 @@ def run_study(name: str, out_dir, app_kw=None) -> dict:
         ax.set_title("truncated sphere (thick) and flat punch of radius b (thin)")
         ax.legend()
         fig.tight_layout()
-        _png(fig, out_dir / "fig8.png")
+        files["fig8.png"] = _png(fig)
     elif name == "fig9":
         rows = fig9(app_kw=app_kw)
-        write_bytes_atomic(out_dir / "fig9.csv", _csv(rows))
+        files["fig9.csv"] = _csv(rows)
         fig, ax = plt.subplots(figsize=(6, 4))
         for b in sorted({r["b"] for r in rows}):
             sel = [r for r in rows if r["b"] == b]
@@ -384,10 +400,10 @@ def run_study(name: str, out_dir, app_kw=None) -> dict:
         ax.set_ylabel("slip index delta")
         ax.legend()
         fig.tight_layout()
-        _png(fig, out_dir / "fig9.png")
+        files["fig9.png"] = _png(fig)
     elif name == "loops":
         data = loops(app_kw=app_kw)
-        write_json(out_dir / "loops.json", data)
+        files["loops.json"] = dumps_json(data).encode()
         fig, axes = plt.subplots(len(data), 2, figsize=(8, 2.6 * len(data)))
         for row, (key, d) in zip(axes, data.items()):
             row[0].plot(np.asarray(d["FN"]), np.asarray(d["Fx"]) * 1e3, "r")
@@ -399,19 +415,21 @@ def run_study(name: str, out_dir, app_kw=None) -> dict:
                              f"delta = {d['slip_index']:.2f}, on limit {100 * d['on_limit']:.0f} %",
                              fontsize=8, loc="left")
         fig.tight_layout()
-        _png(fig, out_dir / "loops.png")
+        files["loops.png"] = _png(fig)
         rows = [{k: v for k, v in d.items() if k not in ("Fx", "FN", "du")} | {"case": k} for k, d in data.items()]
     elif name == "sensitivity":
         rows = sensitivity()
-        write_bytes_atomic(out_dir / "sensitivity.csv", _csv(rows))
-        write_bytes_atomic(out_dir / "sensitivity.md", sensitivity_markdown(rows).encode())
+        files["sensitivity.csv"] = _csv(rows)
+        files["sensitivity.md"] = sensitivity_markdown(rows).encode()
     elif name == "plates":
         rows = plate_readings()
-        write_bytes_atomic(out_dir / "plates.csv", _csv(rows))
-        write_bytes_atomic(out_dir / "plates.md", plates_markdown(rows).encode())
+        files["plates.csv"] = _csv(rows)
+        files["plates.md"] = plates_markdown(rows).encode()
     else:
         raise InputError(f"study must be one of {', '.join(STUDIES)}; got {name!r}")
-    return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0}
+    if fig is not None:
+        plt.close(fig)
+    return {"study": name, "rows": rows, "runtime_s": time.perf_counter() - t0, "worker": worker_id()}, files
 
 
 def study_names(names) -> list:
@@ -425,30 +443,74 @@ def study_names(names) -> list:
     return names
 
 
-def run_studies(names, out_dir, jobs: int = 1, app_kw=None) -> list:
-    """Run several studies, each one batch pass, in up to ``jobs`` spawned processes.
+def run_studies(names, out_dir, jobs: int = 1, app_kw=None, scheduler: str | None = None, *, law: str = "mdr",
+                plugin=None, law_args=None, points=None, levels=None, log=None) -> list:
+    """Run several studies, each one batch pass, in up to ``jobs`` spawned processes or on
+    the workers of the Dask scheduler at ``scheduler`` (``mdr.executors``).
 
     The studies are independent and each is already one batch pass over its points,
     so the second core is used by running two studies at once. With the compiled loops
     (``mdr.kernels``) a study takes about a second and starting a worker (imports,
-    loading the compiled code) costs more: ``jobs`` pays only without numba.
+    loading the compiled code) costs more: ``jobs`` pays only without numba. The files
+    are written here as each study comes back. Each result names its ``worker`` and the
+    ``executor`` of the run. ``app_kw``: Apparatus fields for fig8, fig9, loops.
+
+    ``law`` other than "mdr": fig8/fig9 with that plugin law (``plugin``, its parsed flags
+    ``law_args``) beside MDR at ``points`` points per curve on ``levels`` mesh levels
+    (``mdr.law_study``); its (geometry, level) tasks are what the processes or workers share.
     """
-    from .errors import positive_int
+    from .executors import check_choice, executor_for
 
     names = study_names(names)
-    jobs = positive_int("jobs", jobs)
+    jobs = check_choice(jobs, scheduler)
     bad = [n for n in names if app_kw and n not in APP_KW_STUDIES]
     if bad:
         raise InputError(f"--plate-model/--R-bed apply to the studies {', '.join(APP_KW_STUDIES)}, not to {', '.join(bad)}")
-    if jobs == 1 or len(names) == 1:
-        return [run_study(n, out_dir, app_kw) for n in names]
-    import concurrent.futures as futures
-    import multiprocessing
+    if law != "mdr":
+        if app_kw:
+            raise InputError("--plate-model/--R-bed do not apply with --law (the FE-backed studies use the default apparatus)")
+        return _run_law_studies(names, out_dir, jobs, scheduler, law, plugin, law_args, points, levels, log)
+    if scheduler is None and (jobs == 1 or len(names) == 1):
+        jobs = 1
+    res = {}
+    with executor_for(min(jobs, len(names)), scheduler) as (ex, label):
+        if ex is None:
+            for n in names:
+                res[n], files = study_outputs(n, app_kw)
+                _write_files(out_dir, files)
+        else:
+            # longest first, so that the pool balances (fig8 holds two batches)
+            futs = {n: ex.submit(study_outputs, n, app_kw) for n in sorted(names, key=STUDIES.index)}
+            for n, f in futs.items():
+                res[n], files = f.result()
+                _write_files(out_dir, files)
+    return [dict(res[n], executor=label) for n in names]
 
-    # longest first, so that the pool balances (fig8 holds two batches)
-    order = sorted(names, key=STUDIES.index)
-    with futures.ProcessPoolExecutor(max_workers=min(jobs, len(names)),
-                                mp_context=multiprocessing.get_context("spawn")) as ex:
-        futs = {n: ex.submit(run_study, n, out_dir, app_kw) for n in order}
-        res = {n: f.result() for n, f in futs.items()}
-    return [res[n] for n in names]
+
+def _run_law_studies(names, out_dir, jobs, scheduler, law, plugin, law_args, points, levels, log) -> list:
+    """fig8/fig9 with a plugin law beside MDR (``mdr.law_study``): CSV + PNG ``NAME_LAW.*``."""
+    from .executors import executor_for
+    from .law_study import DEFAULT_LEVELS, DEFAULT_POINTS, LAW_STUDIES, check_law_study, law_figure, law_study
+
+    bad = [n for n in names if n not in LAW_STUDIES]
+    if bad:
+        raise InputError(f"study with --law {law} must be one of {', '.join(LAW_STUDIES)}; got {', '.join(bad)}")
+    if plugin is None:
+        raise InputError(f"law must be mdr or an installed contact-law plugin; got {law!r}")
+    points, levels = check_law_study(law, plugin, DEFAULT_POINTS if points is None else points,
+                                     DEFAULT_LEVELS if levels is None else levels)
+    out = []
+    with executor_for(jobs, scheduler) as (ex, label):
+        for n in names:
+            t0 = time.perf_counter()
+            mdr_rows = fig8() if n == "fig8" else fig9()
+            rows, tasks = law_study(n, mdr_rows, law, plugin, law_args, R=R_IND, load=TABLE2, res=RES,
+                                    points=points, levels=levels, executor=ex, log=log)
+            fig = law_figure(n, mdr_rows, rows, law)
+            _write_files(out_dir, {f"{n}_{law}.csv": _csv(rows), f"{n}_{law}.png": _png(fig)})
+            import matplotlib.pyplot as plt
+
+            plt.close(fig)
+            out.append({"study": n, "law": law, "rows": rows, "tasks": tasks, "runtime_s": time.perf_counter() - t0,
+                        "worker": ", ".join(sorted({t["worker"] for t in tasks})), "executor": label})
+    return out

@@ -133,6 +133,54 @@ def test_cache_dir_from_environment(tmp_path, monkeypatch):
     assert default_cache_dir() == tmp_path / "c"
 
 
+#: a worker process: build the mesh of coarse() into the cache dir argv[1], but write it only
+#: when both workers have built theirs (ready files), so the two writers of one file race
+_RACER = """
+import sys, time
+from pathlib import Path
+import meshes.cache as c
+from meshes import AxisymMeshParams
+d, me, other = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
+save = c.save_mesh
+def racing_save(obj, path):
+    (d.parent / f"ready-{me}").touch()
+    t0 = time.monotonic()
+    while not (d.parent / f"ready-{other}").exists():
+        assert time.monotonic() - t0 < 120, "the other worker never built its mesh"
+        time.sleep(0.005)
+    return save(obj, path)
+c.save_mesh = racing_save
+m = c.cached_mesh(AxisymMeshParams("sphere", %r, 0.0, %r, h_contact=0.1, block_radius=%r, growth=0.5), d)
+print(m.info["cache"], c._digest(c._arrays(m)))
+"""
+
+
+def test_two_workers_building_the_same_mesh_at_once(tmp_path):
+    """Two processes (as two Dask workers on a shared FRETTING_MESH_CACHE) miss the same
+    empty cache and write the same file at the same moment: both get the mesh, the stored
+    file is complete and verifies, and it equals what each built (atomic replace: the last
+    writer wins with identical bytes, no reader sees half a file)."""
+    import subprocess
+    import sys
+    from pathlib import Path as P
+
+    d = tmp_path / "cache"
+    code = _RACER % (R, A, 60 * A)
+    env = dict(os.environ, PYTHONPATH=str(P(__file__).resolve().parent.parent))
+    procs = [subprocess.Popen([sys.executable, "-c", code, str(d), me, other], stdout=subprocess.PIPE, text=True,
+                              env=env) for me, other in (("a", "b"), ("b", "a"))]
+    outs = [p.communicate(timeout=300)[0].split() for p in procs]
+    assert [p.returncode for p in procs] == [0, 0]
+    assert [o[0] for o in outs] == ["miss", "miss"]  # both built and wrote it
+    assert outs[0][1] == outs[1][1]  # the same mesh
+    files = list(d.iterdir())
+    assert len(files) == 1 and files[0].suffix == ".npz"  # no temporary file left
+    from meshes.cache import _arrays, _digest
+
+    assert _digest(_arrays(load_mesh(files[0], expected=coarse()))) == outs[0][1]
+    assert cached_mesh(coarse(), d).info["cache"] == "hit"
+
+
 def test_vtu_export_roundtrip(tmp_path):
     am = build_mesh(coarse())
     from skfem import Basis, ElementTriP2

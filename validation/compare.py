@@ -6,6 +6,11 @@ Usage::
     python -m validation.compare                    # full catalogue
     python -m validation.compare --scenes sphere-md,geom-b20um --jobs 2 --out results
     python -m validation.compare --list             # the catalogue
+    python -m validation.compare --scheduler tcp://HOST:8786   # on a Dask cluster
+
+Where the scenes run: in this process (default), ``--jobs N`` local processes, or
+``--scheduler ADDRESS`` the workers of a running Dask scheduler (``mdr.executors``);
+results.json records the ``executor`` and each scene the ``worker`` that computed it.
 
 Each scene is written to ``OUT/scenes/NAME/`` atomically when it finishes
 (result.json, fields.vtu, PNGs); a rerun skips scenes whose inputs and code
@@ -33,10 +38,12 @@ import traceback
 from pathlib import Path
 
 from mdr.cliutil import OneLineParser, run_command
-from mdr.errors import ConvergenceError, InputError, positive_int
+from mdr.errors import ConvergenceError, InputError
 
 from . import report
-from .runner import load_scene, write_scene
+from mdr.executors import check_choice, executor_for, worker_id
+
+from .runner import install_scene_files, load_scene, scene_files, write_scene
 from .scenes import CATALOGUE, code_version, select
 
 
@@ -123,8 +130,8 @@ def _pid_alive(pid: int) -> bool:
 
 
 def _work(scene, out, fingerprint, fields, verbose):
-    """One scene in a worker process (top level: picklable for any executor). ``verbose``:
-    False (quiet), True (stdout), "stderr", or a callable taking one line (in-process)."""
+    """One scene, stored under ``out`` with the worker that ran it. ``verbose``: False
+    (quiet), True (stdout), "stderr", or a callable taking one line (in-process)."""
     from fem.solvers import blas_threads
 
     if callable(verbose):
@@ -133,8 +140,26 @@ def _work(scene, out, fingerprint, fields, verbose):
         stream = sys.stderr if verbose == "stderr" else sys.stdout
         log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
     with blas_threads(1):
-        res = write_scene(scene, out, fingerprint, fields=fields, log=log)
+        res = write_scene(scene, out, fingerprint, fields=fields, log=log, meta={"worker": worker_id()})
     return _summary(res)
+
+
+def _remote(scene, fingerprint, version, fields):
+    """One scene on a worker of an executor (top level: picklable for any executor): run into
+    a temporary directory local to the worker and return ``(summary, files)``, the scene
+    directory as {relative path: bytes}; the caller stores it (``runner.install_scene_files``),
+    so the output directory need not be shared with the workers. Refuses to run if the
+    worker's sources differ from the caller's (``version``, ``scenes.code_version``): its
+    result would be stored under the wrong fingerprint."""
+    import tempfile
+
+    here = code_version()
+    if here != version:
+        raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({version}): "
+                           "install the same version of the project on every worker")
+    with tempfile.TemporaryDirectory(prefix="fretting-scene-") as tmp:
+        msg = _work(scene, tmp, fingerprint, fields, False)
+        return msg, scene_files(tmp, scene.name)
 
 
 def _summary(res) -> str:
@@ -151,9 +176,12 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
             fields: bool = True, log=print, detail=True) -> dict:
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
 
-    ``executor``: any ``concurrent.futures.Executor`` (e.g. a cluster executor);
-    default: in-process for ``jobs == 1``, else a ``ProcessPoolExecutor(jobs)`` of spawned
-    processes.
+    ``executor``: any ``concurrent.futures.Executor`` (e.g. the executor of a Dask client,
+    ``mdr.executors.executor_for``); default: in-process for ``jobs == 1``, else a
+    ``ProcessPoolExecutor(jobs)`` of spawned processes. On an executor each scene runs in a
+    directory local to its worker and comes back as files, stored here atomically. A scene
+    whose task fails (an exception, a lost worker) is reported failed and the others go on;
+    it has no stored result, so a rerun computes it (and skips the completed ones).
     """
     out = Path(out)
     remove_stale_tmp(out, [s.name for s in scenes], log=log)
@@ -185,12 +213,13 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
                     status[s.name] = f"{type(e).__name__}: {e}"
                     log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
         else:
-            futs = {executor.submit(_work, s, out, fp, fields, False): s for s, fp in todo}
+            futs = {executor.submit(_remote, s, fp, version, fields): s for s, fp in todo}
             log(f"running {n} scene(s) on {jobs if own else 'the given'} executor workers")
             for i, f in enumerate(futures.as_completed(futs), 1):
                 s = futs[f]
                 try:
-                    msg = f.result()
+                    msg, files = f.result()
+                    install_scene_files(out, s.name, files)
                     status[s.name] = "ok"
                     log(f"[{i}/{n}] {s.name} done: {msg} ({time.perf_counter() - t0:.0f} s elapsed)")
                 except Exception as e:  # a failed scene must not stop the others
@@ -212,6 +241,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="representative subset on coarser ladders (under 2 minutes on 2 cores)")
     p.add_argument("--scenes", metavar="NAME,...", help="comma-separated scene names (see --list)")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="scenes in parallel processes (default 1)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the scenes on the workers of a running Dask scheduler (e.g. tcp://host:8786; "
+                        "needs the dist extra; excludes --jobs)")
     p.add_argument("--out", default="results", metavar="DIR", help="output directory (default ./results)")
     p.add_argument("--json", metavar="PATH", help="also write results.json to PATH ('-' = stdout)")
     p.add_argument("--force", action="store_true", help="rerun scenes even if their stored results are current")
@@ -229,7 +261,7 @@ def main(argv=None) -> int:
 
 def compare(args) -> int:
     """Run the selected scenes and write the report (the body of :func:`main`); returns the exit code."""
-    jobs = positive_int("jobs", args.jobs)
+    jobs = check_choice(args.jobs, args.scheduler)
     if args.list:
         for s in CATALOGUE.values():
             print(f"{s.name:16s} {'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
@@ -247,7 +279,10 @@ def compare(args) -> int:
 
     with Heartbeat(say) as say:
         say(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/")
-        status = run_all(scenes, out, jobs=jobs, force=args.force, fields=not args.no_fields, log=say)
+        with executor_for(jobs, args.scheduler) as (executor, label):
+            say(f"executor: {label}")
+            status = run_all(scenes, out, executor=executor, jobs=jobs, force=args.force,
+                             fields=not args.no_fields, log=say)
         hard = None
         if not args.no_hard_cases:
             from .hard_cases import hard_cases_cached
@@ -255,7 +290,7 @@ def compare(args) -> int:
             hard = hard_cases_cached(out, quick=args.quick, log=say)
         say("writing the report and the summary figures")
         path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
-                                   quick=args.quick)
+                                   quick=args.quick, executor=label)
     failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
     say(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
           + (f"; FAILED: {', '.join(failed)}" if failed else ""))

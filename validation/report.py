@@ -197,8 +197,12 @@ def _hard_table(rows):
     return lines
 
 
-def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, quick=False) -> Path:
-    """Build report.md, results.json and the summary figures from the stored scenes."""
+def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, quick=False,
+                 executor: str | None = None) -> Path:
+    """Build report.md, results.json and the summary figures from the stored scenes.
+
+    ``executor``: where this run's scenes ran (``mdr.executors.executor_for`` label); each
+    stored scene keeps the ``worker`` that computed it."""
     out = Path(out)
     results = {}
     for n in names:
@@ -225,7 +229,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     commit = git_commit()
     L.append(f"Code {'commit `' + commit + '`, ' if commit else ''}sources `{code_version()}`, "
              f"{'quick ladders' if quick else 'full ladders'}, {os.cpu_count()} cores, "
-             f"Python {platform.python_version()}.")
+             f"Python {platform.python_version()}"
+             + (f"; scenes of this run on executor `{executor}`" if executor else "") + ".")
     L.append("")
     L.append("How to read a verdict: each metric compares MDR and FE at the finest level of their ladders. "
              "Each side's *error* is its error bar, extrapolated over its refinement ladder (Richardson with "
@@ -278,7 +283,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
               f"mu = {s['mu']:g}, F0 = {s['F0']:.4g} N, dF = {s['dF']:.4g} N, alpha = {s['alpha']:g}, drive {s['drive']} "
               f"(amplitude {s['amplitude']:g} {'N' if s['drive'] == 'force' else 'm'}"
               + (f", k_x = {s['kx'] / 1e6:g} N/um, mu2 = {s['mu2']:g}" if s["drive"] == "apparatus" else "")
-              + f"), {s['cycles']} cycles x {s['steps']} steps; FE model {s['fe_model']}.", ""]
+              + f"), {s['cycles']} cycles x {s['steps']} steps; FE model {s['fe_model']}"
+              + (f"; computed on worker `{r['worker']}`" if r.get("worker") else "") + ".", ""]
         if s.get("notes"):
             L += [s["notes"], ""]
         if "curvature" in r:
@@ -307,8 +313,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
         L += ["## Hard cases", "", *_hard_table(hard_cases), ""]
     path = out / "report.md"
     write_bytes_atomic(path, "\n".join(L).encode())
-    payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "status": status,
-               "scenes": results,
+    payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "executor": executor,
+               "status": status, "scenes": results,
                "hard_cases": hard_cases}
     write_json(out / "results.json", payload)
     if json_path:

@@ -1,0 +1,95 @@
+"""Benchmark: the FE-backed studies of Figs. 8 and 9 (``python -m mdr study fig8,fig9 --law fem``).
+
+    python benchmarks/bench_law_study.py [--h-contact 0.1] [--points 5] [--levels 2] [--jobs 2]
+
+Times, in one run (files into a temporary directory):
+
+- the MDR-only studies fig8 + fig9 (``python -m mdr study fig8,fig9``, one process),
+- one FE apparatus scene as ``python -m mdr apparatus --law fem`` runs it at the study
+  resolution (truncated sphere b = 50 um, k_x = 2 N/um, Table 2 load, 3 cycles x 120
+  steps, set-up included),
+- the CPU time of one apparatus point on a built FE law with and without the plugin's
+  ``session()`` (one BLAS thread for the whole block instead of entering it at every step),
+- the FE-backed fig8 + fig9 at ``--points`` points per curve on ``--levels`` mesh levels
+  (``--jobs`` processes, or ``--scheduler ADDRESS``),
+
+and prints the FE-backed time, its ratio to the MDR studies and to the one FE scene, the
+number of FE apparatus runs and the largest FE own error on delta. Compare ratios, not
+absolute numbers: the machine is shared and noisy.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout without installing
+
+from mdr.cli import build_parser
+from mdr.plugins import law_plugins
+from mdr.study import R_IND, RES, TABLE2, run_studies
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--h-contact", type=float, default=0.1)
+    ap.add_argument("--points", type=int, default=5)
+    ap.add_argument("--levels", type=int, default=2)
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--scheduler", default=None)
+    args = ap.parse_args(argv)
+    warnings.filterwarnings("ignore", message="coarse contact mesh")
+    from mdr.apparatus import Apparatus
+    from mdr.materials import Materials
+    from mdr.profiles import TruncatedSphere
+
+    fe = law_plugins()["fem"]
+    law_args = build_parser().parse_args(["study", "fig8", "--law", "fem", "--h-contact", str(args.h_contact)])
+    with tempfile.TemporaryDirectory(prefix="bench-law-study-") as tmp:
+        t0 = time.perf_counter()
+        run_studies(["fig8", "fig9"], tmp)
+        t_mdr = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        one = fe.apparatus_result(TruncatedSphere(R_IND, 50e-6), Materials(), Apparatus(kx=2e6, mu2=TABLE2["mu2"]),
+                                  TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"], 0.0, TABLE2["ua"], RES["cycles"],
+                                  RES["steps"], law_args)
+        t_one = time.perf_counter() - t0
+        # one apparatus point on a built law, with and without the plugin's session (one BLAS thread)
+        import contextlib
+
+        from mdr.apparatus import run_apparatus
+
+        law = fe.make_law(TruncatedSphere(R_IND, 50e-6), Materials(), TABLE2["mu1"], TABLE2["F0"] + TABLE2["dF"],
+                          law_args)
+        cpu = {}
+        for name, ctx in (("without", contextlib.nullcontext), ("with", fe.session)):
+            c0 = time.process_time()
+            with ctx():
+                run_apparatus(law, Apparatus(kx=2e6, mu2=TABLE2["mu2"]), TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"],
+                              0.0, TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"])
+            cpu[name] = time.process_time() - c0
+        t0 = time.perf_counter()
+        out = run_studies(["fig8", "fig9"], tmp, jobs=1 if args.scheduler else args.jobs, scheduler=args.scheduler,
+                          law="fem", plugin=fe, law_args=law_args, points=args.points, levels=args.levels)
+        t_fem = time.perf_counter() - t0
+    runs = sum(t["points"] for s in out for t in s["tasks"])
+    rows = [r for s in out for r in s["rows"]]
+    setup = sum(t["setup_s"] for s in out for t in s["tasks"])
+    busy = sum(t["runtime_s"] for s in out for t in s["tasks"])
+    print(f"MDR-only fig8 + fig9 (all points):          {t_mdr:7.2f} s")
+    print(f"one FE apparatus scene (b = 50 um, a/{1 / args.h_contact:g}): {t_one:7.2f} s "
+          f"(set-up {one['runtime_s']['setup']:.2f} s), delta = {one['slip_index']:.4f}")
+    print(f"one FE apparatus point, CPU time: {cpu['without']:.2f} s without the plugin session, "
+          f"{cpu['with']:.2f} s with it (one BLAS thread for the block)")
+    print(f"FE-backed fig8 + fig9: {len(rows)} points x {args.levels} levels = {runs} FE apparatus runs, "
+          f"{out[0]['executor']}: {t_fem:7.2f} s (task time {busy:.0f} s of which set-up {setup:.0f} s)")
+    print(f"  ratio to the MDR-only studies {t_fem / t_mdr:.0f}, to one FE scene {t_fem / t_one:.1f}; "
+          f"largest FE own error on delta {max(r['fem_error'] for r in rows):.2g}, "
+          f"largest |FE - MDR| {max(abs(r['difference']) for r in rows):.2g}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,82 @@
+"""The error bar of a refinement ladder (one home: ``validation.metrics`` and the studies
+of ``python -m mdr study --law NAME`` use it).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+#: safety factor of the grid convergence index for a three-level study (Roache 1998,
+#: Verification and Validation in Computational Science and Engineering, Hermosa)
+GCI_SAFETY = 1.25
+#: observed orders outside this range are not taken as asymptotic
+ORDER_RANGE = (0.5, 4.0)
+
+
+def ladder_error(sizes, values, *, floor=0.0) -> dict:
+    """Error bar of the finest value of a refinement ladder (coarse to fine).
+
+    ``sizes``: the resolution parameter of each level, decreasing (element size, or
+    1/cells); ``values``: the quantity at each level (None or non-finite: dropped).
+    Over the three finest levels q0, q1, q2 (refinement ratios r10 = h0/h1, r21 =
+    h1/h2) with e10 = q1 - q0, e21 = q2 - q1:
+
+    - ``converged``: |e21|, |e10| <= ``floor`` (round-off or an exact answer on both
+      levels): error = max(|e21|, |e10|);
+    - ``asymptotic``: e10, e21 of one sign and an observed order p (Celik et al.
+      2008, J. Fluids Eng. 130, 078001: fixed point of p = ln|e10/e21 (r21^p - 1)/
+      (r10^p - 1)| / ln r21) inside ``ORDER_RANGE``: Richardson extrapolation
+      q2 + e21/(r21^p - 1), error = GCI_SAFETY |e21| / (r21^p - 1) (Roache's grid
+      convergence index);
+    - ``non-monotone`` (e10, e21 of opposite signs) or ``order p outside ...``: the
+      ladder is not in its asymptotic range; error = the spread max - min of the
+      three levels (never the last difference alone);
+    - ``two levels``: error = |e21| (no order can be observed; flagged);
+    - ``one level`` / ``no value``: error None (undetermined).
+
+    Returns {value, extrapolated, error, order, status, levels}.
+    """
+    pts = [(float(h), float(v)) for h, v in zip(sizes, values)
+           if v is not None and np.isfinite(float(v)) and h is not None]
+    out = {"value": pts[-1][1] if pts else None, "extrapolated": None, "error": None, "order": None,
+           "status": "no value" if not pts else "one level", "levels": len(pts)}
+    if len(pts) < 2:
+        return out
+    (h1, q1), (h2, q2) = pts[-2], pts[-1]
+    e21 = q2 - q1
+    if len(pts) == 2:
+        out.update(error=abs(e21), status="two levels")
+        return out
+    h0, q0 = pts[-3]
+    e10 = q1 - q0
+    if abs(e21) <= floor and abs(e10) <= floor:
+        out.update(error=max(abs(e21), abs(e10)), extrapolated=q2, status="converged")
+        return out
+    spread = max(q0, q1, q2) - min(q0, q1, q2)
+    if e21 == 0.0 or e10 == 0.0 or np.sign(e21) != np.sign(e10):
+        out.update(error=float(spread), status="non-monotone")
+        return out
+    r21, r10 = h1 / h2, h0 / h1
+    ratio = abs(e10 / e21)
+    p = _observed_order(ratio, r21, r10)
+    out["order"] = float(p) if np.isfinite(p) else None
+    if not (np.isfinite(p) and ORDER_RANGE[0] <= p <= ORDER_RANGE[1]):
+        out.update(error=float(spread), status=f"order {p:.2g} outside {ORDER_RANGE[0]:g}-{ORDER_RANGE[1]:g}")
+        return out
+    g = r21 ** p - 1.0
+    out.update(extrapolated=float(q2 + e21 / g), error=float(GCI_SAFETY * abs(e21) / g), status="asymptotic")
+    return out
+
+
+def _observed_order(ratio, r21, r10) -> float:
+    """Order p of Q = Q* + C h^p from e10/e21 = r21^p (r10^p - 1)/(r21^p - 1) (Celik et al. 2008);
+    NaN where no p in (0.01, 30) fits."""
+    from scipy.optimize import brentq
+
+    if abs(r21 - r10) < 1e-12 * r21:
+        return float(np.log(ratio) / np.log(r21))
+    f = lambda p: np.log(ratio) - p * np.log(r21) - np.log((r10 ** p - 1.0) / (r21 ** p - 1.0))  # noqa: E731
+    lo, hi = 0.01, 30.0
+    if not (np.isfinite(f(lo)) and np.isfinite(f(hi))) or f(lo) * f(hi) > 0:
+        return float("nan")
+    return float(brentq(f, lo, hi, xtol=1e-12))
