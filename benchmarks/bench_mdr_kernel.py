@@ -34,6 +34,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # run from a checkout without installing
 
+from bench_mdr import median_time  # noqa: E402  (this directory is on sys.path when run as a script)
 from mdr import Materials, MDRContact, TruncatedSphere, kernels  # noqa: E402
 from mdr.grid import make_grid  # noqa: E402
 from mdr.loops import loop_integral  # noqa: E402
@@ -79,15 +80,6 @@ def dissipation(Fx, u=U):
 
 def law(n):
     return MDRContact(PROF, MAT, MU, F_max=0.6, F_min=0.4, n=n)
-
-
-def median_time(fn, repeat):
-    ts = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return float(np.median(ts))
 
 
 def step_api(fn, repeat):

@@ -50,6 +50,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from mdr.errors import ConvergenceError
+from mdr.solve import regula_falsi_increasing
 
 from .solvers import blas_threads
 
@@ -312,34 +313,10 @@ def _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter
         return A @ out.q[:, 0] - force, out
 
     scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(Dt)) / np.min(A)) + 1e-300
-    lo, hi = -scale, scale
-    flo, _ = total(lo)
-    fhi, out = total(hi)
-    while fhi < 0:
-        hi *= 2
-        fhi, out = total(hi)
-    while flo > 0:
-        lo *= 2
-        flo, out = total(lo)
-    side = 0
-    tol = 1e-10 * float(np.sum(A * g))
-    for _ in range(200):
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        fx, out = total(x)
-        if abs(fx) <= tol:
-            out.method = "secant"
-            return out
-        if fx < 0:
-            lo, flo = x, fx
-            if side == -1:
-                fhi *= 0.5
-            side = -1
-        else:
-            hi, fhi = x, fx
-            if side == 1:
-                flo *= 0.5
-            side = 1
-    raise ConvergenceError("Coulomb increment under force control: secant search on delta did not converge")
+    _, out = regula_falsi_increasing(total, -scale, scale, 1e-10 * float(np.sum(A * g)),
+                                     what="Coulomb increment under force control: secant search on delta")
+    out.method = "secant"
+    return out
 
 
 @dataclass

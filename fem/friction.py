@@ -47,6 +47,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from mdr.errors import ConvergenceError
+from mdr.solve import regula_falsi_increasing
 
 DEFAULT_FRICTION_AL_TOL = 1e-7
 
@@ -189,31 +190,7 @@ def _force_by_secant(M, fac, b, g, k, sgn, F, max_iter, it0):
         return out[0].sum() - F, out
 
     scale = float(np.max(np.abs(b)) + np.max(g) * np.max(np.abs(np.diag(M)))) + 1e-300
-    lo, hi = -scale, scale
-    flo, out_lo = total(lo)
-    fhi, out_hi = total(hi)
-    while fhi < 0:
-        hi *= 2
-        fhi, out_hi = total(hi)
-    while flo > 0:
-        lo *= 2
-        flo, out_lo = total(lo)
-    side = 0
-    tol = 1e-12 * float(np.sum(g))
-    for _ in range(200):
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        fx, out = total(x)
-        if abs(fx) <= tol or hi - lo <= 1e-15 * scale:
-            T, u, s, it, trial = out
-            return T, u, s, it0 + it, trial
-        if fx < 0:
-            lo, flo = x, fx
-            if side == -1:
-                fhi *= 0.5
-            side = -1
-        else:
-            hi, fhi = x, fx
-            if side == 1:
-                flo *= 0.5
-            side = 1
-    raise ConvergenceError("friction force control: secant search on the plate displacement did not converge")
+    _, (T, u, s, it, trial) = regula_falsi_increasing(
+        total, -scale, scale, 1e-12 * float(np.sum(g)), xtol=1e-15 * scale,
+        what="friction force control: secant search on the plate displacement")
+    return T, u, s, it0 + it, trial

@@ -9,11 +9,13 @@ root finders).
   iteration makes it robust.
 - :func:`bisect_increasing`: bisection, for a function without a slope (a profile's
   contact radius from its approach, ``mdr.profiles``).
+- :func:`regula_falsi_increasing`: one scalar, values only, each evaluation an expensive
+  solve (the FE contact laws' force-control fallbacks, ``fem.friction`` and
+  ``fem.contact3d``: a total force against the displacement that produced it): bracket
+  expansion and the Illinois variant of regula falsi.
 
-Solvers tied to one problem stay with it: the FE friction's force-control fallback
-(``fem.friction._force_by_secant``: regula falsi on a sum of return-map solves, with its
-bracket expanded from the return map's own scales) and the semi-smooth Newton methods of
-the FE contact problems (``fem.normal``, ``fem.friction``).
+Solvers tied to one problem stay with it: the semi-smooth Newton methods of the FE
+contact problems (``fem.normal``, ``fem.friction``, ``fem.contact3d``).
 """
 from __future__ import annotations
 
@@ -70,3 +72,36 @@ def bisect_increasing(fun, target, lo, hi, rtol=0.0, max_iter=200):
         if np.all(hi - lo <= rtol * np.maximum(hi, 1e-30)):
             break
     return 0.5 * (lo + hi)
+
+
+def regula_falsi_increasing(fun, lo, hi, tol, xtol=0.0, max_iter=200, what="equation"):
+    """Zero of a continuous nondecreasing scalar ``fun`` by regula falsi, Illinois variant
+    (Dowell & Jarratt, BIT 11 (1971) 168). ``fun(x)`` returns (value, payload); the bracket
+    [lo, hi] (lo < 0 < hi) is doubled outwards until it holds a sign change. Stops when
+    |value| <= ``tol`` or the bracket is below ``xtol``; returns (x, payload). Raises
+    ConvergenceError after ``max_iter`` iterations."""
+    flo, _ = fun(lo)
+    fhi, out = fun(hi)
+    while fhi < 0:
+        hi *= 2
+        fhi, out = fun(hi)
+    while flo > 0:
+        lo *= 2
+        flo, out = fun(lo)
+    side = 0
+    for _ in range(max_iter):
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        fx, out = fun(x)
+        if abs(fx) <= tol or hi - lo <= xtol:
+            return x, out
+        if fx < 0:
+            lo, flo = x, fx
+            if side == -1:
+                fhi *= 0.5
+            side = -1
+        else:
+            hi, fhi = x, fx
+            if side == 1:
+                flo *= 0.5
+            side = 1
+    raise ConvergenceError(f"{what}: regula falsi did not converge in {max_iter} iterations")

@@ -347,3 +347,20 @@ def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
         assert k in r, k
     assert r["model"] == "3d" and r["displacement"] == "plate" and r["normal_ramp_steps"] == 20
     assert 0.10 < r["beta"] < 0.12 and r["dissipation_first_cycle"] < r["dissipation"]
+
+
+def test_force_control_fallback_agrees_with_newton(model, hertz):
+    """The secant fallback of force control (mdr.solve.regula_falsi_increasing over
+    displacement-controlled increments) and the semi-smooth Newton with the displacement as
+    unknown are different algorithms for the same increment: they agree to the tolerance."""
+    from fem.contact3d import _tangential_force_by_secant
+
+    _, _, _, mi, _ = model
+    rf, _, p, _, _ = hertz
+    g = MU * p
+    P0 = np.zeros((mi.n, 2))
+    newton = solve_tangential3d(rf.Dt, mi.A, g, P0, mi.on_plane, force=0.3 * MU * F / 2)
+    secant = _tangential_force_by_secant(rf.Dt, mi.A, g, P0, mi.on_plane, 0.3 * MU * F / 2, None, 20000)
+    assert newton.method == "newton" and secant.method == "secant"
+    assert abs(secant.delta / newton.delta - 1) < 1e-6
+    assert np.max(np.abs(secant.q - newton.q)) < 1e-6 * g.max()

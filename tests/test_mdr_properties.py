@@ -68,3 +68,22 @@ def test_arbitrary_history_respects_coulomb_and_dissipates(prof, mu, seed):
     assert np.all(np.abs(h.Fx) <= mu * h.FN * (1 + 1e-9) + 1e-15)
     assert np.all(h.work >= 0)
     assert np.all(h.Fx[FN == 0] == 0) and np.all((h.c >= 0) & (h.c <= h.a * (1 + 1e-12)))
+
+
+def test_regula_falsi_increasing_finds_the_root_and_expands_its_bracket():
+    import pytest
+
+    from mdr.errors import ConvergenceError
+    from mdr.solve import regula_falsi_increasing
+
+    calls = []
+
+    def f(x):  # increasing, root at 1 (x^3 + x - 2), outside the first bracket
+        calls.append(x)
+        return x**3 + x - 2.0, x
+
+    x, payload = regula_falsi_increasing(f, -0.1, 0.1, 1e-13)
+    assert abs(x - 1.0) < 1e-12 and payload == x
+    assert max(calls) >= 1.6  # the bracket was doubled outwards
+    with pytest.raises(ConvergenceError, match="regula falsi"):
+        regula_falsi_increasing(f, -0.1, 0.1, 0.0, max_iter=3)
