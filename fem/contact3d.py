@@ -56,7 +56,6 @@ from .solvers import blas_threads
 
 #: relative tolerance of the complementarity residuals (of the largest pressure / slip limit)
 TOL = 1e-10
-_DEBUG = False
 
 
 @dataclass
@@ -173,9 +172,8 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
     m = idx.size
     ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d delta, restricted
     Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
-    cd = 1.0 / np.diag(D)
-    c = np.zeros(n)
-    c[:] = cd[:n]
+    cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
+    c = cd[:n]
     cy = np.zeros(n)
     cy[yi] = cd[n:]
     gmax = float(np.max(g)) if np.any(g > 0) else 1.0
@@ -218,13 +216,12 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
             dl = (force - A @ x0[:n]) / max(A @ x1[:n], 1e-300)
             v = pack(_proj_disk(unpack(x0 + dl * x1), g))
     tolR = TOL * gmax
-    dscale = 1.0 / float(np.mean(np.concatenate([c, cy[yi]])[:n] * A))
+    dscale = 1.0 / float(np.mean(c * A))  # delta column scaling: O(1) entries (delta in m, q in Pa)
     R, s, z = residual(v, dl)
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R)) <= tolR:
             return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
         # generalized Jacobian of R (module docstring)
-        q = unpack(v)
         nz = np.hypot(z[:, 0], z[:, 1])
         slip = (nz > g) & (g > 0)
         free0 = g <= 0
@@ -250,18 +247,14 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         Pdd = np.concatenate([Pxx * dz_dd[:n], Pxy[yi] * dz_dd[yi]])  # dz_y/d delta = 0
         J[:m, :m] = np.eye(m) - Pdz
         if fc:
-            J[:m, m] = -Pdd
+            J[:m, m] = -Pdd * dscale
             J[m, :n] = A / (A.sum() + 1e-300)
-        if fc:  # scale the delta column to O(1) entries (delta in m, q in Pa)
-            J[:m, m] *= dscale
         try:
             step = -sla.solve(J, R, check_finite=False)
         except (sla.LinAlgError, ValueError):
             break
         dv = step[:m]
         ddl = step[m] * dscale if fc else 0.0
-        if _DEBUG:
-            print(it, np.max(np.abs(R)) / gmax, int(slip.sum()), int(((~slip) & (g > 0)).sum()))
         nr0 = np.linalg.norm(R)
         t = 1.0
         for _ in range(30):
