@@ -178,7 +178,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
     cy[yi] = cd[n:]
     gmax = float(np.max(g)) if np.any(g > 0) else 1.0
     fc = force is not None
-    if fc and abs(force) > float(A @ g) * (1 + 1e-12):
+    if fc and abs(force) >= float(A @ g) * (1 - 1e-12) and force != 0:
         raise ConvergenceError(f"Coulomb increment: |F_x|/2 = {abs(force):.6g} N exceeds the friction limit "
                                f"sum A mu p = {float(A @ g):.6g} N of the half model (gross slip has no "
                                "force-controlled solution; drive the displacement instead)")
@@ -217,6 +217,9 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
             v = pack(_proj_disk(unpack(x0 + dl * x1), g))
     tolR = TOL * gmax
     dscale = 1.0 / float(np.mean(c * A))  # delta column scaling: O(1) entries (delta in m, q in Pa)
+    Cvec = np.concatenate([c, cy[yi]])
+    dz_dv = np.eye(m) - Cvec[:, None] * D  # dz/dv = I - C D (C = diag(c)), dz/d delta = C ex
+    dz_dd = Cvec * ex
     R, s, z = residual(v, dl)
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R)) <= tolR:
@@ -226,10 +229,6 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         slip = (nz > g) & (g > 0)
         free0 = g <= 0
         J = np.zeros((m + fc, m + fc))
-        # dz/dv = I - C D (C = diag(c)), dz/d delta = C ex
-        Cvec = np.concatenate([c, cy[yi]])
-        dz_dv = np.eye(m) - Cvec[:, None] * D
-        dz_dd = Cvec * ex
         # per vertex 2x2 projection derivative P'_j
         tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
         ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mdr.errors import InputError, nonnegative, positive
+from mdr.errors import ConvergenceError, InputError, nonnegative, positive
 from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import Profile, Sphere, TruncatedSphere
@@ -51,6 +51,7 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshPa
 from .contact3d import RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d
 from .elastic3d import stiffness3d
 from .interface3d import mortar_flexibility, mortar_interface
+from .law import _frozen
 from .run import reference_radius
 from .solvers import blas_threads
 
@@ -59,12 +60,6 @@ SECTOR = np.deg2rad(12.0)
 #: default block radius and height / a_ref (the Cerruti mean shear of a 20 a block is +3 %
 #: of the half-space's; it is a series compliance, see the module docstring)
 BLOCK_SIZE_DEFAULT = 20.0
-
-
-def _frozen(a):
-    a = np.array(a)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True)
@@ -146,13 +141,14 @@ class FEContact3D:
             D_ind, _, _ = mortar_flexibility(K1, basis, mesh, mi, backend=backend)
             self.ndofs *= 2
         self.rf = RelativeFlexibility.from_bodies(D_blk, D_ind)
-        #: Dundurs' beta of the pair (0: the normal and tangential problems decouple)
+        #: Dundurs' second constant of the pair (Dundurs 1969, J. Appl. Mech. 36, 650; 0: the normal and
+        #: tangential problems decouple), signed positive when the block (body 2) is the more
+        #: compressible one (steel on aluminium: +0.11)
         G1, G2 = m.G1, m.G2
         self.beta = 0.5 * ((1 - 2 * m.nu2) / G2 - (1 - 2 * m.nu1) / G1) / ((1 - m.nu2) / G2 + (1 - m.nu1) / G1)
         with np.errstate(invalid="ignore"):
             f = np.asarray(profile.f(mi.nodes.r), dtype=float)
         self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
-        self._order = np.argsort(mi.r, kind="stable")
         xp = np.flatnonzero(mi.on_plane & (mi.x >= 0))
         xm = np.flatnonzero(mi.on_plane & (mi.x <= 0))
         phi = np.arctan2(mi.y, mi.x)
@@ -197,18 +193,20 @@ class FEContact3D:
             with blas_threads(1):
                 p, dd, _, it = solve_normal3d(self.rf.Dn, self.g0, mi.A, force=None if F_N is None else F_N / 2,
                                               approach=d)
-            o = self._order
-            rim = float(mi.r.max())
-            if p[o][-1] > 0 or np.any(p[mi.r >= 0.999 * rim] > 0):
-                from mdr.errors import ConvergenceError
-
-                raise ConvergenceError(f"the contact reaches the rim of the contact disk (r = {rim:.4g} m): raise "
-                                       "contact_extent")
+            self._check_rim(p)
             a = self._edge_radius(p)
             res = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd), contact_radius=a, iterations=it)
             self._normal_cache[key] = res
             self.stats["normal_solves"] += 1
         return res
+
+    def _check_rim(self, p):
+        """A contact that reaches the rim of the meshed contact disk is an error, never a silent
+        truncation."""
+        rim = float(self.mi.r.max())
+        if np.any(p[self.mi.r >= 0.999 * rim] > 0):
+            raise ConvergenceError(f"the contact reaches the rim of the contact disk (r = {rim:.4g} m): raise "
+                                   "contact_extent")
 
     def _edge_radius(self, p) -> float:
         """Contact radius from the vertex pressures: near a smooth edge p^2 is linear in r^2 (exact
@@ -257,6 +255,7 @@ class FEContact3D:
                     F_t=None if Fx is None else Fx / 2, q0=q0, delta0=state.u,
                     p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
                 self.stats["normal_solves"] += 1
+                self._check_rim(p)
                 nr = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd),
                               contact_radius=self._edge_radius(p), iterations=0)
                 g = self.mu * p
@@ -358,7 +357,8 @@ class FEContact3D:
 
     def result_keys(self, F_N, t0, t1, t2) -> dict:
         """The keys a 3D run adds (``python -m fem contact --model 3d``): the FE's own contact radius
-        and approach at F_N (first step at that load of the last run, else a frictionless solve),
+        and approach at F_N without tangential traction (for a dissimilar pair the run's coupled
+        steps differ slightly: see ``pressure_center_x``),
         ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s``; from the last run:
         ``stick_radius_x``, ``stick_radius_y`` and ``traction_angle_max`` at the peak of F_x of its
         recorded window (the last cycle), ``stick_center_x`` and ``pressure_center_x`` at its first

@@ -26,6 +26,8 @@ from .errors import ConvergenceError
 
 #: iteration limit of ``solve_increasing`` (also of its compiled copies in ``mdr.kernels``)
 MAX_ITER = 200
+#: bracket doublings of ``regula_falsi_increasing`` before it gives up (2^60 the first bracket)
+MAX_DOUBLINGS = 60
 
 
 def solve_increasing(fun, target, lo, hi, x0=None, atol=0.0, xtol=0.0, max_iter=MAX_ITER, what="equation"):
@@ -77,17 +79,24 @@ def bisect_increasing(fun, target, lo, hi, rtol=0.0, max_iter=200):
 def regula_falsi_increasing(fun, lo, hi, tol, xtol=0.0, max_iter=200, what="equation"):
     """Zero of a continuous nondecreasing scalar ``fun`` by regula falsi, Illinois variant
     (Dowell & Jarratt, BIT 11 (1971) 168). ``fun(x)`` returns (value, payload); the bracket
-    [lo, hi] (lo < 0 < hi) is doubled outwards until it holds a sign change. Stops when
+    [lo, hi] (lo < 0 < hi) is doubled outwards until it holds a sign change (at most
+    ``MAX_DOUBLINGS`` times, then ConvergenceError: an unreachable target). Stops when
     |value| <= ``tol`` or the bracket is below ``xtol``; returns (x, payload). Raises
     ConvergenceError after ``max_iter`` iterations."""
     flo, _ = fun(lo)
     fhi, out = fun(hi)
-    while fhi < 0:
-        hi *= 2
-        fhi, out = fun(hi)
-    while flo > 0:
-        lo *= 2
-        flo, out = fun(lo)
+    for _ in range(MAX_DOUBLINGS):
+        if fhi >= 0 and flo <= 0:
+            break
+        if fhi < 0:
+            hi *= 2
+            fhi, out = fun(hi)
+        if flo > 0:
+            lo *= 2
+            flo, out = fun(lo)
+    else:
+        raise ConvergenceError(f"{what}: no sign change in [{lo:.3g}, {hi:.3g}] after {MAX_DOUBLINGS} doublings "
+                               "(is the target reachable?)")
     side = 0
     for _ in range(max_iter):
         x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)

@@ -87,3 +87,6 @@ def test_regula_falsi_increasing_finds_the_root_and_expands_its_bracket():
     assert max(calls) >= 1.6  # the bracket was doubled outwards
     with pytest.raises(ConvergenceError, match="regula falsi"):
         regula_falsi_increasing(f, -0.1, 0.1, 0.0, max_iter=3)
+    # an unreachable target (a value that stays below zero) ends, with the reason
+    with pytest.raises(ConvergenceError, match="no sign change"):
+        regula_falsi_increasing(lambda x: (-1.0 + 0.0 * x, x), -0.1, 0.1, 1e-12)
