@@ -166,6 +166,11 @@ class FEContact3D:
         return self.mi.r[self._rays["+x"]]
 
     @property
+    def x_ray(self) -> np.ndarray:
+        """The vertices on the symmetry plane with x >= 0, by increasing x (the +x axis)."""
+        return self._rays["+x"]
+
+    @property
     def n(self) -> int:
         return self.mi.n
 

@@ -104,6 +104,10 @@ def run_mdr(s: Scene, n: int) -> dict:
 
 
 def _fe_law(s: Scene, h, **mesh_kw):
+    if s.fe_model == "3d":
+        from fem.law3d import FEContact3D
+
+        return FEContact3D(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h, displacement="plate")
     from fem.law import FEContact
 
     return FEContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
@@ -120,6 +124,8 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
     t1 = time.perf_counter()
     out, st = _drive(s, law)
     t2 = time.perf_counter()
+    if s.fe_model == "3d":
+        return _fe3d_outputs(s, law, out, st, h, t0, t1, t2)
     out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h, bulk_compliance=law.c_bulk)
     nr = law.normal(F_N=s.F0)
     it = law.model.interface
@@ -137,6 +143,21 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
         else:
             write_vtu(law.model, nr, vtu_path)
     return out, field
+
+
+def _fe3d_outputs(s: Scene, law, out, st, h, t0, t1, t2) -> tuple[dict, None]:
+    """The 3D run's result: the keys of ``FEContact3D.result_keys``, the stick zone and traction
+    angle at the peak of the last cycle (``st``), profiles along the +x axis (the vertices on the
+    symmetry plane); no field data (no VTU of the 3D model yet)."""
+    out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h)
+    nr = law.normal(F_N=s.F0)
+    if st is not None:
+        out.update(law.stick_zone(np.asarray(st.q), np.asarray(st.p), nr.contact_radius))
+    ray = law.x_ray
+    x = law.mi.x[ray]
+    out["profiles"] = {"r": x.tolist(), "pressure": nr.p[ray].tolist(), "r_pairs": x.tolist(),
+                       "traction": np.asarray(st.q)[ray, 0].tolist() if st is not None else None}
+    return out, None
 
 
 def closed_forms(s: Scene) -> dict | None:
@@ -209,7 +230,7 @@ def _distances(s: Scene, mdr: dict, fe: dict) -> dict:
     # the prescribed component of a loop is equal on both sides: compare the other one
     if s.drive != "force":
         out["loop_Fx"] = lp["Fx"]
-    if s.drive != "displacement":
+    if s.drive != "displacement" and s.fe_model != "3d":  # 3D: plate measure, not the half-space du
         out["loop_du"] = lp["du"]
     return out
 
@@ -318,7 +339,7 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     fe_ladder, field = [], None
     for i, h in enumerate(s.fe_levels):
         last = i == len(s.fe_levels) - 1
-        vtu = out_dir / "fields.vtu" if (last and out_dir is not None) else None
+        vtu = out_dir / "fields.vtu" if (last and out_dir is not None and s.fe_model == "axisym") else None
         res, fld = run_fe(s, h, vtu_path=vtu)
         fe_ladder.append(res)
         if last:
@@ -339,9 +360,10 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     if out_dir is not None:
         from . import figures
 
-        result["files"]["vtu"] = "fields.vtu"
+        if field is not None:
+            result["files"]["vtu"] = "fields.vtu"
         result["files"].update(figures.scene_figures(result, out_dir))
-        if fields:
+        if fields and field is not None:
             from . import fields as fieldplots
 
             try:
