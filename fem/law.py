@@ -412,32 +412,40 @@ class FEContact:
             record_from: int | None = None) -> History:
         """Run a load history (arrays of shape (T,)); returns mdr.law.History. ``record_from``
         (a step index): keep the pairs' slack and slip flags from there on (``mdr.stick``)."""
-        if (d is None) == (F_N is None):
-            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
-        if (u is None) == (Fx is None):
-            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
-        drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
-        nT = drive.shape[-1]
-        normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
-        state = state if state is not None else self.rest_state()
-        out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
-        rec0 = nT if record_from is None else int(record_from)
-        if not 0 <= rec0 <= nT:
-            raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
-        rec = {"slack": np.empty((nT - rec0, self.n_pairs)), "slipping": np.empty((nT - rec0, self.n_pairs), bool)}
         with blas_threads(1):
-            for t in range(nT):
-                kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
-                if u is not None:
-                    res, state = self.step(state, u=drive[t], **kw)
-                else:
-                    res, state = self.step(state, Fx=drive[t], **kw)
-                for key in out:
-                    out[key][t] = getattr(res, key)
-                if t >= rec0:
-                    rec["slack"][t - rec0] = res.slack
-                    rec["slipping"][t - rec0] = res.slipping
-        return History(state=state, **out, **(rec if record_from is not None else {}))
+            return step_history(self, self.n_pairs, u=u, F_N=F_N, d=d, Fx=Fx, state=state, record_from=record_from)
+
+
+def step_history(law, n_nodes, *, u=None, F_N=None, d=None, Fx=None, state=None, record_from=None,
+                 on_step=None) -> History:
+    """The ``run`` of a law that advances one ``step`` at a time (the FE laws): a load history of
+    arrays (T,) from ``state`` (default the law's rest state); the slack and slip flags of the
+    ``n_nodes`` stick nodes kept from step ``record_from`` on; ``on_step(t, result, state)``
+    called after every step. Returns mdr.law.History."""
+    if (d is None) == (F_N is None):
+        raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
+    if (u is None) == (Fx is None):
+        raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+    drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
+    nT = drive.shape[-1]
+    normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
+    state = state if state is not None else law.rest_state()
+    out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
+    rec0 = nT if record_from is None else int(record_from)
+    if not 0 <= rec0 <= nT:
+        raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
+    rec = {"slack": np.empty((nT - rec0, n_nodes)), "slipping": np.empty((nT - rec0, n_nodes), bool)}
+    for t in range(nT):
+        kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
+        res, state = law.step(state, **({"u": drive[t]} if u is not None else {"Fx": drive[t]}), **kw)
+        for key in out:
+            out[key][t] = getattr(res, key)
+        if t >= rec0:
+            rec["slack"][t - rec0] = res.slack
+            rec["slipping"][t - rec0] = res.slipping
+        if on_step is not None:
+            on_step(t, res, state)
+    return History(state=state, **out, **(rec if record_from is not None else {}))
 
 
 class FETrial:

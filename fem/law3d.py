@@ -51,7 +51,7 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshPa
 from .contact3d import RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d
 from .elastic3d import stiffness3d
 from .interface3d import mortar_flexibility, mortar_interface
-from .law import _frozen
+from .law import _frozen, step_history
 from .run import reference_radius
 from .solvers import blas_threads
 
@@ -307,35 +307,19 @@ class FEContact3D:
             record_from: int | None = None) -> History:
         """A load history (arrays (T,)); returns mdr.law.History. The tractions and pressures of every
         step are kept in ``last_run`` (for the 3D keys of :meth:`result_keys`)."""
-        if (d is None) == (F_N is None):
-            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
-        if (u is None) == (Fx is None):
-            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
-        drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
-        nT = drive.shape[-1]
-        normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
-        state = state if state is not None else self.rest_state()
-        out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
-        rec0 = nT if record_from is None else int(record_from)
-        if not 0 <= rec0 <= nT:
-            raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
-        nr = self._rays["+x"].size
-        rec = {"slack": np.empty((nT - rec0, nr)), "slipping": np.empty((nT - rec0, nr), bool)}
-        kept = {"q": [], "p": [], "Fx": [], "a": [], "first": rec0}
-        for t in range(nT):
-            kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
-            res, state = self.step(state, **({"u": drive[t]} if u is not None else {"Fx": drive[t]}), **kw)
-            for key in out:
-                out[key][t] = getattr(res, key)
-            if t >= rec0:
-                rec["slack"][t - rec0] = res.slack
-                rec["slipping"][t - rec0] = res.slipping
-            kept["q"].append(state.q)
-            kept["p"].append(state.p)
+        kept = {"q": [], "p": [], "Fx": [], "a": [], "first": 0}
+
+        def keep(t, res, st):
+            kept["q"].append(st.q)
+            kept["p"].append(st.p)
             kept["Fx"].append(res.Fx)
             kept["a"].append(res.a)
+
+        H = step_history(self, self._rays["+x"].size, u=u, F_N=F_N, d=d, Fx=Fx, state=state,
+                         record_from=record_from, on_step=keep)
+        kept["first"] = H.u.size if record_from is None else int(record_from)
         self.last_run = kept
-        return History(state=state, **out, **(rec if record_from is not None else {}))
+        return H
 
     # ------------------------------------------------------------------ 3D keys
     def stick_zone(self, q, p, a) -> dict:
