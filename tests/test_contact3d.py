@@ -319,7 +319,7 @@ def test_dissimilar_cycle(law_alu):
     """Tangential cycles after the frictional normal loading: dissipation >= 0, the first cycle
     dissipates less than the stationary one (the locked-in traction of the normal loading is
     shaken out; measured 0.80 against 0.897 nJ at a/4) and the cycles settle geometrically, and
-    the pressure centre sits off the axis at the first peak of F_x (measured -6e-3 a): the
+    the pressure centre sits off the axis at the first peak of F_x (measured -0.21 um): the
     coupling MDR and Mindlin neglect."""
     from mdr.drive import run_contact
     from mdr.profiles import Sphere
@@ -334,7 +334,7 @@ def test_dissimilar_cycle(law_alu):
     assert W[0] < 0.95 * W[-1]
     dW = np.abs(np.diff(W[1:]))
     assert np.all(dW[1:] < dW[:-1])  # settles monotonically
-    assert abs(keys["pressure_center_x"]) > 1e-3 * A_H
+    assert abs(keys["pressure_center_x"]) > 3e-3 * A_H  # measured 7.7e-3 A_H
 
 
 def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
