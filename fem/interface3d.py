@@ -45,20 +45,25 @@ class ContactNodes:
         return self.nodes.size
 
 
+def _scalar_p2_dofs(mesh) -> np.ndarray:
+    """DOF number of P2 node k (vertices, then edge midpoints) in a scalar P2 basis of the mesh."""
+    sb = Basis(mesh, ElementTetP2(), intorder=2)
+    return np.concatenate([sb.nodal_dofs[0], sb.edge_dofs[0]])
+
+
 def contact_nodes(mesh, boundary: str = "contact", intorder: int = 4) -> ContactNodes:
     """Contact nodes, coordinates and tributary area weights (integral of the P2 basis function
     over the contact facets = row sums of the P2 surface mass matrix, assembled as the linear
     form of the constant 1 on a scalar P2 ``FacetBasis``)."""
     nodes = boundary_nodes3d(mesh, boundary)
-    sb = Basis(mesh, ElementTetP2(), intorder=2)
-    fb = FacetBasis(mesh, sb.elem, facets=mesh.boundaries[boundary], intorder=intorder)
+    fb = FacetBasis(mesh, ElementTetP2(), facets=mesh.boundaries[boundary], intorder=intorder)
 
     @LinearForm
     def one(v, w):
         return v
 
     wall = asm(one, fb)
-    sdofs = np.concatenate([sb.nodal_dofs[0], sb.edge_dofs[0]])  # scalar DOF of node k
+    sdofs = _scalar_p2_dofs(mesh)
     X = node_coords3d(mesh)[:, nodes]
     return ContactNodes(nodes=nodes, x=X[0], y=X[1], r=np.hypot(X[0], X[1]), w=wall[sdofs[nodes]],
                         is_vertex=nodes < mesh.p.shape[1])
@@ -125,8 +130,7 @@ def mortar_interface(mesh, boundary: str = "contact", intorder: int = 4) -> Mort
         return u * v
 
     Bfull = asm(mass, fb2, fb1).tocsr()  # rows: P1 DOFs (vertices), columns: P2 DOFs
-    sb = Basis(mesh, ElementTetP2(), intorder=2)
-    sdofs = np.concatenate([sb.nodal_dofs[0], sb.edge_dofs[0]])
+    sdofs = _scalar_p2_dofs(mesh)
     verts = np.unique(mesh.facets[:, F])
     B = Bfull[verts][:, sdofs[cn.nodes]].tocsr()
     B.eliminate_zeros()

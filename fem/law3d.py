@@ -249,11 +249,10 @@ class FEContact3D:
             touching = d > 0
         mi = self.mi
         q0 = np.asarray(state.q)
-        if Fx is not None and touching and F_N is not None and abs(Fx) >= self.mu * F_N * (1 - 1e-12) and Fx != 0:
-            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
-                             f"mu*F_N={self.mu * F_N:.4g} N under force control")
         with blas_threads(1):
             if touching and self.rf.K is not None:  # dissimilar pair: normal and tangential together
+                if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
+                    self._check_force_limit(Fx, F_N)
                 p, dd, res, _ = solve_coupled3d(
                     self.rf, self.g0, mi.A, self.mu, np.asarray(state.P), mi.on_plane,
                     F_n=None if F_N is None else F_N / 2, d=d, delta=None if u is None else float(u),
@@ -268,10 +267,7 @@ class FEContact3D:
                 nr = (self.normal(F_N=F_N) if F_N is not None else self.normal(d=d)) if touching else None
                 p = nr.p if nr is not None else np.zeros(self.n)
                 g = self.mu * p
-                FN0 = nr.force if nr is not None else 0.0
-                if Fx is not None and abs(Fx) >= self.mu * FN0 * (1 - 1e-12) and Fx != 0.0:
-                    raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
-                                     f"mu*F_N={self.mu * FN0:.4g} N under force control")
+                self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
                 if not np.any(g > 0):
                     uu = float(state.u if u is None else u)
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=uu)
@@ -297,6 +293,12 @@ class FEContact3D:
                         d=float(nr.approach if nr is not None else (d or 0.0)))
         return StepResult(Fx=2.0 * float(mi.A @ res.q[:, 0]), FN=FN, d=new.d, a=a, c=c, u=new.u, work=work,
                           slack=slack[ray], slipping=slipping[ray]), new
+
+    def _check_force_limit(self, Fx, FN):
+        """A prescribed tangential force must stay below mu F_N (no force-controlled gross slip)."""
+        if Fx is not None and Fx != 0.0 and abs(Fx) >= self.mu * FN * (1 - 1e-12):
+            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
+                             f"mu*F_N={self.mu * FN:.4g} N under force control")
 
     def prepare(self, state, *, d=None, F_N=None):
         raise InputError("the 3D model does not offer trial steps yet (prepare): drive it directly "
