@@ -157,6 +157,26 @@ def cerruti_axis(r, L, G, nu):
             + (1.0 - 2.0 * nu) * (1.0 / (rho + L) - r**2 / (2.0 * rho * (rho + L) ** 2))) / (4.0 * np.pi * G)
 
 
+def cerruti_point_x(x, y, L, G, nu):
+    """x displacement (m/N) on the axis at depth L (m) of a half-space (shear modulus G, Poisson
+    ratio nu) per unit x force at the surface point (x, y) (Cerruti 1882; Johnson, *Contact
+    Mechanics*, Cambridge UP 1985, eq. 2.19). Its average over a ring of radius r is
+    :func:`cerruti_axis`."""
+    x = np.asarray(x, dtype=float)
+    rho = np.sqrt(x**2 + np.asarray(y, dtype=float) ** 2 + L**2)
+    return (1.0 / rho + x**2 / rho**3
+            + (1.0 - 2.0 * nu) * (1.0 / (rho + L) - x**2 / (rho * (rho + L) ** 2))) / (4.0 * np.pi * G)
+
+
+def boussinesq_point_z(x, y, L, G, nu):
+    """Displacement into the body (m/N) on the axis at depth L (m) of a half-space per unit normal
+    force (into the body) at the surface point (x, y) (Boussinesq 1885; Johnson 1985, eq. 3.21):
+    (L^2 / rho^3 + 2 (1 - nu) / rho) / (4 pi G), rho the distance; summed over rings it is
+    :func:`boussinesq_axis`."""
+    rho = np.sqrt(np.asarray(x, dtype=float) ** 2 + np.asarray(y, dtype=float) ** 2 + L**2)
+    return (L**2 / rho**3 + 2.0 * (1.0 - nu) / rho) / (4.0 * np.pi * G)
+
+
 def axis_point(mesh, z):
     """P2 nodes (3,) of the axis edge holding (0, z) and their shape-function weights (3,)."""
     el = facet_nodes(mesh, mesh.boundaries["axis"])

@@ -12,6 +12,7 @@ import argparse
 from mdr.cli import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
                      profile_from_args)
 from mdr.cliutil import OneLineParser, add_output_args, run_command
+from mdr.errors import InputError
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
 
@@ -89,9 +90,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_contact_args(c)
     add_fe_options(c)
     c.add_argument("--displacement", choices=("contact", "plate"), default=None,
-                   help="measure of --ua and the output displacements: 'contact' (half-space comparable, as in "
-                        "python -m mdr contact; the default of --model axisym) or 'plate' (indenter top plate vs "
-                        "block bottom, includes the finite bodies' compliance; the only one of --model 3d)")
+                   help="measure of --ua and the output displacements: 'contact' (default; half-space "
+                        "comparable, as in python -m mdr contact) or 'plate' (indenter top plate vs block bottom, "
+                        "includes the finite bodies' compliance)")
     c.add_argument("--model", choices=("axisym", "3d"), default="axisym",
                    help="'axisym' (default): Fourier modes 0 + 1, traction along x (Mindlin's assumption); '3d': "
                         "the 3D half model (y >= 0) with a two-component traction of free direction and exact "
@@ -102,6 +103,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "traction_angle_max (at the peak of F_x of the last cycle), stick_center_x and "
                         "pressure_center_x (at the first peak of F_x), dissipation_first_cycle and "
                         "peak_memory_bytes")
+    c.add_argument("--traction", choices=("free", "x"), default=None,
+                   help="--model 3d only: 'free' (default) a two-component tangential traction of free "
+                        "direction; 'x' q_y = 0 everywhere (Mindlin's assumption, as --model axisym and MDR), "
+                        "so that the pair of runs on one mesh isolates the effect of the direction")
     add_output_args(c)
     c.set_defaults(func=_contact)
     return p
@@ -111,11 +116,14 @@ def _contact(args) -> dict:
     from .contact_run import run_fem_contact
 
     opts = fe_options(args)
+    if args.traction is not None and args.model != "3d":
+        raise InputError("--traction applies to --model 3d only (the axisymmetric model's traction is along x)")
     if args.model == "3d":
+        opts["traction"] = args.traction or "free"
         opts["h_contact"] = H_CONTACT_3D_DEFAULT if args.h_contact is None else args.h_contact
         for k in ("penalty", "al_tol", "friction_al_tol"):
             opts.pop(k)
-    disp = args.displacement or ("plate" if args.model == "3d" else "contact")
+    disp = args.displacement or "contact"
     return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
                            args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
                            **opts, displacement=disp, model=args.model)

@@ -31,16 +31,18 @@ from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
                     h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
-                    backend=None, displacement="contact", return_law=False, model="axisym"):
+                    backend=None, displacement="contact", return_law=False, model="axisym", traction=None):
     """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
     ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
-    in the 3D range; displacement ``"plate"`` only)."""
+    in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``)."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
     if model == "3d":
         return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
-                       displacement=displacement, return_law=return_law)
+                       displacement=displacement, return_law=return_law, traction=traction or "free")
+    if traction is not None:
+        raise InputError("traction applies to the 3D model only")
     if model != "axisym":
         raise InputError(f"model must be 'axisym' or '3d', got {model!r}")
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
@@ -65,7 +67,7 @@ RAMP_STEPS = 20
 
 
 def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_contact, contact_extent, block_size,
-            cache_dir, backend, displacement, return_law):
+            cache_dir, backend, displacement, return_law, traction):
     import resource
 
     from .law3d import FEContact3D
@@ -74,7 +76,8 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
 
     t0 = time.perf_counter()
     law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
-                      block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement)
+                      block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
+                      traction=traction)
     t1 = time.perf_counter()
     # the normal load applied with friction active (with coupling, slip during the normal loading
     # locks traction into the stick zone, Spence 1975), then the tangential cycles from that state
@@ -88,6 +91,5 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
     out["dissipation_first_cycle"] = out["dissipation_per_cycle"][0]
     out["normal_ramp_steps"] = RAMP_STEPS
     out["model"] = "3d"
-    out["displacement"] = law.displacement
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
     return (out, law) if return_law else out

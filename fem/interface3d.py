@@ -189,3 +189,48 @@ def mortar_flexibility(K, basis, mesh, mi: MortarInterface, components=(0, 1, 2)
                     D[c1 * n:(c1 + 1) * n, c2 * n + j2] = W[:, q]
     D = 0.5 * (D + D.T)
     return D, fac.backend, fac
+
+
+def probe_response(fac, basis, mesh, mi: MortarInterface, point) -> np.ndarray:
+    """Weighted displacements of the contact vertices for unit point forces at ``point`` (3,) (m).
+
+    Returns R (3, 3, n): R[d, c, j] = (B u_c)_j (m^3/N) for a unit force in direction d at the
+    point, i.e. by reciprocity the displacement of the point in direction d (m/Pa) for a unit
+    traction field phi_j in component c on the contact facets. The point force is spread to
+    the P2 nodes of the tetrahedron holding the point by their shape functions (the transpose
+    of P2 interpolation, so both readings agree exactly); ``fac`` factorises the stiffness on
+    the DOFs free of the block's boundary conditions (``mortar_flexibility``'s third result).
+    """
+    n_dof = basis.N
+    fixed = np.zeros(n_dof, dtype=bool)
+    fixed[dirichlet_dofs(basis, mesh)] = True
+    free = np.flatnonzero(~fixed)
+    sb = Basis(mesh, ElementTetP2(), intorder=2)
+    P = sb.probes(np.asarray(point, dtype=float).reshape(3, 1)).tocoo()
+    nd = node_dofs3d(basis)
+    sdofs = _scalar_p2_dofs(mesh)
+    node_of = np.empty(sdofs.size, dtype=np.int64)
+    node_of[sdofs] = np.arange(sdofs.size)
+    F = np.zeros((n_dof, 3))
+    for d in range(3):
+        np.add.at(F[:, d], nd[d, node_of[P.col]], P.data)
+    U = np.zeros((n_dof, 3))
+    U[free] = fac.solve(F[free])
+    R = np.empty((3, 3, mi.n))
+    for c in range(3):
+        R[:, c, :] = (mi.B @ U[nd[c, mi.nodes.nodes]]).T
+    return R
+
+
+def hat_integrals(mesh, mi: MortarInterface, func, boundary: str = "contact", intorder: int = 6) -> np.ndarray:
+    """Integrals over the contact facets of phi_j func(x, y) for every multiplier vertex j (n,):
+    ``func`` maps arrays x, y (m) to values."""
+    from skfem import ElementTetP1
+
+    fb = FacetBasis(mesh, ElementTetP1(), facets=mesh.boundaries[boundary], intorder=intorder)
+
+    @LinearForm
+    def form(v, w):
+        return func(w.x[0], w.x[1]) * v
+
+    return asm(form, fb)[mi.vertices]

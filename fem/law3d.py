@@ -23,11 +23,19 @@ Model (assumptions, each stated where it lives):
   load with friction locks tangential traction in (Spence 1975, J. Elasticity 5, 297);
 - small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
 
-Displacement measure: ``u`` is the tangential displacement of the indenter's clamped top
-against the block's clamped bottom (the "plate" measure of ``fem.law``), which contains
-the bodies' series compliance. Under force control the loop area (dissipation), the stick
-zone and the force history do not depend on it (a series spring is a shear of the loop
-plane); the half-space comparable "contact" measure is not offered yet.
+Displacement measure (``displacement``), as in ``fem.law``: "contact" (the command's default) the half-space
+comparable tangential displacement, the plate displacement minus the bodies' series compliance
+c_bulk F_x read at axis probes in both bodies and put back with Cerruti's half-space solution
+(``fem.bulk``; here the probes' responses to every traction vertex, ``_bulk_rows``); "plate" the
+displacement of the indenter's clamped top against the block's clamped bottom (the law's
+default, as ``fem.law.FEContact``'s). Under force
+control the loop area (dissipation), the stick zone and the force history do not depend on it
+(a series spring is a shear of the loop plane). The approach ``d`` is the plate approach in
+both; ``indentation`` (a result key) is its half-space comparable counterpart (Boussinesq).
+The probes see the finite block's bending under F_x, which no half-space has. Measured (the
+sphere, full stick, h = a/4): the contact measure's stiffness is 0.977, 0.980, 0.981 of
+Mindlin's 2 G* a on blocks of 10, 20, 40 a (the rest is the mesh error), the plate measure's
+0.908, 0.943, 0.962 (``tests/test_contact3d.py``: 10 a and 20 a).
 
 Stick zone (``mdr.stick``, onset 1/2 as for any traction): along the x axis from the
 vertices on the symmetry plane (+x and -x separately), along y from the vertices within
@@ -50,13 +58,18 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshPa
 
 from .contact3d import RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d
 from .elastic3d import stiffness3d
-from .interface3d import mortar_flexibility, mortar_interface
+from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
+from .interface3d import hat_integrals, mortar_flexibility, mortar_interface, probe_response
 from .law import _frozen, step_history
 from .run import reference_radius
 from .solvers import blas_threads
 
 #: half-angle of the vertex sector around the y axis that resolves the stick extent along y (rad)
 SECTOR = np.deg2rad(12.0)
+#: the tangential traction: "free" (two components, free direction) or "x" (q_y = 0 everywhere,
+#: Mindlin's assumption, as in the axisymmetric model and MDR: on the same mesh, the pair of the
+#: two isolates the effect of the direction from the discretisation error)
+TRACTIONS = ("free", "x")
 #: default block radius and height / a_ref (the Cerruti mean shear of a 20 a block is +3 %
 #: of the half-space's; it is a series compliance, see the module docstring)
 BLOCK_SIZE_DEFAULT = 20.0
@@ -94,7 +107,7 @@ class FEContact3D:
     ``h_contact`` element size on the contact half disk / a_ref (range
     ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref;
     ``block_size`` block radius and height (m; default ``BLOCK_SIZE_DEFAULT`` a_ref);
-    ``cache_dir``; ``backend`` (sparse solver).
+    ``cache_dir``; ``backend`` (sparse solver); ``traction`` (``TRACTIONS``).
     """
 
     stick_onset = 0.5
@@ -102,16 +115,18 @@ class FEContact3D:
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=1.25, block_size=None,
-                 cache_dir=None, backend=None, displacement="plate"):
+                 cache_dir=None, backend=None, displacement="plate", traction="free"):
         if not isinstance(profile, (Sphere, TruncatedSphere)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere or truncated for the 3D model, got {kind!r}")
         self.profile = profile
         self.materials = m = materials if materials is not None else Materials()
-        if displacement != "plate":
-            raise InputError("displacement must be 'plate' for the 3D model (the half-space comparable "
-                             f"'contact' measure is not offered yet), got {displacement!r}")
+        if displacement not in ("contact", "plate"):
+            raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
         self.displacement = displacement
+        if traction not in TRACTIONS:
+            raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
+        self.traction = traction
         if np.ndim(mu) != 0:
             raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
         self.mu = float(nonnegative("mu", mu))
@@ -132,15 +147,22 @@ class FEContact3D:
         t1 = time.perf_counter()
         K, basis = stiffness3d(mesh, m.E2, m.nu2)
         self.mi = mi = mortar_interface(mesh)
-        D_blk, self.backend, _ = mortar_flexibility(K, basis, mesh, mi, backend=backend)
+        D_blk, self.backend, fac_blk = mortar_flexibility(K, basis, mesh, mi, backend=backend)
         self.ndofs = int(K.shape[0])
+        # the axis probes of the contact measure: as shallow as in the axisymmetric law, below the contact
+        # disk (inside the bodies: the mesh is deeper than 2 contact_extent a_ref)
+        zp = max(DEFAULT_PROBE_DEPTH, contact_extent + 0.25) * a_ref
+        R_blk = probe_response(fac_blk, basis, mesh, mi, (0.0, 0.0, -zp))
         if m.nu1 == m.nu2:  # the flexibility of one mesh scales with 1/E at fixed nu
-            D_ind = D_blk * (m.E2 / m.E1)
+            D_ind, R_ind = D_blk * (m.E2 / m.E1), R_blk * (m.E2 / m.E1)
         else:
             K1, _ = stiffness3d(mesh, m.E1, m.nu1)
-            D_ind, _, _ = mortar_flexibility(K1, basis, mesh, mi, backend=backend)
+            D_ind, _, fac_ind = mortar_flexibility(K1, basis, mesh, mi, backend=backend)
+            R_ind = probe_response(fac_ind, basis, mesh, mi, (0.0, 0.0, -zp))
             self.ndofs *= 2
         self.rf = RelativeFlexibility.from_bodies(D_blk, D_ind)
+        self._Dt_plate = self.rf.Dt
+        self.bulk = self._bulk_rows(zp, R_blk, R_ind)
         #: Dundurs' second constant of the pair (Dundurs 1969, J. Appl. Mech. 36, 650; 0: the normal and
         #: tangential problems decouple), signed positive when the block (body 2) is the more
         #: compressible one (steel on aluminium: +0.11)
@@ -149,6 +171,9 @@ class FEContact3D:
         with np.errstate(invalid="ignore"):
             f = np.asarray(profile.f(mi.nodes.r), dtype=float)
         self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
+        #: vertices whose q_y is held at zero: the symmetry plane, or every vertex under Mindlin's
+        #: assumption (``traction="x"``)
+        self._qy_zero = mi.on_plane if traction == "free" else np.ones(mi.n, dtype=bool)
         xp = np.flatnonzero(mi.on_plane & (mi.x >= 0))
         xm = np.flatnonzero(mi.on_plane & (mi.x <= 0))
         phi = np.arctan2(mi.y, mi.x)
@@ -157,8 +182,46 @@ class FEContact3D:
                       "y": ys[np.argsort(mi.r[ys])]}
         self._normal_cache = {}
         self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "normal_solves": 0}
+        #: the bodies' series compliance (m/N) at F_max: plate displacement = contact + c_bulk F_x
+        self.c_bulk = self.plate_bulk_compliance(self.F_max)
+        if displacement == "contact":  # u measured without it: s = u_c A e_x - (Dt - 2 c_bulk A A^T) q
+            Dt = self.rf.Dt.copy()
+            Dt[:mi.n, :mi.n] -= 2.0 * self.c_bulk * np.outer(mi.A, mi.A)
+            self.rf = RelativeFlexibility(Dn=self.rf.Dn, Dt=Dt, K=self.rf.K)
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
         self.last_run = None
+
+    def _bulk_rows(self, L, R_blk, R_ind) -> dict:
+        """Per-vertex bulk corrections of the axis probes at depth ``L`` in both bodies (``fem.bulk``
+        in 3D): FE probe reading minus the half-space's (Cerruti, Boussinesq; the half model's
+        vertex hats doubled by their mirror images). ``x`` (n,): x displacement of the indenter's
+        probe relative to the block's per unit x traction field phi_j on the block, both bodies'
+        parts (m/Pa); ``z`` (n,): both bodies' compression between clamp and probe per unit
+        pressure field (m/Pa)."""
+        m, mesh, mi = self.materials, self.hmesh.mesh, self.mi
+        out = {"depth": L, "x": np.zeros(mi.n), "z": np.zeros(mi.n)}
+        for R, E, nu in ((R_blk, m.E2, m.nu2), (R_ind, m.E1, m.nu1)):
+            G = E / (2.0 * (1.0 + nu))
+            out["x"] += R[0, 0] - 2.0 * hat_integrals(mesh, mi, lambda x, y: cerruti_point_x(x, y, L, G, nu))
+            out["z"] += R[2, 2] - 2.0 * hat_integrals(mesh, mi, lambda x, y: boussinesq_point_z(x, y, L, G, nu))
+        return out
+
+    def plate_bulk_compliance(self, F_N) -> float:
+        """c_bulk (m/N): the bodies' series compliance in the plate measure, from the axis probes and
+        Cerruti's half-space solution (``fem.bulk``), weighted by the full-stick x tractions at F_N
+        (> 0). Uses no half-space contact stiffness. The y tractions' share is left out (at most
+        the traction angle, ~0.1, times a term odd in y that the mirror halves cancel to leading
+        order)."""
+        mi = self.mi
+        c = self.normal(F_N=float(positive("F_N", F_N))).p > 0
+        q = np.linalg.solve(self._Dt_plate[:mi.n, :mi.n][np.ix_(c, c)], mi.A[c])
+        return float(self.bulk["x"][c] @ q / (2.0 * mi.A[c] @ q))
+
+    def indentation(self, nr: "Normal3D") -> float:
+        """Half-space comparable indentation (m) of a normal solution: the plate approach minus both
+        bodies' compression between clamp and probe plus the half-space's below the probes
+        (``fem.bulk.normal_indentation`` in 3D)."""
+        return float(nr.approach - self.bulk["z"] @ nr.p)
 
     # ----------------------------------------------------------------- info
     @property
@@ -176,6 +239,7 @@ class FEContact3D:
 
     def describe(self) -> dict:
         return {"law": "fem3d", "dofs": self.ndofs, "vertices": self.n, "displacement": self.displacement,
+                "traction": self.traction,
                 "mesh": dict(self.hmesh.params.as_dict(), key=self.hmesh.key), "backend": self.backend}
 
     def mesh_summary(self) -> dict:
@@ -254,7 +318,7 @@ class FEContact3D:
                 if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
                     self._check_force_limit(Fx, F_N)
                 p, dd, res, _ = solve_coupled3d(
-                    self.rf, self.g0, mi.A, self.mu, np.asarray(state.P), mi.on_plane,
+                    self.rf, self.g0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
                     F_n=None if F_N is None else F_N / 2, d=d, delta=None if u is None else float(u),
                     F_t=None if Fx is None else Fx / 2, q0=q0, delta0=state.u,
                     p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
@@ -270,12 +334,12 @@ class FEContact3D:
                 self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
                 if not np.any(g > 0):
                     uu = float(state.u if u is None else u)
-                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane, delta=uu)
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=uu)
                 elif u is not None:
-                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane,
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
                                              delta=float(u), q0=q0)
                 else:
-                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), mi.on_plane,
+                    res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
                                              force=Fx / 2, q0=q0, delta0=state.u)
         FN = nr.force if nr is not None else 0.0
         contact = g > 0
@@ -355,7 +419,9 @@ class FEContact3D:
         recorded window (the last cycle), ``stick_center_x`` and ``pressure_center_x`` at its first
         peak of F_x (the first local maximum)."""
         nr = self.normal(F_N=F_N)
-        out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "dofs": self.ndofs,
+        out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "indentation": self.indentation(nr),
+               "bulk_compliance": self.c_bulk, "displacement": self.displacement, "traction": self.traction,
+               "dofs": self.ndofs,
                "vertices": self.n, "beta": self.beta, "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},
                "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}

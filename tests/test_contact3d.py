@@ -13,7 +13,7 @@ from fem.contact3d import RelativeFlexibility, solve_normal3d, solve_tangential3
 from fem.elastic3d import stiffness3d
 from fem.interface3d import contact_flexibility, mortar_flexibility, mortar_interface
 from mdr import reference as ref
-from mdr.errors import ConvergenceError
+from mdr.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from meshes.half3d import Half3DMeshParams, build_mesh3d
 
@@ -216,7 +216,7 @@ def test_law3d_fretting_run(law3d):
 
 @pytest.mark.parametrize("flags,msg", [
     (["--profile", "flat", "--b", "1e-4"], "sphere or truncated"),
-    (["--profile", "sphere", "--R", "6e-3", "--displacement", "contact"], "displacement must be 'plate'"),
+    (["--profile", "sphere", "--R", "6e-3", "--block-size", "2e-5"], "size must be >"),
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),
 ])
@@ -225,6 +225,82 @@ def test_cli_model_3d_bad_input(flags, msg, capsys):
 
     assert main(["contact", "--model", "3d", *flags, "--mu", "0.2", "--F0", "0.5", "--fa", "0.05"]) == 2
     assert msg in capsys.readouterr().err
+
+
+def test_cli_traction_is_for_the_3d_model(capsys):
+    from fem.cli import main
+
+    assert main(["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--fa", "0.05",
+                 "--traction", "x"]) == 2
+    assert "--traction applies to --model 3d" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------ the contact measure (fem.bulk in 3D)
+
+
+@pytest.fixture(scope="module")
+def blocks(tmp_path_factory):
+    """Full-stick tangential stiffness and normal solution of the sphere on blocks of 10 a and 20 a
+    (h = a/4), in both displacement measures."""
+    from fem.law3d import FEContact3D
+    from mdr.profiles import Sphere
+
+    cache = tmp_path_factory.mktemp("m3d-blocks")
+    Q = 0.01 * MU * F
+    out = {}
+    for size in (10, 20):
+        for disp in ("plate", "contact"):
+            law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, block_size=size * A_H,
+                              displacement=disp, cache_dir=cache)
+            res, _ = law.step(law.rest_state(), Fx=Q, F_N=F)
+            out[size, disp] = {"k": Q / res.u, "law": law}
+    return out
+
+
+def test_contact_measure_removes_the_bodies_series_compliance(blocks):
+    """The plate measure's full-stick stiffness depends on the block size (measured 0.908 and 0.943 of
+    Mindlin's 2 G* a for blocks of 10 a and 20 a); the contact measure's, the plate displacement
+    minus c_bulk F_x (axis probes + Cerruti, no contact stiffness used), much less (0.977 and 0.980,
+    the rest the mesh error at a/4 and the blocks' bending, which the probes cannot remove). Its
+    two paths agree: the contact law's compliance is the plate law's minus c_bulk."""
+    kM = 2 * MAT.G_star * A_H
+    kp = [blocks[s, "plate"]["k"] / kM for s in (10, 20)]
+    kc = [blocks[s, "contact"]["k"] / kM for s in (10, 20)]
+    assert abs(kp[1] / kp[0] - 1) > 0.02  # measured 3.8 %
+    assert abs(kc[1] / kc[0] - 1) < 0.01  # measured 0.3 %
+    assert all(abs(k - 1) < 0.05 for k in kc)  # measured -2.3 %, -2.0 %
+    for s in (10, 20):
+        law = blocks[s, "contact"]["law"]
+        assert law.c_bulk > 0
+        dc = 1 / blocks[s, "plate"]["k"] - 1 / blocks[s, "contact"]["k"]
+        assert abs(dc / law.c_bulk - 1) < 1e-6
+
+
+def test_indentation_is_hertz(blocks):
+    """The half-space comparable indentation (plate approach minus both bodies' compression above the
+    probes plus Boussinesq's below them) is Hertz's a^2/R within 0.5 % on both blocks (measured
+    -0.05 %, -0.06 %); the plate approach is not (measured -5.6 %, -2.9 %)."""
+    for s in (10, 20):
+        law = blocks[s, "contact"]["law"]
+        nr = law.normal(F_N=F)
+        assert abs(law.indentation(nr) / HZ["d"] - 1) < 0.005
+        assert nr.approach / HZ["d"] - 1 < -0.02
+
+
+def test_mindlin_traction_option(law3d):
+    """traction='x' holds q_y = 0 everywhere (Mindlin's assumption) and keeps |q_x| <= mu p; the
+    free-direction law on the same mesh has a nonzero q_y off the symmetry plane."""
+    from fem.law3d import FEContact3D
+    from mdr.profiles import Sphere
+
+    lx = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, traction="x",
+                     cache_dir=law3d.hmesh.info.get("cache_dir"))
+    _, sx = lx.step(lx.rest_state(), Fx=0.6 * MU * F, F_N=F)
+    _, sf = law3d.step(law3d.rest_state(), Fx=0.6 * MU * F, F_N=F)
+    assert np.all(sx.q[:, 1] == 0) and np.max(np.abs(sf.q[:, 1])) > 1e-3 * np.max(np.abs(sf.q[:, 0]))
+    assert np.all(np.abs(sx.q[:, 0]) <= MU * sx.p * (1 + 1e-9) + 1e-12 * MU * sx.p.max())
+    with pytest.raises(InputError, match="traction must be one of"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, traction="y")
 
 
 @pytest.mark.slow
@@ -350,9 +426,11 @@ def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
                      "--h-contact", "0.4", "--cache-dir", str(tmp_path), "--json", str(out)]) == 0
     r = json.loads(out.read_text())
     for k in ("stick_radius_x", "stick_radius_y", "stick_center_x", "pressure_center_x", "traction_angle_max",
-              "dissipation_first_cycle", "beta", "dofs", "vertices", "mesh", "runtime_s", "peak_memory_bytes"):
+              "dissipation_first_cycle", "beta", "dofs", "vertices", "mesh", "runtime_s", "peak_memory_bytes",
+              "indentation", "bulk_compliance"):
         assert k in r, k
-    assert r["model"] == "3d" and r["displacement"] == "plate" and r["normal_ramp_steps"] == 20
+    assert r["model"] == "3d" and r["displacement"] == "contact" and r["traction"] == "free"
+    assert r["normal_ramp_steps"] == 20 and r["bulk_compliance"] > 0
     assert 0.10 < r["beta"] < 0.12 and r["dissipation_first_cycle"] < r["dissipation"]
 
 

@@ -275,14 +275,15 @@ def test_report_module_makes_no_solver_calls():
 
 def test_a_3d_scene_runs_through_the_runner(tmp_path):
     """A scene with fe_model="3d" (fem.law3d) runs like any other: verdicts on both ladders, the
-    3D keys in its FE result, no du loop compared (the 3D displacement is the plate measure),
-    figures without field data; the 3D model is driven by force only."""
+    3D keys in its FE result, the du loop compared (the contact measure), figures without field
+    data; the 3D model is not offered in the apparatus."""
     from validation.scenes import FE_LEVELS_3D
 
     s = Scene("t3d", "tiny 3D sphere", "sphere", dF=0.0, amplitude=0.05, fe_model="3d", fe_levels=(0.25, 0.2),
               mdr_cells=(100, 400), cycles=3, steps=12, group="3d")
     res = runner.run_scene(s, tmp_path)
-    assert "loop_du" not in res["verdicts"] and "dissipation" in res["verdicts"]
+    assert "loop_du" in res["verdicts"] and "dissipation" in res["verdicts"]
+    assert res["fem"]["displacement"] == "contact"
     assert all(v["holds"] in (True, False, None) for v in res["verdicts"].values())
     fe = res["fem"]
     for k in ("stick_radius_x", "stick_radius_y", "traction_angle_max", "vertices"):
@@ -290,5 +291,5 @@ def test_a_3d_scene_runs_through_the_runner(tmp_path):
     assert abs(fe["stick_radius_x"] - fe["stick_radius_y"]) < 0.25 * fe["contact_radius"]
     assert "vtu" not in res["files"] and (tmp_path / "profiles.png").exists()
     assert len(FE_LEVELS_3D) >= 3
-    with pytest.raises(Exception, match="driven by force only"):
-        Scene("t3d-u", "x", "sphere", drive="displacement", fe_model="3d")
+    with pytest.raises(Exception, match="not offered in the apparatus"):
+        Scene("t3d-u", "x", "sphere", drive="apparatus", kx=2e6, fe_model="3d")

@@ -107,7 +107,8 @@ def _fe_law(s: Scene, h, **mesh_kw):
     if s.fe_model == "3d":
         from fem.law3d import FEContact3D
 
-        return FEContact3D(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h, displacement="plate")
+        return FEContact3D(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
+                           displacement="contact")
     from fem.law import FEContact
 
     return FEContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
@@ -230,7 +231,7 @@ def _distances(s: Scene, mdr: dict, fe: dict) -> dict:
     # the prescribed component of a loop is equal on both sides: compare the other one
     if s.drive != "force":
         out["loop_Fx"] = lp["Fx"]
-    if s.drive != "displacement" and s.fe_model != "3d":  # 3D: plate measure, not the half-space du
+    if s.drive != "displacement":
         out["loop_du"] = lp["du"]
     return out
 

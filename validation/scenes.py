@@ -89,9 +89,9 @@ class Scene:
     ``fe_model``: "axisym" (Fourier modes 0 + 1 on one r-z mesh: exact for an
     axisymmetric body under a tangential load with linear elasticity and
     Mindlin's uncoupled friction) or "3d" (``fem.law3d``: the half model with a
-    two-component traction of free direction; its displacement is the plate measure, so
-    the du loop is not compared, and force control keeps the dissipation, stick zone
-    and force history independent of it). ``variants`` (validity scenes only): mesh
+    two-component traction of free direction, displacements in the half-space comparable
+    contact measure as the axisymmetric model's; force or displacement drive, not the
+    apparatus, whose Newton steps need trial steps the 3D law does not offer). ``variants`` (validity scenes only): mesh
     size overrides as multiples of a_ref, e.g. ``{"block": 5.0}``.
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
@@ -129,8 +129,8 @@ class Scene:
             raise InputError(f"profile must be one of {', '.join(PROFILES)}; got {self.profile!r}")
         if self.fe_model not in FE_MODELS:
             raise InputError(f"fe_model must be one of {', '.join(FE_MODELS)}; got {self.fe_model!r}")
-        if self.fe_model == "3d" and self.drive != "force":
-            raise InputError(f"scene {self.name}: the 3D model is driven by force only (plate displacement measure)")
+        if self.fe_model == "3d" and self.drive == "apparatus":
+            raise InputError(f"scene {self.name}: the 3D model is not offered in the apparatus (no trial steps)")
         if self.drive not in DRIVES:
             raise InputError(f"drive must be one of {', '.join(DRIVES)}; got {self.drive!r}")
         if self.drive == "apparatus" and not (self.kx and self.kx > 0):
