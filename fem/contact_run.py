@@ -72,24 +72,34 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
 
     from .law3d import FEContact3D
 
-    import numpy as np
-
     t0 = time.perf_counter()
     law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
                       block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
                       traction=traction)
     t1 = time.perf_counter()
-    # the normal load applied with friction active (with coupling, slip during the normal loading
-    # locks traction into the stick zone, Spence 1975), then the tangential cycles from that state
+    out = drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t1 - t0)
+    out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
+    return (out, law) if return_law else out
+
+
+def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, state_at=None):
+    """A fretting run of a built 3D law (``fem.law3d.FEContact3D``): the normal load applied in
+    ``RAMP_STEPS`` steps with friction active (with coupling, slip during the normal loading locks
+    traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from
+    that state. Returns the result dict with the law's 3D keys (and the state at step
+    ``state_at`` of the cycles if given)."""
+    import numpy as np
+
+    t1 = time.perf_counter()
     st = law.rest_state()
     for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * (F0 + dF * np.sin(alpha)):
         _, st = law.step(st, Fx=0.0, F_N=f)
-    out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law,
-                      state0=st)
+    res = run_contact(law.profile, law.materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps,
+                      law=law, state0=st, state_at=state_at)
+    out, st_at = res if state_at is not None else (res, None)
     t2 = time.perf_counter()
-    out.update(law.result_keys(F0, t0, t1, t2))
+    out.update(law.result_keys(F0, t1 - t_setup, t1, t2))
     out["dissipation_first_cycle"] = out["dissipation_per_cycle"][0]
     out["normal_ramp_steps"] = RAMP_STEPS
     out["model"] = "3d"
-    out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
-    return (out, law) if return_law else out
+    return (out, st_at) if state_at is not None else out

@@ -75,6 +75,19 @@ TRACTIONS = ("free", "x")
 BLOCK_SIZE_DEFAULT = 20.0
 
 
+def _check_assumptions(traction, coupling) -> tuple[str, bool]:
+    if traction not in TRACTIONS:
+        raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
+    if coupling not in (True, False):
+        raise InputError(f"coupling must be True or False, got {coupling!r}")
+    return traction, bool(coupling)
+
+
+def _qy_zero(mi, traction) -> np.ndarray:
+    """Vertices whose q_y is held at zero: the symmetry plane, or all under traction 'x'."""
+    return mi.on_plane if traction == "free" else np.ones(mi.n, dtype=bool)
+
+
 @dataclass(frozen=True)
 class FE3DState:
     """History of the 3D law: tractions ``q`` (n, 2) and pressures ``p`` (n,) at the vertices (Pa),
@@ -107,7 +120,9 @@ class FEContact3D:
     ``h_contact`` element size on the contact half disk / a_ref (range
     ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref;
     ``block_size`` block radius and height (m; default ``BLOCK_SIZE_DEFAULT`` a_ref);
-    ``cache_dir``; ``backend`` (sparse solver); ``traction`` (``TRACTIONS``).
+    ``cache_dir``; ``backend`` (sparse solver); ``traction`` (``TRACTIONS``); ``coupling``
+    (False: a dissimilar pair's normal-tangential coupling left out, as in MDR and Mindlin's
+    theory; the pressure then never feels the tangential traction).
     """
 
     stick_onset = 0.5
@@ -115,7 +130,7 @@ class FEContact3D:
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=1.25, block_size=None,
-                 cache_dir=None, backend=None, displacement="plate", traction="free"):
+                 cache_dir=None, backend=None, displacement="plate", traction="free", coupling=True):
         if not isinstance(profile, (Sphere, TruncatedSphere)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere or truncated for the 3D model, got {kind!r}")
@@ -124,9 +139,7 @@ class FEContact3D:
         if displacement not in ("contact", "plate"):
             raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
         self.displacement = displacement
-        if traction not in TRACTIONS:
-            raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
-        self.traction = traction
+        self.traction, self.coupling = _check_assumptions(traction, coupling)
         if np.ndim(mu) != 0:
             raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
         self.mu = float(nonnegative("mu", mu))
@@ -173,7 +186,7 @@ class FEContact3D:
         self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
         #: vertices whose q_y is held at zero: the symmetry plane, or every vertex under Mindlin's
         #: assumption (``traction="x"``)
-        self._qy_zero = mi.on_plane if traction == "free" else np.ones(mi.n, dtype=bool)
+        self._qy_zero = _qy_zero(mi, traction)
         xp = np.flatnonzero(mi.on_plane & (mi.x >= 0))
         xm = np.flatnonzero(mi.on_plane & (mi.x <= 0))
         phi = np.arctan2(mi.y, mi.x)
@@ -223,6 +236,20 @@ class FEContact3D:
         (``fem.bulk.normal_indentation`` in 3D)."""
         return float(nr.approach - self.bulk["z"] @ nr.p)
 
+    def variant(self, *, traction=None, coupling=None) -> "FEContact3D":
+        """The same model (mesh, flexibilities, probes: nothing is rebuilt) with another ``traction``
+        or ``coupling``, so the pair of runs isolates that assumption from the discretisation."""
+        import copy
+
+        new = copy.copy(self)
+        new.traction, new.coupling = _check_assumptions(self.traction if traction is None else traction,
+                                                        self.coupling if coupling is None else coupling)
+        new._qy_zero = _qy_zero(self.mi, new.traction)
+        new._normal_cache = dict(self._normal_cache)
+        new.stats = {k: 0 for k in self.stats}
+        new.last_run = None
+        return new
+
     # ----------------------------------------------------------------- info
     @property
     def stick_nodes(self):
@@ -239,7 +266,7 @@ class FEContact3D:
 
     def describe(self) -> dict:
         return {"law": "fem3d", "dofs": self.ndofs, "vertices": self.n, "displacement": self.displacement,
-                "traction": self.traction,
+                "traction": self.traction, "coupling": self.coupling,
                 "mesh": dict(self.hmesh.params.as_dict(), key=self.hmesh.key), "backend": self.backend}
 
     def mesh_summary(self) -> dict:
@@ -314,7 +341,7 @@ class FEContact3D:
         mi = self.mi
         q0 = np.asarray(state.q)
         with blas_threads(1):
-            if touching and self.rf.K is not None:  # dissimilar pair: normal and tangential together
+            if touching and self.rf.K is not None and self.coupling:  # dissimilar pair: both together
                 if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
                     self._check_force_limit(Fx, F_N)
                 p, dd, res, _ = solve_coupled3d(
@@ -421,6 +448,7 @@ class FEContact3D:
         nr = self.normal(F_N=F_N)
         out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "indentation": self.indentation(nr),
                "bulk_compliance": self.c_bulk, "displacement": self.displacement, "traction": self.traction,
+               "coupling": self.coupling,
                "dofs": self.ndofs,
                "vertices": self.n, "beta": self.beta, "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},

@@ -118,8 +118,11 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     d0 = float(approach_from_force(profile, materials, F0))
     stationary = bool(cyc.last_is_stationary) or mu == 0
     if not stationary:
+        W = np.asarray(cyc.dissipation, dtype=float)
+        change = abs(W[-1] - W[-2]) / max(abs(W[-1]), 1e-300) if W.size > 1 else float("inf")
         warnings.warn(f"the last of {cycles} cycles is not stationary (loop change "
-                      f"{float(cyc.loop_change[-1]):.2e} of mu F0); run more --cycles", RuntimeWarning)
+                      f"{float(cyc.loop_change[-1]):.2e} of mu F0, dissipation change {change:.2e} of the "
+                      "last cycle's); run more --cycles", RuntimeWarning)
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {

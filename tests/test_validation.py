@@ -273,6 +273,37 @@ def test_report_module_makes_no_solver_calls():
                          "run_apparatus", "solve_normal"}, called
 
 
+def test_assumptions_3d_scene(tmp_path):
+    """The 3D assumptions scene on two coarse levels: each variant runs relaxed and imposed on the
+    same mesh. For identical bodies (Dundurs' beta = 0) the coupling is exactly absent, so relaxing
+    it changes nothing (to the solver's tolerance); the free traction direction does change the
+    answer (a nonzero traction angle) but only a little; every judged metric has an error bar; the
+    report and the figure are written."""
+    from validation import report
+
+    s = Scene("t3a", "tiny 3D assumptions", "sphere", fe_model="3d", fe_levels=(0.3, 0.25), cycles=3, steps=12,
+              group="3d", variants=({"relax": "direction"}, {"relax": "coupling"}))
+    res = runner.run_scene(s, tmp_path)
+    direction, coupling = res["assumptions3d"]
+    for q, x in coupling["verdicts"].items():
+        assert x["effect"] is not None and abs(x["effect"]) < 1e-8, (q, x)
+    assert coupling["holds"] is True
+    assert 0.02 < direction["traction_angle_max"] < 0.3
+    d = direction["verdicts"]["dissipation"]
+    assert 0 < abs(d["effect"]) < 0.03 and d["error"] is not None and d["status"] == "two levels"
+    for lv in direction["levels"] + coupling["levels"]:
+        assert lv["off"]["traction_angle_max"] == 0.0 or lv in coupling["levels"]
+        for side in ("on", "off"):  # the stationary cycle's dissipation is the last cycle's
+            assert lv[side]["dissipation"] == lv[side]["dissipation_per_cycle"][-1] > 0
+    assert (tmp_path / res["files"]["assumptions3d"]).exists()
+    text = "\n".join(report._assumptions3d_table(res))
+    assert "| t3a[direction: sphere]" in text and "| t3a[coupling: sphere]" in text
+    with pytest.raises(Exception, match="relax in direction, coupling"):
+        Scene("t3b", "x", "sphere", fe_model="3d", variants=({"relax": "tilt"},))
+    with pytest.raises(Exception, match="need fe_model='3d'"):
+        Scene("t3c", "x", "sphere", variants=({"relax": "direction"},))
+
+
 def test_a_3d_scene_runs_through_the_runner(tmp_path):
     """A scene with fe_model="3d" (fem.law3d) runs like any other: verdicts on both ladders, the
     3D keys in its FE result, the du loop compared (the contact measure), figures without field

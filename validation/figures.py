@@ -204,6 +204,37 @@ def curvature_figure(result: dict, out_dir) -> dict:
     return {"curvature": save(fig, Path(out_dir) / "curvature.png")}
 
 
+def assumptions3d_figure(result: dict, out_dir) -> dict:
+    """The effect of each relaxed assumption (on minus off, same mesh) against the 3D element size,
+    the finest level with its error bar; grey: the catalogue's tolerance."""
+    rows = result["assumptions3d"]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for ax, q, unit in ((axes[0], "dissipation", "% of the dissipation with the assumption"),
+                        (axes[1], "stick_radius_x", "% of the contact radius")):
+        for r, mk in zip(rows, "osd^v"):
+            hs = [x["h"] for x in r["levels"] if x["effects"][q] is not None]
+            ys = [100 * x["effects"][q] for x in r["levels"] if x["effects"][q] is not None]
+            if not ys:
+                continue
+            line, = ax.plot(hs, ys, marker=mk, label=r["variant"].split("[", 1)[-1].rstrip("]"))
+            err = r["verdicts"][q]["error"]
+            if err is not None and np.isfinite(err):
+                ax.errorbar([hs[-1]], [ys[-1]], yerr=[100 * err], color=line.get_color(), capsize=4)
+        tol = rows[0]["verdicts"][q]["tolerance"] if rows else None
+        if tol:
+            ax.axhspan(-100 * tol, 100 * tol, color="0.9", zorder=0)
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        ax.set_xscale("log")
+        ax.invert_xaxis()
+        ax.set_xlabel("element size on the contact / a_ref")
+        ax.set_ylabel(f"relaxed - imposed ({unit})", fontsize=8)
+        ax.set_title(q.replace("_", " "), fontsize=10)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    return {"assumptions3d": save(fig, Path(out_dir) / "assumptions3d.png")}
+
+
 def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
     """Slip index against a scene parameter: ``points = {"mdr": [(x, delta)], "fem": [...]}``."""
     fig, ax = plt.subplots(figsize=(6, 4))

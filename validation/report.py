@@ -67,7 +67,7 @@ def git_commit() -> str | None:
 
 def verdict(res: dict) -> tuple[bool | None, str]:
     """The scene's verdict (the conjunction of its metrics) and the metrics that decide it."""
-    if "validity" in res or "curvature" in res:
+    if "validity" in res or "curvature" in res or "assumptions3d" in res:
         return None, "see its table"
     v = res.get("verdicts") or {}
     if not v:
@@ -163,6 +163,33 @@ def _validity_table(res):
     return lines
 
 
+def _assumptions3d_table(res):
+    lines = ["Effect of relaxing one assumption of Mindlin's theory (and MDR): the 3D model with the assumption "
+             "relaxed minus the same model imposing it, on the same mesh, at the finest 3D level with the error "
+             "bar of the effect's own ladder (its status in brackets); dissipation in % of the imposed run's, "
+             "radii and centres in % of the contact radius. The assumption holds where |effect| <= error + "
+             "the catalogue's tolerance.", "",
+             "| variant | FE DOFs | dissipation | first cycle | stick radius x | stick radius y | stick centre x "
+             "| pressure centre x | largest traction angle | assumption holds? |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+
+    def eff(r, q):
+        x = r["verdicts"][q]
+        if x["effect"] is None:
+            return "undetermined"
+        err = "undetermined" if x["error"] is None else f"{100 * x['error']:.2g}"
+        return f"{100 * x['effect']:+.2g} +- {err} % ({x['status']})"
+
+    for r in res["assumptions3d"]:
+        failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
+        lines.append(f"| {r['variant']} | {r['levels'][-1]['dofs']} | {eff(r, 'dissipation')} | "
+                     f"{eff(r, 'dissipation_first_cycle')} | {eff(r, 'stick_radius_x')} | {eff(r, 'stick_radius_y')} | "
+                     f"{eff(r, 'stick_center_x')} | {eff(r, 'pressure_center_x')} | "
+                     f"{_num(r['traction_angle_max'], '.3f')} | "
+                     f"{_holds(r['holds'])}{': ' + ', '.join(failed) if failed else ''} |")
+    return lines
+
+
 def _curvature_table(res):
     lines = ["Curvature effect = FE extrapolated over its ladder minus MDR, in % of the MDR contact radius "
              "(radii) or of the FE dissipation, with the error bar of both sides; the verdict is that of the "
@@ -254,7 +281,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
         if r is None:
             L.append(f"| {n} | | | | | | | failed: {st} |")
             continue
-        if "validity" in r or "curvature" in r:
+        if "validity" in r or "curvature" in r or "assumptions3d" in r:
             L.append(f"| [{n}](#{n}) | | | | | | | see its table |")
             continue
         ok, why = verdict(r)
@@ -291,6 +318,11 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
             L += _curvature_table(r) + [""]
             if "curvature" in r["files"]:
                 L += [f"![curvature]({d}/{r['files']['curvature']})", ""]
+            continue
+        if "assumptions3d" in r:
+            L += _assumptions3d_table(r) + [""]
+            if "assumptions3d" in r["files"]:
+                L += [f"![assumptions in 3D]({d}/{r['files']['assumptions3d']})", ""]
             continue
         if "validity" in r:
             L += _validity_table(r) + [""]

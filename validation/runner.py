@@ -330,6 +330,8 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     t0 = time.perf_counter()
     if s.variants and "a_over_R" in s.variants[0]:
         return _run_curvature(s, out_dir, log)
+    if s.variants and "relax" in s.variants[0]:
+        return _run_assumptions3d(s, out_dir, log)
     if s.variants:
         return _run_validity(s, out_dir, log)
     out_dir = Path(out_dir) if out_dir is not None else None
@@ -428,6 +430,96 @@ def _run_curvature(s: Scene, out_dir, log) -> dict:
 
         result["files"].update(figures.curvature_figure(result, Path(out_dir)))
     return result
+
+
+#: the effects of relaxing an assumption of Mindlin's theory (and MDR) in the 3D model: metric ->
+#: (tolerance key of ``Scene.tolerances``, kind); "relative": (on - off) / |off|, "radius": (on - off)
+#: / contact radius; reported without a verdict when the tolerance key is None
+EFFECTS_3D = {"dissipation": ("dissipation", "relative"),
+              "dissipation_first_cycle": ("dissipation", "relative"),
+              "stick_radius_x": ("stick_radius", "radius"),
+              "stick_radius_y": ("stick_radius", "radius"),
+              "stick_center_x": (None, "radius"),
+              "pressure_center_x": (None, "radius")}
+
+
+def assumption_variant(s: Scene, v: dict) -> Scene:
+    """The scene of one variant of an assumptions scene: ``v`` may set ``b`` (a truncated sphere),
+    ``E2`` and ``nu2`` (the block's material); ``relax`` names the assumption."""
+    from dataclasses import replace
+
+    kw = {k: float(v[k]) for k in ("b", "E2", "nu2") if k in v}
+    if kw.get("b"):
+        kw["profile"] = "truncated"
+    label = ", ".join(f"{k} = {v[k]:g}" for k in ("b", "E2", "nu2") if k in v) or "sphere"
+    return replace(s, name=f"{s.name}[{v['relax']}: {label}]", variants=(), **kw)
+
+
+def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
+    """Mindlin's assumptions, one at a time, on the 3D model: every variant at every 3D mesh level
+    twice on the same mesh (``FEContact3D.variant``), with the assumption relaxed ("on": the free
+    traction direction, or the normal-tangential coupling of a dissimilar pair) and imposed ("off":
+    q_y = 0, or no coupling, as in MDR and the axisymmetric model). The effect on, minus off, cancels
+    the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
+    effect far below the 3D model's own error. The verdict of a metric: |effect| <= its error +
+    the catalogue's tolerance (the assumption holds), None if either is not finite."""
+    from fem.contact_run import drive_3d
+
+    t0 = time.perf_counter()
+    rows = []
+    for v in s.variants:
+        sv = assumption_variant(s, v)
+        relax = v["relax"]
+        kw = {"fa": sv.amplitude} if sv.drive == "force" else {"ua": sv.amplitude}
+        levels = []
+        for h in sv.fe_levels:
+            law = _fe_law(sv, h)
+            runs = {}
+            for side, variant in (("on", law.variant(traction="free", coupling=True)),
+                                  ("off", law.variant(traction="x") if relax == "direction"
+                                   else law.variant(coupling=False))):
+                runs[side] = drive_3d(variant, sv.mu, sv.F0, sv.dF, sv.alpha, kw.get("ua"), kw.get("fa"),
+                                      sv.cycles, sv.steps)
+            a = runs["off"]["contact_radius"]
+            eff = {}
+            for q, (_, kind) in EFFECTS_3D.items():
+                on, off = runs["on"].get(q), runs["off"].get(q)
+                scale = abs(off or 0.0) if kind == "relative" else a
+                ok = on is not None and off is not None and np.isfinite(on) and np.isfinite(off) and scale > 0
+                eff[q] = float((on - off) / scale) if ok else None
+            levels.append({"h": h, "dofs": runs["on"]["dofs"], "effects": eff,
+                           **{side: {k: runs[side].get(k) for k in (*EFFECTS_3D, "traction_angle_max", "contact_radius",
+                                                                     "stationary", "dissipation_per_cycle")}
+                              for side in ("on", "off")},
+                           "runtime_s": runs["on"]["runtime_s"]["total"] + runs["off"]["runtime_s"]["total"]})
+            log(f"  {sv.name} a/{1 / h:.0f}: dissipation {_pct_or(eff['dissipation'])}, stick radius x "
+                f"{_pct_or(eff['stick_radius_x'])} of a, {levels[-1]['runtime_s']:.0f} s")
+        tol = sv.tolerances()
+        verdicts = {}
+        for q, (tkey, kind) in EFFECTS_3D.items():
+            lad = metrics.ladder_error([x["h"] for x in levels], [x["effects"][q] for x in levels])
+            e, err = lad["value"], lad["error"]
+            t = None if tkey is None else tol[tkey]
+            holds = None if (tkey is None or e is None or err is None or not np.isfinite(err)) else \
+                bool(abs(e) <= err + t)
+            verdicts[q] = {"effect": e, "error": err, "status": lad["status"], "tolerance": t, "holds": holds,
+                           "kind": kind, "ladder": lad}
+        judged = [x["holds"] for x in verdicts.values() if x["tolerance"] is not None]
+        rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
+                     "levels": levels, "verdicts": verdicts,
+                     "holds": False if False in judged else (None if None in judged else True),
+                     "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})
+    result = {"scene": s.as_dict(), "closed_form": None, "assumptions3d": rows, "errors": {"a_ref": a_ref(s)},
+              "files": {}, "runtime_s": time.perf_counter() - t0}
+    if out_dir is not None:
+        from . import figures
+
+        result["files"].update(figures.assumptions3d_figure(result, Path(out_dir)))
+    return result
+
+
+def _pct_or(x):
+    return "undetermined" if x is None else f"{100 * x:+.3f} %"
 
 
 def _run_validity(s: Scene, out_dir, log) -> dict:
