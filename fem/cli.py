@@ -29,8 +29,9 @@ def add_fe_options(c, friction: bool = True):
                         f"(range [{H_CONTACT_RANGE[0]:g}, {H_CONTACT_RANGE[1]:g}]; default "
                         f"{H_CONTACT_DEFAULT:g} = a/{1 / H_CONTACT_DEFAULT:.0f}; --model 3d: range "
                         f"[{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}], default {H_CONTACT_3D_DEFAULT:g})")
-    g.add_argument("--contact-extent", type=float, default=1.25,
-                   help="radius of the finely meshed contact segment / a (> 1; default 1.25)")
+    g.add_argument("--contact-extent", type=float, default=None,
+                   help="radius of the finely meshed contact segment / a (> 1; default 1.25; --model 3d with the "
+                        "flat punch: its face, 1)")
     g.add_argument("--block-size", type=float, default=None,
                    help="block radius and height in m (default 200 a; also bounds the indenter cap height)")
     g.add_argument("--penalty", type=float, default=DEFAULT_PENALTY,
@@ -102,7 +103,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "cycles. Adds model, vertices, beta (Dundurs), stick_radius_x, stick_radius_y, "
                         "traction_angle_max (at the peak of F_x of the last cycle), stick_center_x and "
                         "pressure_center_x (at the first peak of F_x), dissipation_first_cycle and "
-                        "peak_memory_bytes")
+                        "peak_memory_bytes; and tilt, contact_area_fraction (contact area at the peak normal "
+                        "force F0 + |dF| over the punch face's for a flat punch, over the aligned contact's "
+                        "otherwise), contact_x_min, contact_x_max (the contact's extent along x there)")
+    c.add_argument("--tilt", type=float, default=0.0, metavar="RAD",
+                   help="--model 3d: tilt of the indenter's flat face about the y axis in rad (|tilt| <= 0.01; "
+                        "> 0 lifts the +x side; the rotation held by the mount, the load line through the "
+                        "face centre; default 0)")
     c.add_argument("--traction", choices=("free", "x"), default=None,
                    help="--model 3d only: 'free' (default) a two-component tangential traction of free "
                         "direction; 'x' q_y = 0 everywhere (Mindlin's assumption, as --model axisym and MDR), "
@@ -123,6 +130,10 @@ def _contact(args) -> dict:
         opts["h_contact"] = H_CONTACT_3D_DEFAULT if args.h_contact is None else args.h_contact
         for k in ("penalty", "al_tol", "friction_al_tol"):
             opts.pop(k)
+        opts["contact_extent"] = args.contact_extent
+        opts["tilt"] = args.tilt
+    elif args.tilt != 0:
+        raise InputError(f"--tilt applies to --model 3d only, got --tilt {args.tilt!r}")
     disp = args.displacement or "contact"
     return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
                            args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
@@ -149,7 +160,8 @@ def main(argv=None) -> int:
 
 def fe_options(args) -> dict:
     """Keyword arguments of the FE law from the flags of :func:`add_fe_options`."""
-    return dict(h_contact=H_CONTACT_DEFAULT if args.h_contact is None else args.h_contact, contact_extent=args.contact_extent, block_size=args.block_size,
+    return dict(h_contact=H_CONTACT_DEFAULT if args.h_contact is None else args.h_contact,
+                contact_extent=1.25 if args.contact_extent is None else args.contact_extent, block_size=args.block_size,
                 penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=getattr(args, "friction_al_tol", None),
                 cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
 

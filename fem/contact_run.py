@@ -29,22 +29,27 @@ from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 
 
 def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
-                    h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, penalty=DEFAULT_PENALTY,
+                    h_contact=H_CONTACT_DEFAULT, contact_extent=None, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
-                    backend=None, displacement="contact", return_law=False, model="axisym", traction=None):
+                    backend=None, displacement="contact", return_law=False, model="axisym", traction=None,
+                    tilt=0.0):
     """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
     ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
-    in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``)."""
+    in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``; ``tilt`` of the flat
+    face, rad). ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1)."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
     if model == "3d":
         return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
-                       displacement=displacement, return_law=return_law, traction=traction or "free")
+                       displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt)
     if traction is not None:
         raise InputError("traction applies to the 3D model only")
     if model != "axisym":
         raise InputError(f"model must be 'axisym' or '3d', got {model!r}")
+    if tilt != 0:
+        raise InputError(f"tilt is a parameter of the 3D model only (--model 3d), got tilt={tilt!r}")
+    contact_extent = 1.25 if contact_extent is None else contact_extent
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
     t0 = time.perf_counter()
     law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
@@ -67,7 +72,7 @@ RAMP_STEPS = 20
 
 
 def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_contact, contact_extent, block_size,
-            cache_dir, backend, displacement, return_law, traction):
+            cache_dir, backend, displacement, return_law, traction, tilt):
     import resource
 
     from .law3d import FEContact3D
@@ -75,7 +80,7 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
     t0 = time.perf_counter()
     law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
                       block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
-                      traction=traction)
+                      traction=traction, tilt=tilt)
     t1 = time.perf_counter()
     out = drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t1 - t0)
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
@@ -98,7 +103,7 @@ def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, stat
                       law=law, state0=st, state_at=state_at)
     out, st_at = res if state_at is not None else (res, None)
     t2 = time.perf_counter()
-    out.update(law.result_keys(F0, t1 - t_setup, t1, t2))
+    out.update(law.result_keys(F0, t1 - t_setup, t1, t2, F_peak=F0 + abs(dF)))
     out["dissipation_first_cycle"] = out["dissipation_per_cycle"][0]
     out["normal_ramp_steps"] = RAMP_STEPS
     out["model"] = "3d"

@@ -15,7 +15,16 @@ Model (assumptions, each stated where it lives):
   both contact faces are flat and the profile (sphere, truncated sphere) enters as the
   initial gap, interpolated in the P2 space (exact for the parabola). What this leaves out,
   the cap's curvature and the indenter's real shape and size, the axisymmetric model
-  measures (README: validity-curvature, validity);
+  measures (README: validity-curvature, validity). The edge r = b of a truncated sphere's
+  flat face is a circle of the mesh (``meshes.half3d``, ``edge``). The flat punch of
+  radius b: the candidate disk is the punch face r <= b (a_ref = b, contact_extent 1, its
+  rim the punch edge), zero gap on it; outside it the two faces are free surfaces (both
+  bodies large against b, as in the half-space theory of the punch);
+- tilt theta (rad, |theta| <= ``TILT_MAX``): the indenter rotated rigidly about the y axis
+  through the centre of its face, the rotation prescribed (held by the mount, the moment
+  reacted) and the load line through the face centre. Small slopes: the gap gains the
+  linear term theta * x (theta > 0 lifts the +x side), the half model's symmetry about
+  y = 0 is kept. The plate displacements do not contain the rigid rotation;
 - any pair of isotropic elastic materials: for identical ones (Dundurs' beta = 0) the
   normal-tangential coupling of the two bodies cancels exactly and the normal contact is
   solved once per load; for a dissimilar pair the two are solved together at every step
@@ -48,11 +57,12 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
 
 from mdr.errors import ConvergenceError, InputError, nonnegative, positive
 from mdr.law import History, StepResult
 from mdr.materials import Materials
-from mdr.profiles import Profile, Sphere, TruncatedSphere
+from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
@@ -70,6 +80,9 @@ SECTOR = np.deg2rad(12.0)
 #: Mindlin's assumption, as in the axisymmetric model and MDR: on the same mesh, the pair of the
 #: two isolates the effect of the direction from the discretisation error)
 TRACTIONS = ("free", "x")
+#: largest |tilt| (rad): the tilted gap theta * x is the small-slope linearisation of the rotation
+#: (cos theta = 1 within 5e-5); the paper's bound on its flat faces' tilt is pi/3600 = 8.7e-4 rad
+TILT_MAX = 1e-2
 #: default block radius and height / a_ref (the Cerruti mean shear of a 20 a block is +3 %
 #: of the half-space's; it is a series compliance, see the module docstring)
 BLOCK_SIZE_DEFAULT = 20.0
@@ -88,6 +101,13 @@ def _qy_zero(mi, traction) -> np.ndarray:
     return mi.on_plane if traction == "free" else np.ones(mi.n, dtype=bool)
 
 
+def _check_tilt(tilt) -> float:
+    if np.ndim(tilt) != 0 or not np.isfinite(tilt) or abs(float(tilt)) > TILT_MAX:
+        raise InputError(f"tilt must be one finite number in [-{TILT_MAX:g}, {TILT_MAX:g}] rad (small slopes), "
+                         f"got {tilt!r}")
+    return float(tilt)
+
+
 @dataclass(frozen=True)
 class FE3DState:
     """History of the 3D law: tractions ``q`` (n, 2) and pressures ``p`` (n,) at the vertices (Pa),
@@ -103,7 +123,7 @@ class FE3DState:
 @dataclass(frozen=True)
 class Normal3D:
     """Normal contact at one load: vertex pressures ``p`` (Pa), full-body force ``force`` (N),
-    plate ``approach`` (m), ``contact_radius`` (m, :meth:`FEContact3D._edge_radius`)."""
+    plate ``approach`` (m), ``contact_radius`` (m, :meth:`FEContact3D._contact_radius`)."""
 
     p: np.ndarray
     force: float
@@ -115,26 +135,37 @@ class Normal3D:
 class FEContact3D:
     """3D FE contact law of one profile (see the module docstring for the model).
 
-    ``profile``: Sphere or TruncatedSphere; ``materials``; ``mu``;
-    ``F_max`` (N) sizes the mesh (a_ref = the half-space contact radius at F_max);
+    ``profile``: Sphere, TruncatedSphere or FlatPunch; ``materials``; ``mu``;
+    ``F_max`` (N) sizes the mesh (a_ref = the half-space contact radius at F_max; the flat
+    punch: a_ref = b, F_max optional);
     ``h_contact`` element size on the contact half disk / a_ref (range
-    ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref;
+    ``meshes.half3d.H_CONTACT_3D_RANGE``); ``contact_extent`` contact disk radius / a_ref
+    (default 1.25; the flat punch: 1, its face, and nothing else is accepted);
     ``block_size`` block radius and height (m; default ``BLOCK_SIZE_DEFAULT`` a_ref);
-    ``cache_dir``; ``backend`` (sparse solver); ``traction`` (``TRACTIONS``); ``coupling``
-    (False: a dissimilar pair's normal-tangential coupling left out, as in MDR and Mindlin's
-    theory; the pressure then never feels the tangential traction).
+    ``tilt`` (rad, module docstring); ``cache_dir``; ``backend`` (sparse solver); ``traction``
+    (``TRACTIONS``); ``coupling`` (False: a dissimilar pair's normal-tangential coupling left out,
+    as in MDR and Mindlin's theory; the pressure then never feels the tangential traction).
     """
 
     stick_onset = 0.5
     batch = ()
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
-                 h_contact=H_CONTACT_3D_DEFAULT, contact_extent=1.25, block_size=None,
-                 cache_dir=None, backend=None, displacement="plate", traction="free", coupling=True):
-        if not isinstance(profile, (Sphere, TruncatedSphere)):
+                 h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
+                 cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True):
+        if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
-            raise InputError(f"profile must be sphere or truncated for the 3D model, got {kind!r}")
+            raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
         self.profile = profile
+        self.flat = flat = isinstance(profile, FlatPunch)
+        self.tilt = _check_tilt(tilt)
+        if flat:
+            if contact_extent is not None and contact_extent != 1.0:
+                raise InputError("contact_extent is the punch face for the flat punch (1, its radius b); got "
+                                 f"{contact_extent!r}")
+            contact_extent = 1.0
+        elif contact_extent is None:
+            contact_extent = 1.25
         self.materials = m = materials if materials is not None else Materials()
         if displacement not in ("contact", "plate"):
             raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
@@ -143,18 +174,21 @@ class FEContact3D:
         if np.ndim(mu) != 0:
             raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
         self.mu = float(nonnegative("mu", mu))
-        if F_max is None:
+        if F_max is None and not flat:
             raise InputError("FEContact3D needs F_max (> 0, the largest normal force) to size its mesh")
-        self.F_max = float(positive("F_max", F_max))
+        self.F_max = None if F_max is None else float(positive("F_max", F_max))
         if not H_CONTACT_3D_RANGE[0] <= h_contact <= H_CONTACT_3D_RANGE[1]:
             raise InputError(f"h_contact must be in [{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}] for the "
                              f"3D model, got {h_contact!r}")
         desc = profile.describe()
         kind = desc["profile"]
-        a_ref = reference_radius(kind, desc.get("R"), float(desc.get("b") or 0.0), self.F_max, m.E_star)
+        b = float(desc.get("b") or 0.0)
+        a_ref = reference_radius(kind, desc.get("R"), b, self.F_max, m.E_star)
         L = BLOCK_SIZE_DEFAULT * a_ref if block_size is None else float(positive("block_size", block_size))
         t0 = time.perf_counter()
-        params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L)
+        edge = b / a_ref if b > 0 and not flat else None  # the flat face's edge: a circle of the mesh
+        params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
+                                  edge=edge)
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()
@@ -181,9 +215,16 @@ class FEContact3D:
         #: compressible one (steel on aluminium: +0.11)
         G1, G2 = m.G1, m.G2
         self.beta = 0.5 * ((1 - 2 * m.nu2) / G2 - (1 - 2 * m.nu1) / G1) / ((1 - m.nu2) / G2 + (1 - m.nu1) / G1)
-        with np.errstate(invalid="ignore"):
-            f = np.asarray(profile.f(mi.nodes.r), dtype=float)
-        self.g0 = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
+        if flat:  # every node of the candidate disk (the punch face, its faceted rim included) is on the face
+            f = np.zeros(mi.nodes.m)
+        else:
+            with np.errstate(invalid="ignore"):
+                f = np.asarray(profile.f(mi.nodes.r), dtype=float)
+        self.g0_aligned = mi.B @ f  # the profile in the P2 space, weighted by the P1 hats
+        self._g_tilt = mi.B @ mi.nodes.x  # the weighted gap of a unit tilt, theta x (exact in the P2 space)
+        self.g0 = self.g0_aligned + self.tilt * self._g_tilt
+        #: vertices on the symmetry plane by increasing x (the contact's extent along x)
+        self._plane = np.flatnonzero(mi.on_plane)[np.argsort(mi.x[mi.on_plane])]
         #: vertices whose q_y is held at zero: the symmetry plane, or every vertex under Mindlin's
         #: assumption (``traction="x"``)
         self._qy_zero = _qy_zero(mi, traction)
@@ -191,12 +232,19 @@ class FEContact3D:
         xm = np.flatnonzero(mi.on_plane & (mi.x <= 0))
         phi = np.arctan2(mi.y, mi.x)
         ys = np.flatnonzero((np.abs(phi - np.pi / 2) <= SECTOR) | (mi.r == 0))
+        self._ys = ys
         self._rays = {"+x": xp[np.argsort(mi.x[xp])], "-x": xm[np.argsort(-mi.x[xm])],
                       "y": ys[np.argsort(mi.r[ys])]}
+        tri = np.searchsorted(mi.vertices, mesh.facets[:, mesh.boundaries["contact"]])  # (3, k) vertex positions
+        e = np.concatenate([tri[[0, 1]], tri[[1, 2]], tri[[2, 0]]], axis=1)
+        self._adj = sp.coo_matrix((np.ones(e.shape[1]), (e[0], e[1])), shape=(mi.n, mi.n)).tocsr()
+        self._rim = mi.r >= (1 - 1e-6) * float(mi.r.max())
         self._normal_cache = {}
         self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "normal_solves": 0}
-        #: the bodies' series compliance (m/N) at F_max: plate displacement = contact + c_bulk F_x
-        self.c_bulk = self.plate_bulk_compliance(self.F_max)
+        #: the bodies' series compliance (m/N) at F_max (the flat punch: its face): plate displacement
+        #: = contact + c_bulk F_x
+        self.c_bulk = self.plate_bulk_compliance(self.F_max) if self.F_max is not None else \
+            self._bulk_scalar(np.ones(mi.n, dtype=bool))
         if displacement == "contact":  # u measured without it: s = u_c A e_x - (Dt - 2 c_bulk A A^T) q
             Dt = self.rf.Dt.copy()
             Dt[:mi.n, :mi.n] -= 2.0 * self.c_bulk * np.outer(mi.A, mi.A)
@@ -225,8 +273,11 @@ class FEContact3D:
         (> 0). Uses no half-space contact stiffness. The y tractions' share is left out (at most
         the traction angle, ~0.1, times a term odd in y that the mirror halves cancel to leading
         order)."""
+        return self._bulk_scalar(self.normal(F_N=float(positive("F_N", F_N))).p > 0)
+
+    def _bulk_scalar(self, c) -> float:
+        """c_bulk weighted by the full-stick x tractions on the vertices ``c`` (plate measure)."""
         mi = self.mi
-        c = self.normal(F_N=float(positive("F_N", F_N))).p > 0
         q = np.linalg.solve(self._Dt_plate[:mi.n, :mi.n][np.ix_(c, c)], mi.A[c])
         return float(self.bulk["x"][c] @ q / (2.0 * mi.A[c] @ q))
 
@@ -236,19 +287,26 @@ class FEContact3D:
         (``fem.bulk.normal_indentation`` in 3D)."""
         return float(nr.approach - self.bulk["z"] @ nr.p)
 
-    def variant(self, *, traction=None, coupling=None) -> "FEContact3D":
-        """The same model (mesh, flexibilities, probes: nothing is rebuilt) with another ``traction``
-        or ``coupling``, so the pair of runs isolates that assumption from the discretisation."""
+    def variant(self, *, traction=None, coupling=None, tilt=None) -> "FEContact3D":
+        """The same model (mesh, flexibilities, probes shared, not copied: nothing is rebuilt) with
+        another ``traction``, ``coupling`` or ``tilt`` (rad): the pair of runs isolates that
+        assumption from the discretisation, and a tilt sweep pays for one set-up."""
         import copy
 
         new = copy.copy(self)
         new.traction, new.coupling = _check_assumptions(self.traction if traction is None else traction,
                                                         self.coupling if coupling is None else coupling)
         new._qy_zero = _qy_zero(self.mi, new.traction)
-        new._normal_cache = dict(self._normal_cache)
-        new.stats = {k: 0 for k in self.stats}
+        new.tilt = self.tilt if tilt is None else _check_tilt(tilt)
+        new.g0 = self.g0_aligned + new.tilt * self._g_tilt
+        new._normal_cache = dict(self._normal_cache) if new.tilt == self.tilt else {}
+        new.stats = dict.fromkeys(self.stats, 0)
         new.last_run = None
         return new
+
+    def tilted(self, tilt) -> "FEContact3D":
+        """The same law at another tilt (rad): ``variant(tilt=tilt)``."""
+        return self.variant(tilt=tilt)
 
     # ----------------------------------------------------------------- info
     @property
@@ -266,7 +324,7 @@ class FEContact3D:
 
     def describe(self) -> dict:
         return {"law": "fem3d", "dofs": self.ndofs, "vertices": self.n, "displacement": self.displacement,
-                "traction": self.traction, "coupling": self.coupling,
+                "traction": self.traction, "coupling": self.coupling, "tilt": self.tilt,
                 "mesh": dict(self.hmesh.params.as_dict(), key=self.hmesh.key), "backend": self.backend}
 
     def mesh_summary(self) -> dict:
@@ -280,25 +338,93 @@ class FEContact3D:
         return FE3DState(q=z2, P=z2, p=z, u=0.0, d=0.0)
 
     # ----------------------------------------------------------------- normal
-    def normal(self, *, F_N=None, d=None) -> Normal3D:
-        """Normal contact at full-body force F_N (> 0) or plate approach d, cached per value."""
+    def normal(self, *, F_N=None, d=None, aligned=False) -> Normal3D:
+        """Normal contact at full-body force F_N (> 0) or plate approach d, cached per value;
+        ``aligned``: without the tilt (the reference of ``contact_area_fraction``)."""
         key = ("F", float(f"{F_N:.13g}")) if F_N is not None else ("d", float(f"{d:.13g}"))
+        aligned = aligned or self.tilt == 0.0
+        key = key + ("aligned",) if aligned else key
         res = self._normal_cache.get(key)
         if res is None:
             mi = self.mi
+            g0 = self.g0_aligned if aligned else self.g0
             with blas_threads(1):
-                p, dd, _, it = solve_normal3d(self.rf.Dn, self.g0, mi.A, force=None if F_N is None else F_N / 2,
+                p, dd, _, it = solve_normal3d(self.rf.Dn, g0, mi.A, force=None if F_N is None else F_N / 2,
                                               approach=d)
             self._check_rim(p)
-            a = self._edge_radius(p)
+            a = self._contact_radius(p, aligned)
             res = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd), contact_radius=a, iterations=it)
             self._normal_cache[key] = res
             self.stats["normal_solves"] += 1
         return res
 
+    def _contact_radius(self, p, aligned) -> float:
+        """The contact radius: of the aligned flat punch its radius b (once in contact), of an aligned
+        sphere or truncated sphere :meth:`_edge_radius`; of a tilted contact the half-width of its
+        extent along x (:meth:`contact_extent_x`)."""
+        if not np.any(p > 0):
+            return 0.0
+        if aligned and self.flat:
+            return float(self.profile.b)
+        if aligned:
+            return self._edge_radius(p)
+        x0, x1 = self.contact_extent_x(p)
+        return 0.5 * (x1 - x0)
+
+    def contact_extent_x(self, p) -> tuple:
+        """(x_min, x_max) of the contact along the symmetry plane (m): the outermost loaded vertices
+        on y = 0, each moved towards the free vertex beyond it to the zero of p^2 extrapolated
+        linearly from the last two loaded vertices (p ~ sqrt of the distance to a smooth edge,
+        as in :meth:`_edge_radius`), clipped to that interval; at the rim of the candidate disk
+        the rim. Assumes the loaded vertices on the plane form one interval."""
+        pl = self._plane
+        x, pp = self.mi.x[pl], p[pl]
+        k = np.flatnonzero(self.contact_mask(p)[pl])
+        if k.size == 0:
+            return 0.0, 0.0
+        ends = []
+        for j, step in ((k[0], -1), (k[-1], 1)):
+            xe = float(x[j])
+            if 0 <= j + step < x.size and 0 <= j - step < x.size and pp[j - step] > 0:
+                w1, w2 = pp[j] ** 2, pp[j - step] ** 2
+                if w2 > w1:
+                    xr = x[j] + w1 * (x[j] - x[j - step]) / (w2 - w1)
+                    lo, hi = sorted((float(x[j]), float(x[j + step])))
+                    xe = float(np.clip(xr, lo, hi))
+            ends.append(xe)
+        return ends[0], ends[1]
+
+    def contact_mask(self, p) -> np.ndarray:
+        """The vertices in contact: the loaded ones (p > 0) and the free ones enclosed by them, i.e.
+        the connected sets of free vertices (along the contact facets' edges) that reach no vertex
+        of the candidate disk's rim. The filling is for the flat punch: its P1 pressure oscillates
+        next to the singular edge, and the Signorini solution leaves a few vertices of the ring
+        next to the rim at zero pressure (with a weighted gap below 0.5 % of d A_j at b/5) inside
+        a contact that the theory has complete."""
+        from scipy.sparse.csgraph import connected_components
+
+        free = ~(p > 0)
+        if not np.any(free):
+            return ~free
+        idx = np.flatnonzero(free)
+        _, lab = connected_components(self._adj[idx][:, idx], directed=False)
+        open_ = np.unique(lab[self._rim[idx]])
+        mask = ~free
+        mask[idx[~np.isin(lab, open_)]] = True
+        return mask
+
+    def contact_area(self, p) -> float:
+        """Contact area of the full body (m^2): twice the sum of the vertex areas A_j (the
+        integrals of the P1 hats) of the vertices in contact (:meth:`contact_mask`), i.e. the
+        contact edge half way between a loaded and a free vertex (first order in the element
+        size)."""
+        return 2.0 * float(self.mi.A[self.contact_mask(p)].sum())
+
     def _check_rim(self, p):
         """A contact that reaches the rim of the meshed contact disk is an error, never a silent
-        truncation."""
+        truncation (the flat punch: its rim is the punch edge, where contact belongs)."""
+        if self.flat:
+            return
         rim = float(self.mi.r.max())
         if np.any(p[self.mi.r >= 0.999 * rim] > 0):
             raise ConvergenceError(f"the contact reaches the rim of the contact disk (r = {rim:.4g} m): raise "
@@ -352,7 +478,7 @@ class FEContact3D:
                 self.stats["normal_solves"] += 1
                 self._check_rim(p)
                 nr = Normal3D(p=p, force=2.0 * float(mi.A @ p), approach=float(dd),
-                              contact_radius=self._edge_radius(p), iterations=0)
+                              contact_radius=self._contact_radius(p, self.tilt == 0.0), iterations=0)
                 g = self.mu * p
             else:
                 nr = (self.normal(F_N=F_N) if F_N is not None else self.normal(d=d)) if touching else None
@@ -376,7 +502,8 @@ class FEContact3D:
         slipping = ~contact | at_limit(slack, g)
         ray = self._rays["+x"]
         a = nr.contact_radius if nr is not None else 0.0
-        c = float(per_step(mi.x[ray], slack[ray], slipping[ray], a, self.stick_onset))
+        a_x = self._ray_caps(p, a)["+x"]
+        c = float(per_step(mi.x[ray], slack[ray], slipping[ray], a_x, self.stick_onset))
         self.stats["steps"] += 1
         self.stats["trial_solves"] += 1
         self.stats["newton"] += res.iterations
@@ -415,6 +542,16 @@ class FEContact3D:
         return H
 
     # ------------------------------------------------------------------ 3D keys
+    def _ray_caps(self, p, a) -> dict:
+        """The contact's extent along each stick ray (m), the cap of its stick extent: ``a`` for
+        every ray of an aligned contact; of a tilted one x_max, -x_min (``contact_extent_x``) and
+        the outermost loaded vertex within ``SECTOR`` of the y axis."""
+        if self.tilt == 0.0:
+            return {"+x": a, "-x": a, "y": a}
+        x0, x1 = self.contact_extent_x(p)
+        ly = self._ys[self.contact_mask(p)[self._ys]]
+        return {"+x": max(x1, 0.0), "-x": max(-x0, 0.0), "y": float(self.mi.r[ly].max()) if ly.size else 0.0}
+
     def stick_zone(self, q, p, a) -> dict:
         """Stick extents of one instant (m): ``stick_radius_x`` (mean of +x and -x),
         ``stick_center_x`` (their half difference), ``stick_radius_y``; ``traction_angle_max``,
@@ -427,9 +564,10 @@ class FEContact3D:
         slack = np.where(contact, g - qn, 0.0)
         slipping = ~contact | at_limit(slack, g)
         ext = {}
+        caps = self._ray_caps(p, a)
         for name, ray in self._rays.items():
             r = np.abs(mi.x[ray]) if name != "y" else mi.r[ray]
-            ext[name] = float(per_step(r, slack[ray], slipping[ray], a, self.stick_onset))
+            ext[name] = float(per_step(r, slack[ray], slipping[ray], caps[name], self.stick_onset))
         slip = contact & slipping
         ang = float(np.max(np.abs(q[slip, 1]) / qn[slip])) if np.any(slip) else 0.0
         w = mi.A * p
@@ -437,22 +575,27 @@ class FEContact3D:
                 "stick_radius_y": ext["y"], "traction_angle_max": ang,
                 "pressure_center_x": float(w @ mi.x / w.sum()) if w.sum() > 0 else 0.0}
 
-    def result_keys(self, F_N, t0, t1, t2) -> dict:
+    def result_keys(self, F_N, t0, t1, t2, F_peak=None) -> dict:
         """The keys a 3D run adds (``python -m fem contact --model 3d``): the FE's own contact radius
         and approach at F_N without tangential traction (for a dissimilar pair the run's coupled
         steps differ slightly: see ``pressure_center_x``),
-        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s``; from the last run:
+        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s``; ``tilt``, and at the
+        peak normal force ``F_peak`` (default F_N) without tangential traction
+        ``contact_area_fraction`` (:meth:`contact_area` over that of the punch face, pi b^2 up to
+        the faceting of the meshed rim, for the flat punch; over the aligned contact's for a
+        sphere or truncated sphere, the same estimator) and ``contact_x_min``, ``contact_x_max``
+        (:meth:`contact_extent_x`); from the last run:
         ``stick_radius_x``, ``stick_radius_y`` and ``traction_angle_max`` at the peak of F_x of its
         recorded window (the last cycle), ``stick_center_x`` and ``pressure_center_x`` at its first
         peak of F_x (the first local maximum)."""
         nr = self.normal(F_N=F_N)
         out = {"contact_radius": nr.contact_radius, "approach": nr.approach, "indentation": self.indentation(nr),
                "bulk_compliance": self.c_bulk, "displacement": self.displacement, "traction": self.traction,
-               "coupling": self.coupling,
-               "dofs": self.ndofs,
-               "vertices": self.n, "beta": self.beta, "mesh": self.mesh_summary(),
+               "coupling": self.coupling, "dofs": self.ndofs, "vertices": self.n, "beta": self.beta,
+               "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},
                "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
+        out.update(self.tilt_keys(F_N if F_peak is None else F_peak))
         run = self.last_run
         if run and run["q"]:
             Fx = np.asarray(run["Fx"])
@@ -465,3 +608,12 @@ class FEContact3D:
             z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])
             out.update({"stick_center_x": z1["stick_center_x"], "pressure_center_x": z1["pressure_center_x"]})
         return out
+
+    def tilt_keys(self, F_N) -> dict:
+        """``tilt``, ``contact_area_fraction``, ``contact_x_min``, ``contact_x_max`` at the normal
+        force F_N without tangential traction (see :meth:`result_keys`)."""
+        nr = self.normal(F_N=F_N)
+        ref = float(2.0 * self.mi.A.sum()) if self.flat else self.contact_area(self.normal(F_N=F_N, aligned=True).p)
+        x0, x1 = self.contact_extent_x(nr.p)
+        return {"tilt": self.tilt, "contact_area_fraction": self.contact_area(nr.p) / ref,
+                "contact_x_min": x0, "contact_x_max": x1}

@@ -87,12 +87,12 @@ class ContactZoneParams:
     def r_contact(self) -> float:
         return self.contact_extent * self.a_ref
 
-    def _check_zone(self, h_range, optional_sizes):
-        """a_ref > 0, h_contact in ``h_range``, contact_extent in (1, 5], growth in [0.02, 1],
-        each of ``optional_sizes`` positive when given."""
+    def _check_zone(self, h_range, optional_sizes, extent_min_closed=False):
+        """a_ref > 0, h_contact in ``h_range``, contact_extent in (1, 5] ([1, 5] with
+        ``extent_min_closed``), growth in [0.02, 1], each of ``optional_sizes`` positive when given."""
         positive("a_ref", self.a_ref)
         in_range("h_contact", self.h_contact, *h_range)
-        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=True)
+        in_range("contact_extent", self.contact_extent, 1.0, 5.0, lo_open=not extent_min_closed)
         in_range("growth", self.growth, 0.02, 1.0)
         for name in optional_sizes:
             v = getattr(self, name)

@@ -10,7 +10,10 @@ contact centred at the origin; all lengths in m):
 - ``shape="box"``: x in [-size, size], y in [0, size], z in [-height, 0].
 
 The candidate contact zone is the half disk r <= ``contact_extent * a_ref``
-(default 1.25 a_ref) of the top face, its own gmsh surface. Tetrahedra are
+(default 1.25 a_ref) of the top face, its own gmsh surface. ``edge`` (radius / a_ref,
+optional) embeds the half circle r = edge * a_ref in it (the half disk is split into the
+inner half disk and the annulus), so that vertices lie on the edge of a flat face, where
+the gap has its kink and the pressure its singularity (truncated sphere, flat punch). Tetrahedra are
 graded from ``h_min = h_contact * a_ref`` on that half disk to ``h_max`` far
 away: a gmsh ``Distance`` field from the half disk and a ``Threshold`` field,
 ``h = h_min`` on the disk, growing linearly with the distance d,
@@ -65,7 +68,11 @@ class Half3DMeshParams(ContactZoneParams):
     ``contact_extent`` radius of the contact disk / a_ref in (1, 5];
     ``size`` block radius (cylinder) or half-width (box), ``height`` its depth
     (default 20 a_ref each, > 2 * contact_extent * a_ref); ``growth`` in
-    [0.02, 1]; ``h_max`` far-field size (default size / 4, >= h_min).
+    [0.02, 1]; ``h_max`` far-field size (default size / 4, >= h_min); ``edge`` radius of
+    an embedded half circle / a_ref in (0, contact_extent] (None: none; equal to
+    contact_extent: the rim itself, nothing to embed). The contact extent may be 1 here
+    (the flat punch: the candidate disk is the punch face). ``edge=None`` is left out of
+    :meth:`as_dict`, so the meshes without an edge keep their cache keys.
     """
 
     a_ref: float
@@ -76,18 +83,23 @@ class Half3DMeshParams(ContactZoneParams):
     height: float | None = None
     growth: float = 0.3
     h_max: float | None = None
+    edge: float | None = None
 
     def __post_init__(self):
         if self.shape not in SHAPES:
             raise InputError(f"shape must be one of {', '.join(SHAPES)}; got {self.shape!r}")
-        self._check_zone(H_CONTACT_3D_RANGE, ("size", "height", "h_max"))
+        self._check_zone(H_CONTACT_3D_RANGE, ("size", "height", "h_max"), extent_min_closed=True)
+        if self.edge is not None and not (np.ndim(self.edge) == 0 and 0 < self.edge <= self.contact_extent):
+            raise InputError(f"edge must be in (0, contact_extent = {self.contact_extent:g}] (the flat face's edge "
+                             f"radius / a_ref inside the candidate disk), got {self.edge!r}")
 
     def resolved(self) -> "Half3DMeshParams":
         L = self.size if self.size is not None else 20.0 * self.a_ref
         H = self.height if self.height is not None else L
         hmax = self.h_max if self.h_max is not None else max(L, H) / 4.0
         p = Half3DMeshParams(float(self.a_ref), float(self.h_contact), float(self.contact_extent),
-                             self.shape, float(L), float(H), float(self.growth), float(hmax))
+                             self.shape, float(L), float(H), float(self.growth), float(hmax),
+                             None if self.edge is None else float(self.edge))
         rc = p.r_contact
         if p.size <= 2.0 * rc:
             raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
@@ -96,8 +108,18 @@ class Half3DMeshParams(ContactZoneParams):
         p._check_h_max()
         return p
 
+    @property
+    def r_edge(self) -> float | None:
+        """Radius of the embedded half circle (m), None without one or when it is the rim."""
+        if self.edge is None or self.edge >= self.contact_extent * (1 - 1e-12):
+            return None
+        return self.edge * self.a_ref
+
     def as_dict(self) -> dict:
-        return asdict(self)
+        d = asdict(self)
+        if d["edge"] is None:
+            del d["edge"]
+        return d
 
 
 @dataclass
@@ -140,7 +162,7 @@ def _generate(p: Half3DMeshParams):
     would allow the surface classification."""
     unit = p.a_ref
     p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
-                         p.h_max / unit)
+                         p.h_max / unit, p.edge)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -161,7 +183,13 @@ def _generate(p: Half3DMeshParams):
             disk = occ.addDisk(0, 0, 0, rc, rc)
             cut2 = occ.addRectangle(-2 * rc, -2 * rc, 0, 4 * rc, 2 * rc)
             (hdisk,), _ = occ.cut([(2, disk)], [(2, cut2)])
-            occ.fragment([vol], [hdisk])
+            tools = [hdisk]
+            if p.r_edge is not None:  # the inner half disk r <= edge: splits the contact half disk
+                inner = occ.addDisk(0, 0, 0, p.r_edge, p.r_edge)
+                cut3 = occ.addRectangle(-2 * rc, -2 * rc, 0, 4 * rc, 2 * rc)
+                (hin,), _ = occ.cut([(2, inner)], [(2, cut3)])
+                tools.append(hin)
+            occ.fragment([vol], tools)
             occ.synchronize()
             vols = gmsh.model.getEntities(3)
             if len(vols) != 1:

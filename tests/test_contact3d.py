@@ -215,7 +215,7 @@ def test_law3d_fretting_run(law3d):
 
 
 @pytest.mark.parametrize("flags,msg", [
-    (["--profile", "flat", "--b", "1e-4"], "sphere or truncated"),
+    (["--profile", "sphere", "--R", "6e-3", "--tilt", "0.5"], "tilt must be"),
     (["--profile", "sphere", "--R", "6e-3", "--block-size", "2e-5"], "size must be >"),
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),

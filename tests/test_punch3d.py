@@ -1,0 +1,299 @@
+"""The 3D half model with a flat face: the truncated sphere's edge as a circle of the mesh, the
+flat punch and the tilted flat face (fem.law3d).
+
+Closed forms (half-space, identical steel bodies): the truncated sphere's normal contact is exact
+in the MDR (mdr.normal; Ciavarella, Hills & Monno 1998, Proc. IMechE C 212, 319); the flat punch
+of radius b: Boussinesq's pressure p = F / (2 pi b sqrt(b^2 - r^2)), and tilted by theta about y
+(theta > 0 lifts the +x side) at a central force F
+
+    p sqrt(b^2 - r^2) = F / (2 pi b) - (2 E* / pi) theta x,   moment M_y = int p x dA = -(4/3) E* theta b^3,
+
+in full contact while theta <= theta_c = F / (4 E* b^2) (Johnson 1985, Contact Mechanics, sec. 5.2).
+The finite bodies' compliance changes the approach (never compared here) but neither the force
+nor, to O((b/L)^2) for a block of size L = 20 b, the pressure at a given force: every check is at
+the force. Under a tangential force Q < mu F the flat punch sticks completely (q/p = Q/F wherever
+the Cattaneo-Mindlin assumptions hold; the MDR law gives c = b) and slides as a whole at mu F.
+"""
+import numpy as np
+import pytest
+
+from fem.law3d import FEContact3D
+from mdr import normal as mn
+from mdr import reference as ref
+from mdr.errors import InputError
+from mdr.materials import Materials
+from mdr.profiles import FlatPunch, TruncatedSphere
+
+MAT = Materials()
+ES = MAT.E_star
+F, MU = 0.5, 0.2
+R, B_T = 6e-3, 20e-6  # truncated sphere (Table 2 loading F0 = 0.5 N)
+B_F = 100e-6  # flat punch
+THC = F / (4 * ES * B_F**2)  # 1.14e-4 rad
+
+
+def _lattice(n=16):
+    """Barycentric points of the n^2 sub-triangles' centroids (equal weights): a composite rule that
+    tolerates the log and inverse-square-root singularities of the exact pressures."""
+    pts = [((i + 1 / 3) / n, (j + 1 / 3) / n) for i in range(n) for j in range(n - i)]
+    pts += [((i + 2 / 3) / n, (j + 2 / 3) / n) for i in range(n) for j in range(n - i) if i + j < n - 1]
+    L = np.array(pts)
+    return np.column_stack([L, 1 - L.sum(1)])
+
+
+def _quadrature(law, p):
+    """Points (r), weights and the P1 pressure field there, over the contact half disk."""
+    mi, m = law.mi, law.hmesh.mesh
+    tri = m.facets[:, m.boundaries["contact"]].T
+    X = m.p[:2, tri]
+    lam = _lattice()
+    area = 0.5 * np.abs((X[0, :, 1] - X[0, :, 0]) * (X[1, :, 2] - X[1, :, 0])
+                        - (X[0, :, 2] - X[0, :, 0]) * (X[1, :, 1] - X[1, :, 0]))
+    xq = np.einsum("qv,ckv->ckq", lam, X)
+    ph = np.einsum("qv,kv->kq", lam, p[np.searchsorted(mi.vertices, tri)])
+    return np.hypot(xq[0], xq[1]), area[:, None] / lam.shape[0], ph
+
+
+# ------------------------------------------------------------------ truncated sphere: the edge in the mesh
+
+
+@pytest.fixture(scope="module")
+def truncated(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("m3d-trunc")
+    return {h: FEContact3D(TruncatedSphere(R, B_T), MAT, MU, F_max=F, h_contact=h, cache_dir=cache)
+            for h in (0.3, 0.2)}
+
+
+def test_truncated_sphere_edge_is_a_mesh_circle(truncated):
+    a_ref = ref.truncated_contact_radius(F, R, B_T, ES)
+    for law in truncated.values():
+        assert law.hmesh.params.edge == pytest.approx(B_T / a_ref, rel=1e-12)
+        on_edge = np.abs(law.mi.r - B_T) < 1e-9 * B_T
+        assert on_edge.sum() >= 8 and np.sum(on_edge & law.mi.on_plane) == 2  # (+-b, 0) and the arc
+    # meshes without an edge keep their parameters, hence their cache keys
+    from meshes.half3d import Half3DMeshParams
+
+    assert "edge" not in Half3DMeshParams(a_ref=1.0).resolved().as_dict()
+
+
+def test_truncated_sphere_against_mdr(truncated):
+    """Contact radius and pressure at F = 0.5 N against the exact axisymmetric solution (MDR).
+    Measured (h = a/3.3, a/5): contact radius -2.6 %, -3.4 % (without the edge circle -5.0 %,
+    -3.9 %); relative L1 error of the pressure over the half disk 0.227, 0.133 (a/6.7: 0.105,
+    a/10: 0.079)."""
+    prof = TruncatedSphere(R, B_T)
+    a_ex = ref.truncated_contact_radius(F, R, B_T, ES)
+    d_ex = float(mn.approach_from_force(prof, MAT, F))
+    err = {}
+    for h, law in truncated.items():
+        nr = law.normal(F_N=F)
+        assert abs(nr.contact_radius / a_ex - 1) < 0.07
+        r, w, ph = _quadrature(law, nr.p)
+        pe = mn.pressure(prof, MAT, d_ex, r.ravel()).reshape(r.shape)
+        err[h] = float(np.sum(w * np.abs(ph - pe)) / np.sum(w * pe))
+    assert err[0.2] < err[0.3] < 0.45 and err[0.2] < 0.27
+
+
+# ------------------------------------------------------------------ flat punch
+
+
+@pytest.fixture(scope="module")
+def punch(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("m3d-flat")
+    return {h: FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=h, cache_dir=cache) for h in (0.3, 0.2)}
+
+
+def test_flat_punch_mesh_and_input(punch):
+    law = punch[0.2]
+    p = law.hmesh.params
+    assert p.a_ref == B_F and p.contact_extent == 1.0
+    assert np.max(law.mi.r) == pytest.approx(B_F, rel=1e-9)
+    assert np.all(law.g0 == 0)
+    with pytest.raises(InputError, match="contact_extent"):
+        FEContact3D(FlatPunch(B_F), MAT, MU, contact_extent=1.25)
+    for bad in (0.02, np.nan, np.inf, [1e-4]):
+        with pytest.raises(InputError, match="tilt must be"):
+            law.tilted(bad)
+
+
+def test_flat_punch_boussinesq_pressure(punch):
+    """The share of F carried within r <= rho, 1 - sqrt(1 - rho^2/b^2) for Boussinesq: measured
+    within 5.1 % at b/5 for rho <= 0.8 b (b/10: 2.4 %). The approach is not compared (finite
+    bodies: -5.2 % against the half-space)."""
+    law = punch[0.2]
+    nr = law.normal(F_N=F)
+    assert nr.force == pytest.approx(F, rel=1e-12) and nr.contact_radius == B_F
+    assert law.tilt_keys(F)["contact_area_fraction"] == 1.0
+    r, w, ph = _quadrature(law, nr.p)
+    for rho in (0.3, 0.5, 0.7, 0.8):
+        share = 2 * float(np.sum(w * ph * (r <= rho * B_F))) / F
+        assert abs(share / (1 - np.sqrt(1 - rho**2)) - 1) < 0.12, rho
+
+
+def test_flat_punch_sticks_until_gross_slip(punch):
+    """Q < mu F: complete stick along +x (c = b, as the MDR law gives) at Q = 0.5 and 0.9 mu F; the
+    P1 tractions oscillate next to the edge like the pressure, so a few vertices there reach their
+    limit (area share measured 11 % at 0.5 mu F, b/5). Beyond gross slip every vertex slides and
+    F_x -> mu F."""
+    from mdr.law import MDRContact
+
+    mdr_law = MDRContact(FlatPunch(B_F), MAT, MU, F_max=F)
+    res_mdr, _ = mdr_law.step(mdr_law.rest_state(), Fx=0.5 * MU * F, F_N=F)
+    assert res_mdr.c == pytest.approx(B_F, rel=1e-12)
+    law = punch[0.2]
+    for Q in (0.5, 0.9):
+        res, st = law.step(law.rest_state(), Fx=Q * MU * F, F_N=F)
+        assert res.c == pytest.approx(B_F, rel=1e-12)
+    res, st = law.step(law.rest_state(), Fx=0.5 * MU * F, F_N=F)
+    g = MU * np.asarray(st.p)
+    qn = np.hypot(st.q[:, 0], st.q[:, 1])
+    at_limit = (g > 0) & (qn >= g * (1 - 1e-6))
+    assert law.mi.A[at_limit].sum() / law.mi.A.sum() < 0.25
+    us = 20 * MU * ref.flat_punch_approach(F, B_F, ES) * ES / MAT.G_star  # far beyond the gross-slip u
+    res, st = law.step(law.rest_state(), u=us, F_N=F)
+    g = MU * np.asarray(st.p)
+    qn = np.hypot(st.q[:, 0], st.q[:, 1])
+    assert np.allclose(qn[g > 0], g[g > 0], rtol=1e-9) and abs(res.Fx / (MU * F) - 1) < 1e-6
+    with pytest.raises(InputError, match="friction limit"):
+        law.step(law.rest_state(), Fx=MU * F, F_N=F)
+
+
+# ------------------------------------------------------------------ the tilted flat punch
+
+
+def _moment(law, p):
+    """M_y = int p x dA of the full body, exact for the P1 pressure field: over a triangle
+    int p x = area / 12 (sum_i p_i x_i + sum_i p_i sum_j x_j)."""
+    mi, m = law.mi, law.hmesh.mesh
+    tri = m.facets[:, m.boundaries["contact"]].T
+    X = m.p[:2, tri]
+    area = 0.5 * np.abs((X[0, :, 1] - X[0, :, 0]) * (X[1, :, 2] - X[1, :, 0])
+                        - (X[0, :, 2] - X[0, :, 0]) * (X[1, :, 1] - X[1, :, 0]))
+    pv = p[np.searchsorted(mi.vertices, tri)]
+    return 2.0 * float(np.sum(area / 12 * (np.sum(pv * X[0], axis=1) + pv.sum(1) * X[0].sum(1))))
+
+
+def _m_halfspace(theta):
+    return -4.0 / 3.0 * ES * theta * B_F**3
+
+
+def test_tilted_punch_full_contact_below_theta_c(punch):
+    """theta <= theta_c: contact everywhere, the moment and the linear part of p sqrt(b^2 - r^2)
+    against the half-space (neither depends on the approach, so the finite block drops out).
+    Measured at 0.8 theta_c: M / M_hs - 1 = 2.5 %, 2.7 % (b/3.3, b/5; b/10: 1.8 %, b/14: 1.3 %);
+    least-squares line of p sqrt(b^2 - r^2) over r <= 0.7 b at b/5: intercept / (F / 2 pi b)
+    1.008, slope / (-2 E* theta / pi) 1.13."""
+    err = {}
+    for h, law in punch.items():
+        for frac in (0.5, 0.8):
+            tl = law.tilted(frac * THC)
+            nr = tl.normal(F_N=F)
+            keys = tl.tilt_keys(F)
+            assert keys["tilt"] == frac * THC and keys["contact_area_fraction"] == 1.0
+            assert keys["contact_x_min"] == pytest.approx(-B_F, rel=1e-9)
+            assert keys["contact_x_max"] == pytest.approx(B_F, rel=1e-9)
+        err[h] = _moment(tl, nr.p) / _m_halfspace(0.8 * THC) - 1
+    assert all(0 < e < 0.06 for e in err.values()), err
+    tl = punch[0.2].tilted(0.8 * THC)
+    nr = tl.normal(F_N=F)
+    mi = tl.mi
+    sel = mi.r <= 0.7 * B_F
+    c0, c1 = np.linalg.lstsq(np.column_stack([np.ones(sel.sum()), mi.x[sel]]),
+                             nr.p[sel] * np.sqrt(B_F**2 - mi.r[sel] ** 2), rcond=None)[0]
+    assert abs(c0 / (F / (2 * np.pi * B_F)) - 1) < 0.05
+    assert abs(c1 / (-2 * ES * 0.8 * THC / np.pi) - 1) < 0.3
+
+
+def test_tilted_punch_loses_the_trailing_edge(punch):
+    """theta > theta_c: the +x side (lifted) separates, the -x rim stays loaded; the contact area
+    fraction and the trailing extent fall monotonically with the tilt. Measured at b/5:
+    fraction 0.90, 0.76, 0.60, 0.35, 0.23, 0.13 at 1.2, 1.5, 2, 3, 4, 6 theta_c; x_max
+    0.60 b at 1.2 theta_c (b/3.3: 0.61 b)."""
+    for law in punch.values():
+        fr, xm = [], []
+        for k in (1.25, 1.5, 2.0, 3.0, 4.0, 6.0):
+            keys = law.tilted(k * THC).tilt_keys(F)
+            assert keys["contact_x_min"] == pytest.approx(-B_F, rel=1e-9)
+            fr.append(keys["contact_area_fraction"])
+            xm.append(keys["contact_x_max"])
+        assert xm[0] < 0.9 * B_F and fr[0] < 1.0
+        assert np.all(np.diff(fr) < 0) and np.all(np.diff(xm) <= 0), (fr, xm)
+    # the sign convention: theta < 0 lifts the -x side, the mirror image
+    a = punch[0.2].tilted(2 * THC).tilt_keys(F)
+    b = punch[0.2].tilted(-2 * THC).tilt_keys(F)
+    assert b["contact_x_max"] == pytest.approx(B_F, rel=1e-9)
+    assert abs(b["contact_area_fraction"] - a["contact_area_fraction"]) < 0.05
+
+
+@pytest.mark.slow
+def test_tilted_punch_mesh_convergence(tmp_path):
+    """One tilted case at two mesh levels (b/5, b/10): the contact area fraction at 2 theta_c
+    (measured 0.603, 0.616; b/14: 0.619) and the moment at 0.5 theta_c (M / M_hs - 1: 2.48 %,
+    1.80 %; b/14: 1.25 %)."""
+    out = {}
+    for h in (0.2, 0.1):
+        law = FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=h, cache_dir=tmp_path)
+        half = law.tilted(0.5 * THC)
+        out[h] = (law.tilted(2 * THC).tilt_keys(F)["contact_area_fraction"],
+                  _moment(half, half.normal(F_N=F).p) / _m_halfspace(0.5 * THC) - 1)
+    assert abs(out[0.1][0] - out[0.2][0]) < 0.04
+    assert 0.4 < out[0.1][0] < 0.8
+    assert 0 < out[0.1][1] < out[0.2][1] and out[0.1][1] < 0.04
+
+
+# ------------------------------------------------------------------ the command
+
+
+def test_cli_tilted_flat_punch(tmp_path, capsys):
+    import json
+
+    from fem.cli import main
+
+    js = tmp_path / "out.json"
+    argv = ["contact", "--model", "3d", "--profile", "flat", "--b", str(B_F), "--mu", "0.2", "--F0", "0.5",
+            "--fa", "0.02", "--cycles", "3", "--steps", "8", "--h-contact", "0.3", "--tilt", str(2 * THC),
+            "--cache-dir", str(tmp_path), "--json", str(js)]
+    assert main(argv) == 0
+    out = json.loads(js.read_text())
+    assert out["tilt"] == pytest.approx(2 * THC, rel=1e-12)
+    assert 0.3 < out["contact_area_fraction"] < 0.9
+    assert out["contact_x_min"] == pytest.approx(-B_F, rel=1e-9) and out["contact_x_max"] < 0.5 * B_F
+    assert out["contact_radius"] == pytest.approx(0.5 * (out["contact_x_max"] - out["contact_x_min"]), rel=1e-12)
+
+
+@pytest.mark.parametrize("flags,msg", [
+    (["--model", "3d", "--tilt", "0.1"], "tilt must be"),
+    (["--model", "3d", "--tilt", "nan"], "tilt must be"),
+    (["--tilt", "1e-4"], "--tilt applies to --model 3d"),
+    (["--model", "3d", "--contact-extent", "1.25"], "contact_extent"),
+])
+def test_cli_tilt_bad_input(flags, msg, capsys):
+    from fem.cli import main
+
+    argv = ["contact", "--profile", "flat", "--b", "1e-4", "--mu", "0.2", "--F0", "0.5", "--fa", "0.05", *flags]
+    assert main(argv) == 2
+    assert msg in capsys.readouterr().err
+
+
+def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
+    """A sphere tilted by theta is the same sphere moved by -R theta along x (r^2/2R + theta x =
+    ((x + R theta)^2 + y^2)/2R - R theta^2/2): the Hertz contact, centred at x = -R theta.
+    Measured at a/4, theta = 5e-4 (shift 0.109 a): pressure centroid within 0.7 % of the shift;
+    the contact's x extent only to one element (vertex resolution)."""
+    from mdr.profiles import Sphere
+
+    law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=tmp_path)
+    a = ref.hertz(F, R, ES)["a"]
+    t = law.tilted(5e-4)
+    nr = t.normal(F_N=F)
+    w = t.mi.A * nr.p
+    shift = -R * 5e-4
+    assert abs((w @ t.mi.x) / w.sum() / shift - 1) < 0.02
+    keys = t.tilt_keys(F)
+    h = 0.25 * a
+    assert abs(keys["contact_x_min"] - (shift - a)) < h and abs(keys["contact_x_max"] - (shift + a)) < h
+    # a tilt that moves the contact off the meshed disk is refused, never truncated
+    from mdr.errors import ConvergenceError
+
+    with pytest.raises(ConvergenceError, match="rim"):
+        law.tilted(1e-3).normal(F_N=F)
