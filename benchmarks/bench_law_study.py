@@ -1,6 +1,7 @@
 """Benchmark: the FE-backed studies of Figs. 8 and 9 (``python -m mdr study fig8,fig9 --law fem``).
 
     python benchmarks/bench_law_study.py [--h-contact 0.1] [--points 5] [--levels 2] [--jobs 2]
+                                          [--repeat 5] [--point-only]
 
 Times, in one run (files into a temporary directory):
 
@@ -10,10 +11,15 @@ Times, in one run (files into a temporary directory):
   steps, set-up included),
 - the CPU time of one apparatus point on a built FE law with and without the plugin's
   ``session()`` (one BLAS thread for the whole block instead of entering it at every step),
+- the CPU time of one apparatus point inside the session (median of ``--repeat`` runs; the
+  number to compare between commits) and where it goes: the FE contact law (``prepare``,
+  the trials' ``force`` and ``commit``), the MDR bedding law, and the rest (the apparatus
+  loop, its Newton iteration, the cycle analysis); with the force evaluations per step and
+  the FE law's return-map solves, active-set iterations and augmented-Lagrangian passes,
 - the FE-backed fig8 + fig9 at ``--points`` points per curve on ``--levels`` mesh levels
   (``--jobs`` processes, or ``--scheduler ADDRESS``),
 
-and prints the FE-backed time, its ratio to the MDR studies and to the one FE scene, the
+(skipped with ``--point-only``) and prints the FE-backed time, its ratio to the MDR studies and to the one FE scene, the
 number of FE apparatus runs and the largest FE own error on delta. Compare ratios, not
 absolute numbers: the machine is shared and noisy.
 """
@@ -33,6 +39,45 @@ from mdr.plugins import law_plugins
 from mdr.study import R_IND, RES, TABLE2, run_studies
 
 
+class _Timed:
+    """A contact law (or its trial) whose method calls add their CPU time to ``clock[name]``."""
+
+    def __init__(self, inner, clock, name):
+        self._inner, self._clock, self._name = inner, clock, name
+
+    def __getattr__(self, attr):
+        value = getattr(self._inner, attr)
+        if attr not in ("prepare", "force", "commit", "approach"):
+            return value
+
+        def timed(*a, **kw):
+            c0 = time.process_time()
+            out = value(*a, **kw)
+            self._clock[self._name] += time.process_time() - c0
+            return _Timed(out, self._clock, self._name) if attr == "prepare" else out
+        return timed
+
+
+def point_breakdown(law, app, repeat):
+    """CPU time of one apparatus point (median of ``repeat`` runs, inside the plugin's session)
+    and its split {fe, bedding, rest} (s, from the median run), with the solver counters."""
+    from mdr.apparatus import _mdr_bedding, run_apparatus
+
+    runs = []
+    for _ in range(repeat):
+        clock = {"fe": 0.0, "bedding": 0.0}
+        bed = lambda *a: _Timed(_mdr_bedding(*a), clock, "bedding")  # noqa: E731
+        n0 = dict(law.stats)
+        c0 = time.process_time()
+        out = run_apparatus(_Timed(law, clock, "fe"), app, TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"], 0.0,
+                            TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"], bed_law_factory=bed)
+        total = time.process_time() - c0
+        counts = {k: law.stats[k] - n0[k] for k in ("steps", "trial_solves", "newton", "al")}
+        runs.append((total, dict(clock, rest=total - clock["fe"] - clock["bedding"]), counts, out))
+    runs.sort(key=lambda r: r[0])
+    return runs[len(runs) // 2]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--h-contact", type=float, default=0.1)
@@ -40,6 +85,8 @@ def main(argv=None):
     ap.add_argument("--levels", type=int, default=2)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--scheduler", default=None)
+    ap.add_argument("--repeat", type=int, default=5, help="runs of the one-point CPU time (median)")
+    ap.add_argument("--point-only", action="store_true", help="only the one-point CPU time and its split")
     args = ap.parse_args(argv)
     warnings.filterwarnings("ignore", message="coarse contact mesh")
     from mdr.apparatus import Apparatus
@@ -48,6 +95,24 @@ def main(argv=None):
 
     fe = law_plugins()["fem"]
     law_args = build_parser().parse_args(["study", "fig8", "--law", "fem", "--h-contact", str(args.h_contact)])
+    # one apparatus point on a built law: CPU time and where it goes
+    law = fe.make_law(TruncatedSphere(R_IND, 50e-6), Materials(), TABLE2["mu1"], TABLE2["F0"] + TABLE2["dF"],
+                      law_args)
+    with fe.session():
+        total, split, counts, pout = point_breakdown(law, Apparatus(kx=2e6, mu2=TABLE2["mu2"]), args.repeat)
+    tr = max(counts["trial_solves"], 1)
+    print(f"one FE apparatus point (b = 50 um, k_x = 2 N/um, a/{1 / args.h_contact:g}, {law.n_pairs} pairs, "
+          f"{counts['steps']} steps), CPU time in the session, median of {args.repeat}: {total:.3f} s, "
+          f"delta = {float(pout['slip_index']):.10f}")
+    print("  split: " + ", ".join(f"{k} {v:.3f} s ({v / total:.0%})" for k, v in
+                                  (("FE contact law", split["fe"]), ("MDR bedding law", split["bedding"]),
+                                   ("apparatus loop and Newton", split["rest"]))))
+    print(f"  {pout['evaluations_per_step']:.2f} force evaluations per step; FE law: "
+          f"{counts['trial_solves'] / max(counts['steps'], 1):.2f} return-map solves per step, "
+          f"{counts['newton'] / tr:.2f} active-set iterations and {counts['al'] / tr:.2f} "
+          f"augmented-Lagrangian passes per solve")
+    if args.point_only:
+        return
     with tempfile.TemporaryDirectory(prefix="bench-law-study-") as tmp:
         t0 = time.perf_counter()
         run_studies(["fig8", "fig9"], tmp)
@@ -57,13 +122,11 @@ def main(argv=None):
                                   TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"], 0.0, TABLE2["ua"], RES["cycles"],
                                   RES["steps"], law_args)
         t_one = time.perf_counter() - t0
-        # one apparatus point on a built law, with and without the plugin's session (one BLAS thread)
+        # the same point with and without the plugin's session (one BLAS thread)
         import contextlib
 
         from mdr.apparatus import run_apparatus
 
-        law = fe.make_law(TruncatedSphere(R_IND, 50e-6), Materials(), TABLE2["mu1"], TABLE2["F0"] + TABLE2["dF"],
-                          law_args)
         cpu = {}
         for name, ctx in (("without", contextlib.nullcontext), ("with", fe.session)):
             c0 = time.process_time()

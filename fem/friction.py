@@ -39,7 +39,10 @@ Armijo backtracking on the (convex) potential along the projected path, which
 makes it monotone. The Uzawa / augmented-Lagrangian loop then sets lbar <- T
 until the largest change is below ``al_tol`` times the largest slip limit;
 at that point the stick pairs do not move relative to each other (exact
-Coulomb), so the penalty error is removed, not just made small.
+Coulomb), so the penalty error is removed, not just made small. That limit
+(lbar = T) is itself the box QP above with M = Ct and b = -p_old (the 1/k terms
+cancel), so the same solver reaches it directly; ``fem.law.FEContact`` starts the
+AL loop there, and its first pass checks the answer.
 """
 from __future__ import annotations
 
@@ -52,44 +55,66 @@ from mdr.solve import regula_falsi_increasing
 DEFAULT_FRICTION_AL_TOL = 1e-7
 
 
+_POTRF, _POTRS = sla.get_lapack_funcs(("potrf", "potrs"), (np.zeros(1),))
+
+
+class _SetFactor:
+    """Cholesky factor of M restricted to one free set, with y = M_ff^-1 1 and its sum (the
+    stick-set tangent). Solves through LAPACK's potrs directly: these systems are small
+    (tens of pairs) and solved thousands of times, so the checks of ``scipy.linalg.cho_solve``
+    would cost more than the solve."""
+
+    __slots__ = ("c", "y", "ysum")
+
+    def __init__(self, Mff):
+        c, info = _POTRF(Mff, lower=1, clean=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"friction: the flexibility restricted to the {Mff.shape[0]} sticking pairs "
+                                        f"is not positive definite (LAPACK potrf info {info})")
+        self.c = c
+        self.y = self.solve(np.ones(Mff.shape[0]))
+        self.ysum = float(self.y.sum())
+
+    def solve(self, rhs):
+        x, info = _POTRS(self.c, rhs, lower=1)
+        if info != 0:  # pragma: no cover - only for malformed arguments
+            raise ValueError(f"LAPACK potrs: illegal argument {-info}")
+        return x
+
+
 class _Factors:
-    """Cholesky factors of M restricted to free sets, cached by the set."""
+    """Factors of M restricted to free sets (:class:`_SetFactor`), cached by the set."""
 
     def __init__(self, M, size=8):
         self.M = M
         self.size = size
         self.cache = {}
 
-    def get(self, free):
+    def get(self, free) -> _SetFactor:
         key = free.tobytes()
-        chol = self.cache.get(key)
-        if chol is None:
+        f = self.cache.get(key)
+        if f is None:
             if len(self.cache) >= self.size:
                 self.cache.pop(next(iter(self.cache)))
-            chol = sla.cho_factor(self.M[np.ix_(free, free)], lower=True, check_finite=False)
-            self.cache[key] = chol
-        return chol
+            f = _SetFactor(self.M[np.ix_(free, free)])
+            self.cache[key] = f
+        return f
 
 
 def _solve_sets(M, fac, b, g, sgn, u, F):
     """Linear solve for fixed sets: free pairs sgn == 0 (with g > 0), bound T = sgn g."""
     T = np.where(sgn != 0, sgn * g, 0.0)
     free = (sgn == 0) & (g > 0)
-    if not np.any(free):
+    if not free.any():
         if u is None:  # force control with every pair sliding: u from the mean residual
             c = g > 0
-            u = float(np.mean((M @ T - b)[c])) if np.any(c) else 0.0
+            u = float(np.mean((M @ T - b)[c])) if c.any() else 0.0
         return T, u
-    A = sgn != 0
-    rhs = b[free] - (M[np.ix_(free, A)] @ T[A] if np.any(A) else 0.0)
-    chol = fac.get(free)
-    x = sla.cho_solve(chol, rhs, check_finite=False)
+    f = fac.get(free)
+    x = f.solve(b[free] - (M @ T)[free])  # T = 0 on the free pairs: (M T)_free = M_fA T_A
     if F is not None:
-        y = sla.cho_solve(chol, np.ones(x.size), check_finite=False)
-        u = (F - T[A].sum() - x.sum()) / y.sum()
-        T[free] = x + u * y
-    else:
-        T[free] = x + u * sla.cho_solve(chol, np.ones(x.size), check_finite=False)
+        u = (F - T.sum() - x.sum()) / f.ysum
+    T[free] = x + u * f.y
     return T, u
 
 
@@ -169,7 +194,7 @@ def _projected_newton(M, fac, b, g, k, u, T, max_iter, it0):
         free = ~hold
         d = np.zeros_like(T)
         if np.any(free):
-            d[free] = -sla.cho_solve(fac.get(free), grad[free], check_finite=False)
+            d[free] = -fac.get(free).solve(grad[free])
         phi0 = _potential(M, b, u, T)
         t = 1.0
         while True:

@@ -48,9 +48,8 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
 
-from mdr.errors import InputError, nonnegative, positive, positive_int
+from mdr.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
 from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
@@ -97,7 +96,9 @@ class FEContact:
     ``block_size``, ``cache_dir`` (further ``meshes.AxisymMeshParams`` fields as keywords); ``penalty`` (dimensionless, eps = penalty E*/h
     for normal and tangential pairs), ``al_tol`` (normal augmented Lagrangian),
     ``friction_al_tol`` (tangential: largest multiplier change / largest slip
-    limit; 0 = pure penalty), ``backend`` (sparse solver), ``displacement``:
+    limit; 0 = pure penalty), ``friction_exact_start`` (True: the tangential AL starts
+    from the exact Coulomb solution, :meth:`_tangential`; False: the classical start from
+    the previous forces), ``backend`` (sparse solver), ``displacement``:
     ``"plate"`` (default: u is the plate displacement) or ``"contact"`` (u is the
     half-space comparable u_plate - c_bulk Fx of ``fem.bulk``, c_bulk taken at
     F_max (its F_N dependence is below 2 %, 3e-4 of the contact compliance);
@@ -113,7 +114,7 @@ class FEContact:
                  h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
                  backend=None, max_al=50, displacement="plate", bulk_probe_depth=DEFAULT_PROBE_DEPTH,
-                 **mesh_kw):
+                 friction_exact_start=True, **mesh_kw):
         from meshes import cached_mesh
 
         from .run import mesh_params
@@ -130,6 +131,9 @@ class FEContact:
         self.al_tol = float(nonnegative("al_tol", al_tol))
         self.friction_al_tol = float(nonnegative("friction_al_tol", friction_al_tol))
         self.max_al = positive_int("max_al", max_al)
+        if not isinstance(friction_exact_start, (bool, np.bool_)):
+            raise InputError(f"friction_exact_start must be True or False, got {friction_exact_start!r}")
+        self.friction_exact_start = bool(friction_exact_start)
         if displacement not in ("plate", "contact"):
             raise InputError(f"displacement must be 'plate' or 'contact', got {displacement!r}")
         self.displacement = displacement
@@ -167,6 +171,7 @@ class FEContact:
             self.Ct = self.Ct - self.c_bulk
         self.M = self.Ct + np.diag(1.0 / self.k)
         self._fac = _Factors(self.M, size=16)
+        self._fac_exact = _Factors(self.Ct, size=16)  # the AL's limit (exact Coulomb): Ct itself
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
 
     # ----------------------------------------------------------------- model
@@ -308,7 +313,9 @@ class FEContact:
             Fx = float(Fx)
             if not np.isfinite(Fx):
                 raise InputError(f"Fx must be finite, got {Fx!r}")
-        res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
+        ctx = self._normal_part(state, d, F_N)
+        ctx["u"] = u
+        res, new = self._finish(ctx, self._tangential(ctx, u, Fx))
         self.stats["steps"] += 1
         return res, new
 
@@ -338,64 +345,98 @@ class FEContact:
             lam, FN, dd, a = res.lam, res.force, res.approach, res.contact_radius
         T_old = np.asarray(state.T)
         s_old = state.u - self.Ct @ T_old
-        return {"state": state, "lam": lam, "FN": FN, "d": dd, "a": a, "g": self.mu * lam, "T_old": T_old,
-                "p_old": np.where(np.asarray(state.lam) > 0, state.p, s_old)}
+        g = self.mu * lam
+        contact = g > 0
+        any_contact = bool(contact.any())
+        return {"state": state, "lam": lam, "FN": FN, "d": dd, "a": a, "g": g, "T_old": T_old,
+                "p_old": np.where(np.asarray(state.lam) > 0, state.p, s_old), "contact": contact,
+                "any_contact": any_contact, "gmax": float(g.max()) if any_contact else 0.0,
+                "sgn_old": np.asarray(state.sgn), "u": None}
 
     def _tangential(self, ctx, u, Fx):
-        """Tangential return map of a step; returns (StepResult, FEState, dFx/du)."""
+        """Tangential return map of a step at plate displacement ``u`` or force ``Fx``: the
+        solve only, returns the dict of :meth:`_finish` (no contact: None) with the forces
+        ``T``, displacement ``u``, sets ``sgn``, last multipliers ``lbar`` and the tangent
+        ``slope`` dFx/du of the stick set.
+
+        Augmented Lagrangian (``fem.friction``): passes lbar <- T until the largest change is
+        below ``friction_al_tol`` of the largest slip limit. Its limit lbar = T is the exact
+        Coulomb return map: the box QP of ``fem.friction`` with M = Ct (no penalty) and
+        b = -p_old, whose active-set iteration has the same set test as an AL pass at that
+        limit. With ``friction_exact_start`` that problem is solved first and its forces
+        start the AL, so the first pass normally meets the tolerance (it then checks the
+        solution, and carries on from it if not; should that solve fail, the classical start
+        is taken); otherwise the passes start from the
+        previous forces clipped to the new limits (about four passes at the default
+        tolerance). The tangent is that of the map the passes converge to: sum Ct_ff^-1 1
+        over the sticking pairs f with the exact start (the AL limit), sum M_ff^-1 1 without
+        (one pass, the classical path), and with the pure penalty."""
         n = self.n_pairs
-        state, lam, FN, dd, a, g = ctx["state"], ctx["lam"], ctx["FN"], ctx["d"], ctx["a"], ctx["g"]
+        FN, g = ctx["FN"], ctx["g"]
         T_old, p_old = ctx["T_old"], ctx["p_old"]
         if Fx is not None and abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0:
             raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
                              f"mu*F_N={self.mu * FN:.4g} N under force control")
-        contact = g > 0
-        if not np.any(contact):
-            uu = state.u if u is None else u
-            z = np.zeros(n)
-            new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
-                          sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
-            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0, slack=z,
-                              slipping=np.ones(n, dtype=bool)), new, 0.0
+        contact = ctx["contact"]
+        if not ctx["any_contact"]:
+            return None
         k = self.k
-        if self.friction_al_tol > 0:
-            lbar = np.clip(T_old, -g, g)
-        else:
-            lbar = np.zeros(n)
-        sgn = np.asarray(state.sgn)
+        sgn = ctx["sgn_old"]
         newton = 0
+        exact = self.friction_al_tol > 0 and self.friction_exact_start
         with blas_threads(1):
+            if exact:
+                try:
+                    lbar, _, sgn, nit, _ = solve_increment(self.Ct, self._fac_exact, -p_old, g, k, sgn, u=u, F=Fx)
+                    newton += nit
+                except (ConvergenceError, np.linalg.LinAlgError):  # the classical start below instead
+                    exact = False
+            if not exact:
+                lbar = np.clip(T_old, -g, g) if self.friction_al_tol > 0 else np.zeros(n)
             for n_al in range(1, self.max_al + 1):
                 b = lbar / k - p_old
                 T, uu, sgn, nit, trial = solve_increment(self.M, self._fac, b, g, k, sgn, u=u, F=Fx)
                 newton += nit
-                change = float(np.max(np.abs(T - lbar)) / np.max(g))
+                change = float(np.max(np.abs(T - lbar)) / ctx["gmax"])
                 if self.friction_al_tol == 0 or change <= self.friction_al_tol:
                     break
                 lbar = T
             else:
-                from mdr.errors import ConvergenceError
-
                 raise ConvergenceError(f"friction augmented Lagrangian: multiplier change {change:.3g} of "
                                        f"mu max(lam) after {self.max_al} passes (friction_al_tol="
                                        f"{self.friction_al_tol:g})")
-            s = uu - self.Ct @ T
             free = (sgn == 0) & contact
-            slope = float(np.sum(sla.cho_solve(self._fac.get(free), np.ones(int(free.sum())),
-                                               check_finite=False))) if np.any(free) else 0.0
-        p_new, work = slip_update(s, T, lbar, k, contact, p_old)
-        w = self.model.interface.w
-        slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
-        slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
-        c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
+            slope = ((self._fac_exact if exact else self._fac).get(free).ysum if free.any() else 0.0)
         self.stats["trial_solves"] += 1
         self.stats["newton"] += newton
         self.stats["al"] += n_al
         self.stats["al_change_max"] = max(self.stats.get("al_change_max", 0.0), change)
+        return {"T": T, "u": float(uu), "sgn": sgn, "lbar": lbar, "slope": float(slope), "Fx": float(T.sum())}
+
+    def _finish(self, ctx, sol):
+        """(StepResult, FEState) of a solved step (``sol`` from :meth:`_tangential`): the slip
+        update, the slack to the slip limit, the slip flags and the stick radius of the step."""
+        n = self.n_pairs
+        state, lam, FN, dd, a, g = ctx["state"], ctx["lam"], ctx["FN"], ctx["d"], ctx["a"], ctx["g"]
+        if sol is None:  # no pair in contact: no force, the plastic slip follows the plate
+            uu = state.u if ctx["u"] is None else ctx["u"]
+            z = np.zeros(n)
+            new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
+                          sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
+            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0, slack=z,
+                              slipping=np.ones(n, dtype=bool)), new
+        T, uu, sgn = sol["T"], sol["u"], sol["sgn"]
+        contact = ctx["contact"]
+        s = uu - self.Ct @ T
+        p_new, work = slip_update(s, T, sol["lbar"], self.k, contact, ctx["p_old"])
+        w = self.model.interface.w
+        slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
+        slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
+        c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
         new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
                       u=float(uu), d=float(dd))
-        return StepResult(Fx=float(T.sum()), FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
-                          work=work, slack=slack, slipping=slipping), new, slope
+        return StepResult(Fx=sol["Fx"], FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
+                          work=work, slack=slack, slipping=slipping), new
 
     #: the traction slack mu p - |tau| falls as sqrt(c - r) towards a stick edge (``mdr.stick``)
     stick_onset = 0.5
@@ -465,11 +506,13 @@ class FETrial:
 
     def force(self, u):
         """(Fx, dFx/du) at plate (or contact) displacement u; dFx/du is the stick-set tangent."""
-        res, _, slope = self._at(u)
-        return res.Fx, slope
+        sol = self._at(u)
+        return (0.0, 0.0) if sol is None else (sol["Fx"], sol["slope"])
 
     def commit(self, u):
-        """(StepResult, FEState) of the step to displacement u (counted as a committed step)."""
-        res, new, _ = self._at(u)
+        """(StepResult, FEState) of the step to displacement u (counted as a committed step);
+        the slip update and the step's stick radius are worked out here, not for every trial."""
+        sol = self._at(u)
+        res, new = self.law._finish(dict(self.ctx, u=float(u)), sol)
         self.law.stats["steps"] += 1
         return res, new

@@ -88,7 +88,9 @@ forces are nondecreasing in their displacement; with tilt when k_theta + S2 - S1
 checked, and the plates' resultant not far below the contact, as in every reading),
 so each step is solved by a safeguarded Newton iteration in a
 shrinking bracket (``mdr.solve``) over trial, uncommitted steps of the laws:
-their ``force`` gives F_x and its slope. Any contact law of the protocol
+their ``force`` gives F_x and its slope. It starts from the previous step's du moved by
+the piezo's step over the slope of r there (exact while no spring or pair changes between
+stick and slip), so a step typically takes two force evaluations. Any contact law of the protocol
 (``mdr.protocol.ContactLaw``: ``rest_state``, ``normal_load``, ``prepare`` with
 the trials' ``force``/``commit``) drops in; ``prepare`` is required.
 """
@@ -300,6 +302,10 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
     if fast is not None:
         out, window, iters = fast
         out["ub"], out["tilt"] = out["u2"].copy(), np.zeros_like(out["u2"])
+    # Newton predictor: the previous solution moved by the piezo's step over the slope of the equilibrium
+    # there, exact while the laws stay on their linear pieces (the slope is >= 1: the contact takes a
+    # part of the stroke; a step of the full stroke is right in gross slip only)
+    slope = np.ones(batch)
     for k in range(t.size if fast is None else 0):
         if use_bed:
             N1, N2 = app.bedding_loads(FN[..., k], M)
@@ -335,10 +341,13 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
                 Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
             else:
                 Fb, kb = 0.0, 0.0
-            return ub + zbar * th + cp * (F + Fb) - u3[k], dub + zbar * dth + cp * (kF + kb * dub)
+            sl = dub + zbar * dth + cp * (kF + kb * dub)
+            slope[...] = sl  # the last evaluation is at the solution
+            return ub + zbar * th + cp * (F + Fb) - u3[k], sl
 
-        du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(du_prev + u3[k] - u3[max(k - 1, 0)], batch),
-                              atol=xtol, xtol=xtol, what="apparatus equilibrium")
+        x0 = du_prev + (u3[k] - u3[max(k - 1, 0)]) / np.where(np.isfinite(slope) & (slope > 0), slope, 1.0)
+        du = solve_increasing(fun, np.zeros(batch), lo, hi, x0=np.broadcast_to(x0, batch), atol=xtol, xtol=xtol,
+                              what="apparatus equilibrium")
         res, st_new = tr.commit(du)
         u2 = du + cx * res.Fx
         th = ct * (S1 * (u3[k] - u2) - res.Fx * h) / den if tilting else np.zeros_like(u2)

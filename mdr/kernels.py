@@ -311,9 +311,9 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
 
     Per step: bedding loads from F_N and the previous step's moment, the normal updates,
     the equilibrium r(du) = u_3 - u_2 - c_p (F_x + F_bed) = 0 by the safeguarded Newton
-    iteration of ``solve_increasing`` (atol = xtol), the commits. A scene stops at a
-    failing step with status LIFT_OFF, BEYOND_GRID or NO_CONVERGENCE (info = step,
-    residual, tolerance).
+    iteration of ``solve_increasing`` (atol = xtol) from the predictor of ``run_apparatus``, the
+    commits. A scene stops at a failing step with status LIFT_OFF, BEYOND_GRID or
+    NO_CONVERGENCE (info = step, residual, tolerance).
     """
     S, T = dp.shape
     n = lo.shape[1]
@@ -348,6 +348,7 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
         ub[:] = 0.0
         u_old = 0.0
         du_prev = 0.0
+        slope = 1.0  # of the equilibrium at the previous step's solution (the predictor of run_apparatus)
         M = 0.0
         for k in range(T):
             if use_bed:
@@ -374,7 +375,8 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
             span = (mu[s] * FNp[s, k] + (mu2[s] * (W0[s] + FNp[s, k]) if use_bed else 0.0)) * (cp[s] + cx[s]) + 1e-12
             lo_x = u3[k] - span
             hi_x = u3[k] + span
-            x = min(max(du_prev + u3[k] - u3[max(k - 1, 0)], lo_x), hi_x)
+            step = u3[k] - u3[max(k - 1, 0)]
+            x = min(max(du_prev + step / (slope if np.isfinite(slope) and slope > 0 else 1.0), lo_x), hi_x)
             done = False
             r = 0.0
             calls = 0
@@ -391,6 +393,7 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                     kb = kb0 + 2.0 * kb1
                 r = u2 + cp[s] * (F + Fb) - u3[k]
                 sl = du2 + cp[s] * (kF + kb * du2)
+                slope = sl
                 calls += 1
                 if abs(r) <= xtol or hi_x - lo_x <= xtol:
                     done = True

@@ -87,10 +87,26 @@ def stick_radius(r, slack, slipping, a, onset=1.0):
     return np.minimum(c, np.min(a, axis=-1))
 
 
+#: a batch of at most this many scenes at one instant takes the scalar path of ``per_step``, scene by scene
+SCALAR_BATCH = 16
+
+
 def per_step(r, slack, slipping, a, onset=1.0):
-    """Instantaneous stick radius of every step: arrays (..., T, n) and (..., T) -> (..., T)."""
+    """Instantaneous stick radius of every step: arrays (..., T, n) and (..., T) -> (..., T).
+
+    One instant of one scene, or of a small batch (up to ``SCALAR_BATCH`` scenes, arrays
+    batch + (n,) and batch, e.g. the bedding spheres of the apparatus), goes through the same
+    rule in scalars (equal to round-off), which is much cheaper than the vectorised rule there."""
     if np.ndim(slack) == 1 and np.ndim(r) == 1:  # one instant of one scene: the same rule, in scalars
         return _one_instant(r, slack, slipping, float(a), 1.0 / float(onset))
+    if np.ndim(slack) == np.ndim(r) == np.ndim(a) + 1 and 0 < np.size(a) <= SCALAR_BATCH:
+        p = 1.0 / float(onset)
+        a = np.asarray(a, dtype=float)
+        rb = np.broadcast_to(r, np.shape(slack))
+        out = np.empty(a.shape)
+        for i in np.ndindex(a.shape):
+            out[i] = _one_instant(rb[i], slack[i], slipping[i], float(a[i]), p)
+        return out
     return stick_radius(r, np.expand_dims(slack, -2), np.expand_dims(slipping, -2), np.asarray(a)[..., None], onset)
 
 

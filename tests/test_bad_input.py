@@ -330,6 +330,7 @@ def test_fe_api_bad_input(cache):
         (lambda: FEContact(SPHERE, STEEL, MU, penalty=0.0, **kw), "penalty"),
         (lambda: FEContact(SPHERE, STEEL, MU, friction_al_tol=NAN, **kw), "friction_al_tol"),
         (lambda: FEContact(SPHERE, STEEL, MU, max_al=0, **kw), "max_al"),
+        (lambda: FEContact(SPHERE, STEEL, MU, friction_exact_start="yes", **kw), "friction_exact_start"),
         (lambda: FEContact(SPHERE, STEEL, MU, displacement="surface", **kw), "displacement"),
         (lambda: FEContact(GeneralProfile(lambda r: r**2, r_max=1e-4), STEEL, MU, **kw), "profile"),
         (lambda: FEContact(SPHERE, STEEL, MU, F_max=F0, h_contact=0.3, cache_dir=cache), "h_contact"),

@@ -131,8 +131,14 @@ def test_penalty_extremes_are_flagged_detected_or_handled(cache):
         r = rows[(name, "fem")]
         # handled (converged to the truth) or detected (ConvergenceError), never a silent answer
         assert (r["converged"] and r["status"] == "ok") or (not r["converged"] and "ConvergenceError" in r["note"])
-    # each row reports its own solve: the friction rows' failure is the tangential one
-    assert "friction augmented Lagrangian" in rows[("friction penalty 0.1, augmented Lagrangian", "fem")]["note"]
+    # each row reports its own solve: the normal AL fails on its own; the tangential AL, started
+    # from the exact Coulomb solution, converges at penalty 0.1 to the penalty-1e6 answer (the
+    # normal forces differ by their AL tolerances, 1e-4 and 1e-8)
+    assert "augmented Lagrangian: penetration" in rows[("normal penalty 0.1, augmented Lagrangian", "fem")]["note"]
+    f01, f1e6 = (rows[(f"friction penalty {p}, augmented Lagrangian", "fem")] for p in ("0.1", "1e+06"))
+    assert_ok(f01)
+    assert "tangential AL passes" in f01["note"]
+    assert f01["stick_radius_error"] == pytest.approx(f1e6["stick_radius_error"], rel=1e-3)
     assert "ConvergenceError" not in rows[("friction penalty 0.1, pure penalty", "fem")]["note"]
     # too stiff: the condensed (force) formulation stays well conditioned
     for name in ("normal penalty 1e+06, pure penalty", "normal penalty 1e+06, augmented Lagrangian",

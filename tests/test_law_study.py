@@ -153,3 +153,32 @@ def test_fe_backed_fig9_agrees_with_mdr_and_is_the_same_on_dask(tmp_path):
         assert set(a) == set(b)
         for k in a:
             assert a[k] == pytest.approx(b[k], rel=1e-10, abs=1e-15) if isinstance(a[k], float) else a[k] == b[k]
+
+
+@pytest.mark.filterwarnings("ignore:coarse contact mesh")
+@pytest.mark.parametrize("kx", [0.5e6, 2e6, 20e6])
+def test_fe_apparatus_point_equals_the_classical_augmented_lagrangian(kx):
+    """An FE apparatus point as the studies run it (the exact-start friction AL with its exact
+    tangent, step details worked out at commits only, the Newton predictor from the last slope)
+    equals the same point with the classical AL converged to 1e-12 of the slip limit, both
+    equilibria solved to round-off (xtol 1e-19 m): slip index, stick radius and loop (du, F_x,
+    F_bed) to 1e-10 of their scale (measured 3e-12), at a sticking, a partly slipping and a
+    sliding contact, in fewer force evaluations per step."""
+    from fem.law import FEContact
+    from mdr.apparatus import Apparatus, run_apparatus
+    from mdr.materials import Materials
+    from mdr.profiles import TruncatedSphere
+
+    F0, dF, mu = TABLE2["F0"], TABLE2["dF"], TABLE2["mu1"]
+    prof = TruncatedSphere(R_IND, 10e-6)
+    kw = dict(F_max=F0 + dF, h_contact=0.2, displacement="contact")
+    new, ref = (run_apparatus(law, Apparatus(kx=kx, mu2=TABLE2["mu2"]), mu, F0, dF, 0.0, TABLE2["ua"], cycles=2,
+                              steps=60, xtol=1e-19)
+                for law in (FEContact(prof, Materials(), mu, **kw),
+                            FEContact(prof, Materials(), mu, friction_al_tol=1e-12, friction_exact_start=False,
+                                      **kw)))
+    assert new["slip_index"] == pytest.approx(ref["slip_index"], rel=0, abs=1e-10)
+    assert new["stick_radius"] == pytest.approx(ref["stick_radius"], rel=0, abs=1e-10 * prof.b)
+    for key in ("du", "Fx", "Fbed"):
+        assert np.max(np.abs(new[key] - ref[key])) <= 1e-10 * np.max(np.abs(ref[key])), key
+    assert new["evaluations_per_step"] < ref["evaluations_per_step"]

@@ -182,3 +182,23 @@ def test_one_instant_path_is_the_same_rule():
         onset = float(rng.choice([1.0, 0.5]))
         assert per_step(r, slack, slip, a, onset) == pytest.approx(
             float(stick_radius(r, slack[None], slip[None], [a], onset)), abs=1e-12)
+
+
+@pytest.mark.parametrize("batch", [(2,), (3, 2), (17,)])
+def test_small_batch_path_of_per_step_is_the_same_rule(batch):
+    """One instant of a batch of scenes (the bedding spheres in the apparatus): the scene-by-scene
+    scalar path of ``per_step`` (up to ``SCALAR_BATCH`` scenes) and the vectorised rule (beyond)
+    equal ``stick_radius`` over a one-instant window, scene by scene."""
+    from mdr.stick import per_step
+
+    rng = np.random.default_rng(11)
+    n = 12
+    for _ in range(50):
+        r = np.sort(rng.random(batch + (n,)), axis=-1)
+        slack, slip = rng.normal(size=batch + (n,)), rng.random(batch + (n,)) < 0.3
+        a, onset = 1.2 * rng.random(batch), float(rng.choice([1.0, 0.5]))
+        c = per_step(r, slack, slip, a, onset)
+        assert c.shape == batch
+        for i in np.ndindex(batch):
+            assert c[i] == pytest.approx(float(stick_radius(r[i], slack[i][None], slip[i][None], [a[i]], onset)),
+                                         abs=1e-12)
