@@ -554,9 +554,15 @@ class FEContact3D:
 
     def stick_zone(self, q, p, a) -> dict:
         """Stick extents of one instant (m): ``stick_radius_x`` (mean of +x and -x),
-        ``stick_center_x`` (their half difference), ``stick_radius_y``; ``traction_angle_max``,
-        the largest |q_y|/|q| over the vertices in contact that slip; ``pressure_center_x``, the
-        x of the pressure's centroid (m)."""
+        ``stick_center_x`` (their half difference), ``stick_radius_y``, each from the vertices of
+        one ray (``mdr.stick``: resolved to a fraction of the element); ``stick_axis_x``,
+        ``stick_axis_y``, the semi-axes of the ellipse with the stick set's area and second moments
+        (every vertex that sticks, weighted by its area A_j: a = sqrt(4 I_x / area), so a change of
+        the stick set by one vertex moves them by ~A_j / area, far less than an element);
+        ``stick_axis_quantum`` (m), their resolution: the change of an axis when one vertex of median
+        area joins the stick set, axis * A_median / (2 area);
+        ``traction_angle_max``, the largest |q_y|/|q| over the vertices in contact that slip;
+        ``pressure_center_x``, the x of the pressure's centroid (m)."""
         mi = self.mi
         g = self.mu * p
         qn = np.hypot(q[:, 0], q[:, 1])
@@ -571,8 +577,18 @@ class FEContact3D:
         slip = contact & slipping
         ang = float(np.max(np.abs(q[slip, 1]) / qn[slip])) if np.any(slip) else 0.0
         w = mi.A * p
+        st = contact & ~slipping
+        area = float(mi.A[st].sum())
+        if area > 0:
+            xc = float(mi.A[st] @ mi.x[st]) / area
+            axes = (np.sqrt(4.0 * float(mi.A[st] @ (mi.x[st] - xc) ** 2) / area),
+                    np.sqrt(4.0 * float(mi.A[st] @ mi.y[st] ** 2) / area))
+            quantum = 0.5 * max(axes) * float(np.median(mi.A[st])) / area
+        else:
+            axes, quantum = (0.0, 0.0), 0.0
         return {"stick_radius_x": 0.5 * (ext["+x"] + ext["-x"]), "stick_center_x": 0.5 * (ext["+x"] - ext["-x"]),
-                "stick_radius_y": ext["y"], "traction_angle_max": ang,
+                "stick_radius_y": ext["y"], "stick_axis_x": float(axes[0]), "stick_axis_y": float(axes[1]),
+                "stick_axis_quantum": quantum, "traction_angle_max": ang,
                 "pressure_center_x": float(w @ mi.x / w.sum()) if w.sum() > 0 else 0.0}
 
     def result_keys(self, F_N, t0, t1, t2, F_peak=None) -> dict:
@@ -602,7 +618,8 @@ class FEContact3D:
             k0 = run["first"] if run["first"] < Fx.size else 0
             k = k0 + int(np.argmax(Fx[k0:]))
             z = self.stick_zone(run["q"][k], run["p"][k], run["a"][k])
-            out.update({key: z[key] for key in ("stick_radius_x", "stick_radius_y", "traction_angle_max")})
+            out.update({key: z[key] for key in ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
+                                                "stick_axis_quantum", "traction_angle_max")})
             peaks = np.flatnonzero((Fx[1:-1] >= Fx[:-2]) & (Fx[1:-1] > Fx[2:]) & (Fx[1:-1] > 0)) + 1
             k1 = int(peaks[0]) if peaks.size else k
             z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])

@@ -210,6 +210,8 @@ def test_law3d_fretting_run(law3d):
     assert abs(keys["stick_center_x"]) < 0.1 * h
     c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
     assert abs(keys["stick_radius_x"] - c) < h and abs(out["stick_radius"] - c) < h
+    # the stick set's ellipse of equal area and second moments: a disk of radius c within one element
+    assert abs(keys["stick_axis_x"] - c) < h and abs(keys["stick_axis_y"] - c) < h
     assert abs(keys["contact_radius"] / A_H - 1) < 0.05
     assert 0 < keys["traction_angle_max"] < 0.3
 
@@ -278,12 +280,12 @@ def test_contact_measure_removes_the_bodies_series_compliance(blocks):
 
 def test_indentation_is_hertz(blocks):
     """The half-space comparable indentation (plate approach minus both bodies' compression above the
-    probes plus Boussinesq's below them) is Hertz's a^2/R within 0.5 % on both blocks (measured
+    probes plus Boussinesq's below them) is Hertz's a^2/R within 0.15 % on both blocks (measured
     -0.05 %, -0.06 %); the plate approach is not (measured -5.6 %, -2.9 %)."""
     for s in (10, 20):
         law = blocks[s, "contact"]["law"]
         nr = law.normal(F_N=F)
-        assert abs(law.indentation(nr) / HZ["d"] - 1) < 0.005
+        assert abs(law.indentation(nr) / HZ["d"] - 1) < 0.0015
         assert nr.approach / HZ["d"] - 1 < -0.02
 
 

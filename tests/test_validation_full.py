@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 import pytest
 
 from validation import compare, metrics
@@ -31,7 +33,7 @@ def full(tmp_path_factory):
 
 
 def _large_body_scenes(sc):
-    return {n: r for n, r in sc.items() if r["scene"]["group"] != "validity"}
+    return {n: r for n, r in sc.items() if r["scene"]["group"] not in ("validity", "3d")}
 
 
 def test_every_scene_ran(full):
@@ -187,3 +189,38 @@ def test_readme_catalogue_table(full):
         assert abs(_pct(r, "contact_radius")[0]) < 0.15, name
         assert 0 < _pct(r, "dissipation")[0] < 0.65 and _pct(r, "dissipation")[1] < 0.075, name
         assert abs(r["mdr"]["slip_index"] - r["fem"]["slip_index"]) < 0.0025, name
+
+
+def test_mindlin_assumptions_in_3d(full):
+    """README "Mindlin's assumptions in 3D" (scene assumptions-3d, each effect against the same 3D
+    mesh with the assumption imposed). The free traction direction lowers the sphere's stationary
+    dissipation by 0.47 +- 0.13 % (a half-space boundary-element solution without Mindlin's
+    approximation: -0.2 +- 0.4 %), within the tolerance: the assumption holds; the largest
+    traction angle is 0.12 (half-space: ~0.1). The coupling of steel on aluminium (beta = +0.11)
+    leaves the stationary cycle within its error (+0.04 +- 1.5 %) but raises the first cycle's
+    dissipation by 32 +- 3.4 %: there MDR's uncoupled answer does not hold. Bounds 2x."""
+    _, _, sc = full
+    rows = {r["variant"].split("[", 1)[1].rstrip("]"): r for r in sc["assumptions-3d"]["assumptions3d"]}
+    sphere, coupling = rows["direction: sphere"], rows["coupling: E2 = 70 GPa, nu2 = 0.33"]
+    d = sphere["verdicts"]["dissipation"]
+    assert -0.0094 < d["effect"] < -0.0019 and d["error"] < 0.0026 and d["holds"] is True
+    assert 0.06 < sphere["traction_angle_max"] < 0.25 and sphere["holds"] is True
+    assert coupling["verdicts"]["dissipation"]["holds"] is True
+    first = coupling["verdicts"]["dissipation_first_cycle"]
+    assert 0.16 < first["effect"] < 0.64 and first["holds"] is False and coupling["holds"] is False
+    # the 3D cycles settle geometrically (README): the direction effect on the sphere moves by
+    # 0.06 % over cycles 2-4 at a/10, the last cycle changes by <= 0.18 % (pairs) and 0.58 %
+    # (coupled pair), and the coupling's effect falls over cycles 2-4 (1.4, 0.4, 0.04 %)
+    def per_cycle(row, k):
+        lv = row["levels"][-1]
+        on, off = (np.asarray(lv[s]["dissipation_per_cycle"]) for s in ("on", "off"))
+        return on[k] / off[k] - 1
+
+    eff = [per_cycle(sphere, k) for k in (1, 2, 3)]
+    assert max(eff) - min(eff) < 0.0015
+    ceff = [per_cycle(coupling, k) for k in (1, 2, 3)]
+    assert ceff[0] > ceff[1] > ceff[2] and ceff[0] < 0.035
+    for row, bound in ((sphere, 0.004), (coupling, 0.012)):
+        for lv in row["levels"]:
+            W = np.asarray(lv["on"]["dissipation_per_cycle"])
+            assert abs(W[-1] / W[-2] - 1) < bound

@@ -210,7 +210,7 @@ def assumptions3d_figure(result: dict, out_dir) -> dict:
     rows = result["assumptions3d"]
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for ax, q, unit in ((axes[0], "dissipation", "% of the dissipation with the assumption"),
-                        (axes[1], "stick_radius_x", "% of the contact radius")):
+                        (axes[1], "stick_axis_x", "% of the contact radius")):
         for r, mk in zip(rows, "osd^v"):
             hs = [x["h"] for x in r["levels"] if x["effects"][q] is not None]
             ys = [100 * x["effects"][q] for x in r["levels"] if x["effects"][q] is not None]

@@ -433,14 +433,19 @@ def _run_curvature(s: Scene, out_dir, log) -> dict:
 
 
 #: the effects of relaxing an assumption of Mindlin's theory (and MDR) in the 3D model: metric ->
-#: (tolerance key of ``Scene.tolerances``, kind); "relative": (on - off) / |off|, "radius": (on - off)
-#: / contact radius; reported without a verdict when the tolerance key is None
-EFFECTS_3D = {"dissipation": ("dissipation", "relative"),
-              "dissipation_first_cycle": ("dissipation", "relative"),
-              "stick_radius_x": ("stick_radius", "radius"),
-              "stick_radius_y": ("stick_radius", "radius"),
-              "stick_center_x": (None, "radius"),
-              "pressure_center_x": (None, "radius")}
+#: (tolerance key of ``Scene.tolerances``, kind, resolution); "relative": (on - off) / |off|,
+#: "radius": (on - off) / contact radius; reported without a verdict when the tolerance key is None.
+#: The stick zone is resolved by the mesh vertices, so its effects have an error of at least the
+#: resolution of their estimator at the finest level: "quantum" (``stick_axis_quantum``: one
+#: vertex joining the stick set) or "element" (the element size: the ray estimators)
+EFFECTS_3D = {"dissipation": ("dissipation", "relative", None),
+              "dissipation_first_cycle": ("dissipation", "relative", None),
+              "stick_axis_x": ("stick_radius", "radius", "quantum"),
+              "stick_axis_y": ("stick_radius", "radius", "quantum"),
+              "stick_radius_x": (None, "radius", "element"),
+              "stick_radius_y": (None, "radius", "element"),
+              "stick_center_x": (None, "radius", "element"),
+              "pressure_center_x": (None, "radius", None)}
 
 
 def assumption_variant(s: Scene, v: dict) -> Scene:
@@ -451,18 +456,21 @@ def assumption_variant(s: Scene, v: dict) -> Scene:
     kw = {k: float(v[k]) for k in ("b", "E2", "nu2") if k in v}
     if kw.get("b"):
         kw["profile"] = "truncated"
-    label = ", ".join(f"{k} = {v[k]:g}" for k in ("b", "E2", "nu2") if k in v) or "sphere"
+    fmt = {"b": lambda x: f"b = {x * 1e6:g} um", "E2": lambda x: f"E2 = {x / 1e9:g} GPa",
+           "nu2": lambda x: f"nu2 = {x:g}"}
+    label = ", ".join(f(v[k]) for k, f in fmt.items() if k in v) or "sphere"
     return replace(s, name=f"{s.name}[{v['relax']}: {label}]", variants=(), **kw)
 
 
 def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
     """Mindlin's assumptions, one at a time, on the 3D model: every variant at every 3D mesh level
-    twice on the same mesh (``FEContact3D.variant``), with the assumption relaxed ("on": the free
+    twice on the same mesh (``FEContact3D.variant``) with the assumption relaxed ("on": the free
     traction direction, or the normal-tangential coupling of a dissimilar pair) and imposed ("off":
     q_y = 0, or no coupling, as in MDR and the axisymmetric model). The effect on, minus off, cancels
     the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
-    effect far below the 3D model's own error. The verdict of a metric: |effect| <= its error +
-    the catalogue's tolerance (the assumption holds), None if either is not finite."""
+    effect far below the 3D model's own error; the error is at least the estimator's resolution
+    (``EFFECTS_3D``). The verdict of a metric: |effect| <= its error + the catalogue's tolerance
+    (the assumption holds), None if either is not finite."""
     from fem.contact_run import drive_3d
 
     t0 = time.perf_counter()
@@ -482,28 +490,35 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
                                       sv.cycles, sv.steps)
             a = runs["off"]["contact_radius"]
             eff = {}
-            for q, (_, kind) in EFFECTS_3D.items():
+            for q, (_, kind, _) in EFFECTS_3D.items():
                 on, off = runs["on"].get(q), runs["off"].get(q)
                 scale = abs(off or 0.0) if kind == "relative" else a
                 ok = on is not None and off is not None and np.isfinite(on) and np.isfinite(off) and scale > 0
                 eff[q] = float((on - off) / scale) if ok else None
             levels.append({"h": h, "dofs": runs["on"]["dofs"], "effects": eff,
                            **{side: {k: runs[side].get(k) for k in (*EFFECTS_3D, "traction_angle_max", "contact_radius",
-                                                                     "stationary", "dissipation_per_cycle")}
+                                                                     "stationary", "dissipation_per_cycle",
+                                                                     "stick_axis_quantum")}
                               for side in ("on", "off")},
                            "runtime_s": runs["on"]["runtime_s"]["total"] + runs["off"]["runtime_s"]["total"]})
-            log(f"  {sv.name} a/{1 / h:.0f}: dissipation {_pct_or(eff['dissipation'])}, stick radius x "
-                f"{_pct_or(eff['stick_radius_x'])} of a, {levels[-1]['runtime_s']:.0f} s")
+            log(f"  {sv.name} a/{1 / h:.0f}: dissipation {_pct_or(eff['dissipation'])}, stick axes x, y "
+                f"{_pct_or(eff['stick_axis_x'])}, {_pct_or(eff['stick_axis_y'])} of a, "
+                f"{levels[-1]['runtime_s']:.0f} s")
         tol = sv.tolerances()
         verdicts = {}
-        for q, (tkey, kind) in EFFECTS_3D.items():
+        fine = levels[-1]
+        floor = {"quantum": (fine["off"].get("stick_axis_quantum") or 0.0) / fine["off"]["contact_radius"],
+                 "element": fine["h"] * a_ref(sv) / fine["off"]["contact_radius"], None: 0.0}
+        for q, (tkey, kind, res) in EFFECTS_3D.items():
             lad = metrics.ladder_error([x["h"] for x in levels], [x["effects"][q] for x in levels])
             e, err = lad["value"], lad["error"]
+            if err is not None:
+                err = max(err, floor[res])
             t = None if tkey is None else tol[tkey]
             holds = None if (tkey is None or e is None or err is None or not np.isfinite(err)) else \
                 bool(abs(e) <= err + t)
             verdicts[q] = {"effect": e, "error": err, "status": lad["status"], "tolerance": t, "holds": holds,
-                           "kind": kind, "ladder": lad}
+                           "kind": kind, "resolution": floor[res], "ladder": lad}
         judged = [x["holds"] for x in verdicts.values() if x["tolerance"] is not None]
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
                      "levels": levels, "verdicts": verdicts,
