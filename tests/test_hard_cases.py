@@ -23,7 +23,7 @@ def check_row(r):
     """Every row: its own measured error (a real number, never a 0/1 pass flag; None only
     with a note saying why), its tolerance, and a status that is the pass/fail."""
     assert KEYS <= set(r), r
-    assert r["model"] in ("mdr", "fem") and r["status"] in ("ok", "flagged")
+    assert r["model"] in ("mdr", "fem", "fem3d") and r["status"] in ("ok", "flagged")
     assert r["time_s"] >= 0 and r["truth"]
     assert isinstance(r["tol"], float) and r["tol"] > 0, r
     if r["error"] is None:
@@ -90,6 +90,19 @@ def test_vanishing_contact_and_contact_lost(cache):
     for m in ("mdr", "fem"):  # it was in partial slip before the contact was lost
         lost = rows[("F_N = 0: contact lost", m)]
         assert lost["error"] <= hc.ROUNDOFF and "before: F_x = 0.06" in lost["note"]
+
+
+def test_3d_model_hard_cases(cache):
+    """The 3D half model: gross slip at 10 u* (friction work against Mindlin-Deresiewicz within
+    2e-3, measured 7.8e-4; no drift; |F_x| <= mu F_N to rounding), the normal force down to 1 %
+    (loop area = friction work within the time-step error, no NaN), contact lost and regained."""
+    rows = rows_of(hc.case_3d, cache)
+    for r in rows.values():
+        assert_ok(r)
+    gross = next(r for (n, m), r in rows.items() if n.startswith("gross slip"))
+    assert gross["model"] == "fem3d" and gross["drift"] < 6e-13
+    lost = rows[("F_N = 0: contact lost", "fem3d")]
+    assert lost["error"] <= hc.ROUNDOFF and "before: F_x = 0.06" in lost["note"]
 
 
 def test_vanishing_contact_energy_gap_is_a_time_step_error():
