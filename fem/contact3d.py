@@ -225,25 +225,8 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         if np.max(np.abs(R)) <= tolR:
             return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
         # generalized Jacobian of R (module docstring)
-        nz = np.hypot(z[:, 0], z[:, 1])
-        slip = (nz > g) & (g > 0)
-        free0 = g <= 0
         J = np.zeros((m + fc, m + fc))
-        # per vertex 2x2 projection derivative P'_j
-        tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
-        ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
-        fac = np.where(slip, g / np.maximum(nz, 1e-300), 1.0)
-        fac = np.where(free0, 0.0, fac)
-        # P' = fac (I - t t^T) for slip, I for stick, 0 for g = 0
-        Pxx = fac * (1 - tx * tx)
-        Pyy = fac * (1 - ty * ty)
-        Pxy = -fac * tx * ty
-        # rows of P' dz in the packed layout
-        rows_x = Pxx[:, None] * dz_dv[:n]
-        rows_x[yi] += Pxy[yi, None] * dz_dv[n:]
-        rows_y = Pyy[yi, None] * dz_dv[n:] + Pxy[yi, None] * dz_dv[yi]
-        Pdz = np.vstack([rows_x, rows_y])
-        Pdd = np.concatenate([Pxx * dz_dd[:n], Pxy[yi] * dz_dd[yi]])  # dz_y/d delta = 0
+        Pdz, Pdd = _projection_jacobian(z, g, yi, dz_dv, dz_dd)
         J[:m, :m] = np.eye(m) - Pdz
         if fc:
             J[:m, m] = -Pdd * dscale
@@ -268,6 +251,59 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         return _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter)
     vq, r = _fista(D, dl * ex - Pold, unpack, pack, g, fista_iter, tolR, v)
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
+
+
+def _projection_jacobian(z, g, yi, dz_dv, dz_dd):
+    """The chain rule through the disk projections of the Coulomb residual: (P' dz/dv, P' dz/d delta)
+    in the packed layout (q_x of every vertex, q_y of the vertices ``yi`` off the plane), with the
+    per-vertex 2x2 derivative P'_j = fac_j (I - t_j t_j^T) where z_j slips (|z_j| > g_j, t_j its
+    direction, fac_j = g_j / |z_j|), I where it sticks and 0 out of contact (g_j = 0)."""
+    n = z.shape[0]
+    nz = np.hypot(z[:, 0], z[:, 1])
+    slip = (nz > g) & (g > 0)
+    free0 = g <= 0
+    tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
+    ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
+    fac = np.where(slip, g / np.maximum(nz, 1e-300), 1.0)
+    fac = np.where(free0, 0.0, fac)
+    Pxx = fac * (1 - tx * tx)
+    Pyy = fac * (1 - ty * ty)
+    Pxy = -fac * tx * ty
+    rows_x = Pxx[:, None] * dz_dv[:n]
+    rows_x[yi] += Pxy[yi, None] * dz_dv[n:]
+    rows_y = Pyy[yi, None] * dz_dv[n:] + Pxy[yi, None] * dz_dv[yi]
+    Pdz = np.vstack([rows_x, rows_y])
+    Pdd = np.concatenate([Pxx * dz_dd[:n], Pxy[yi] * dz_dd[yi]])  # dz_y/d delta = 0
+    return Pdz, Pdd
+
+
+def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
+    """d(sum_j A_j q_xj)/d delta (N/m, half model) of a displacement-controlled Coulomb increment at
+    its solution: traction ``q`` (n, 2), slip increments ``r`` (n, 2) = s - P_old (weighted, m^3).
+    The consistent tangent of the semi-smooth residual (:func:`solve_tangential3d`): stick
+    vertices follow the elastic flexibility, slipping ones keep |q_j| = g_j and turn with their
+    slip direction, vertices out of contact carry nothing. At fixed slip limits (a dissimilar
+    pair's pressure change with delta is left out: a secant-free, O(beta^2) approximation there).
+    Where a vertex is exactly at the stick-slip switch it is the one-sided derivative of the
+    side the projection picks (the force is piecewise smooth in delta, so Newton on it still
+    converges)."""
+    n = A.size
+    if not np.any(g > 0):
+        return 0.0
+    yi = np.flatnonzero(~on_plane)
+    idx = np.concatenate([np.arange(n), n + yi])
+    D = Dt[np.ix_(idx, idx)]
+    m = idx.size
+    ex = np.concatenate([A, np.zeros(yi.size)])
+    cd = 1.0 / np.diag(D)
+    c = cd[:n]
+    cy = np.zeros(n)
+    cy[yi] = cd[n:]
+    z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
+    Cvec = np.concatenate([c, cy[yi]])
+    Pdz, Pdd = _projection_jacobian(z, g, yi, np.eye(m) - Cvec[:, None] * D, Cvec * ex)
+    dv = sla.solve(np.eye(m) - Pdz, Pdd, check_finite=False)
+    return float(A @ dv[:n])
 
 
 def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):

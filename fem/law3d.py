@@ -66,7 +66,8 @@ from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
-from .contact3d import RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d
+from .contact3d import (RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d,
+                        tangential_slope)
 from .elastic3d import stiffness3d
 from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
 from .interface3d import hat_integrals, mortar_flexibility, mortar_interface, probe_response
@@ -458,21 +459,55 @@ class FEContact3D:
             raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
         if (u is None) == (Fx is None):
             raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
+        self.stats["steps"] += 1
+        return res, new
+
+    def prepare(self, state: FE3DState, *, d=None, F_N=None) -> "FE3DTrial":
+        """The normal part of a step, for many trial tangential displacements (``mdr.protocol``;
+        the apparatus): ``force(u)`` gives (Fx, dFx/du), ``commit(u)`` the result of
+        ``step(state, u, ...)``. For identical materials (or ``coupling=False``) the normal
+        contact is solved here once (cached per load); for a dissimilar pair with coupling the
+        pressure depends on u, so each trial solves the coupled increment at its u."""
+        if (d is None) == (F_N is None):
+            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
+        return FE3DTrial(self, self._normal_part(state, d, F_N))
+
+    def _normal_part(self, state, d, F_N) -> dict:
+        """What a step needs before its tangential load: the normal solution (None when the bodies
+        are apart or when the dissimilar pair's coupled solve does both at once)."""
         if F_N is not None:
             F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
             touching = F_N > 0
         else:
             d = float(d)
+            if not np.isfinite(d):
+                raise InputError(f"d must be finite, got {d!r}")
             touching = d > 0
+        coupled = touching and self.rf.K is not None and self.coupling
+        nr = None
+        if touching and not coupled:
+            with blas_threads(1):
+                nr = self.normal(F_N=F_N) if F_N is not None else self.normal(d=d)
+        return {"state": state, "F_N": F_N, "d": d, "touching": touching, "coupled": coupled, "nr": nr}
+
+    def _tangential(self, ctx, u, Fx):
+        """The tangential part of a step from :meth:`_normal_part`: returns (StepResult, FE3DState,
+        (g, TangentialResult, slip increments)) for the trial's slope."""
+        state, F_N, d, nr = ctx["state"], ctx["F_N"], ctx["d"], ctx["nr"]
+        if u is not None:
+            u = float(u)
+            if not np.isfinite(u):
+                raise InputError(f"u must be finite, got {u!r}")
         mi = self.mi
         q0 = np.asarray(state.q)
         with blas_threads(1):
-            if touching and self.rf.K is not None and self.coupling:  # dissimilar pair: both together
+            if ctx["coupled"]:  # dissimilar pair: both together
                 if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
                     self._check_force_limit(Fx, F_N)
                 p, dd, res, _ = solve_coupled3d(
                     self.rf, self.g0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
-                    F_n=None if F_N is None else F_N / 2, d=d, delta=None if u is None else float(u),
+                    F_n=None if F_N is None else F_N / 2, d=d, delta=u,
                     F_t=None if Fx is None else Fx / 2, q0=q0, delta0=state.u,
                     p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
                 self.stats["normal_solves"] += 1
@@ -481,7 +516,6 @@ class FEContact3D:
                               contact_radius=self._contact_radius(p, self.tilt == 0.0), iterations=0)
                 g = self.mu * p
             else:
-                nr = (self.normal(F_N=F_N) if F_N is not None else self.normal(d=d)) if touching else None
                 p = nr.p if nr is not None else np.zeros(self.n)
                 g = self.mu * p
                 self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
@@ -490,7 +524,7 @@ class FEContact3D:
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=uu)
                 elif u is not None:
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
-                                             delta=float(u), q0=q0)
+                                             delta=u, q0=q0)
                 else:
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
                                              force=Fx / 2, q0=q0, delta0=state.u)
@@ -504,23 +538,18 @@ class FEContact3D:
         a = nr.contact_radius if nr is not None else 0.0
         a_x = self._ray_caps(p, a)["+x"]
         c = float(per_step(mi.x[ray], slack[ray], slipping[ray], a_x, self.stick_onset))
-        self.stats["steps"] += 1
         self.stats["trial_solves"] += 1
         self.stats["newton"] += res.iterations
         new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.delta),
                         d=float(nr.approach if nr is not None else (d or 0.0)))
         return StepResult(Fx=2.0 * float(mi.A @ res.q[:, 0]), FN=FN, d=new.d, a=a, c=c, u=new.u, work=work,
-                          slack=slack[ray], slipping=slipping[ray]), new
+                          slack=slack[ray], slipping=slipping[ray]), new, (g, res, res.s - np.asarray(state.P))
 
     def _check_force_limit(self, Fx, FN):
         """A prescribed tangential force must stay below mu F_N (no force-controlled gross slip)."""
         if Fx is not None and Fx != 0.0 and abs(Fx) >= self.mu * FN * (1 - 1e-12):
             raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
                              f"mu*F_N={self.mu * FN:.4g} N under force control")
-
-    def prepare(self, state, *, d=None, F_N=None):
-        raise InputError("the 3D model does not offer trial steps yet (prepare): drive it directly "
-                         "(python -m fem contact --model 3d), not in the apparatus")
 
     # ------------------------------------------------------------------ runs
     def run(self, u=None, *, F_N=None, d=None, Fx=None, state: FE3DState | None = None,
@@ -634,3 +663,35 @@ class FEContact3D:
         x0, x1 = self.contact_extent_x(nr.p)
         return {"tilt": self.tilt, "contact_area_fraction": self.contact_area(nr.p) / ref,
                 "contact_x_min": x0, "contact_x_max": x1}
+
+
+class FE3DTrial:
+    """A prepared step of an FEContact3D (:meth:`FEContact3D.prepare`); pure like ``step``. The
+    tangential solve of the last u asked is kept, so ``commit`` after ``force`` at the same u
+    costs nothing."""
+
+    def __init__(self, law: FEContact3D, ctx: dict):
+        self.law, self.ctx = law, ctx
+        self._last = None
+
+    def _at(self, u):
+        u = float(u)
+        if self._last is None or self._last[0] != u:
+            self._last = (u, self.law._tangential(self.ctx, u, None))
+        return self._last[1]
+
+    def force(self, u):
+        """(Fx, dFx/du) at displacement u (the law's measure), full body; dFx/du is the consistent
+        tangent of the Coulomb increment at fixed pressure (``fem.contact3d.tangential_slope``;
+        for a dissimilar pair with coupling the pressure's own change with u is left out)."""
+        res, _, (g, tr, r) = self._at(u)
+        law = self.law
+        with blas_threads(1):
+            k = tangential_slope(law.rf.Dt, law.mi.A, g, law._qy_zero, tr.q, r)
+        return res.Fx, 2.0 * k
+
+    def commit(self, u):
+        """(StepResult, FE3DState) of the step to displacement u, equal to ``step(state, u, ...)``."""
+        res, new, _ = self._at(u)
+        self.law.stats["steps"] += 1
+        return res, new

@@ -304,6 +304,83 @@ def test_assumptions_3d_scene(tmp_path):
         Scene("t3c", "x", "sphere", variants=({"relax": "direction"},))
 
 
+def test_tilt_scene_tiny(tmp_path):
+    """A tiny tilt family (the flat punch b = 100 um, h = 0.3 and 0.2 b, 3 cycles of 20 steps): each tilt
+    against the aligned face on the same mesh. The aligned answer holds (dissipation within the
+    catalogue's floor, 1e-4 of 4 mu F0 u_A) at 0.2 theta_c, the closed-form bound of complete stick
+    (tests/test_punch3d.py), and fails at 0.5 theta_c, where the lifted edge slips (measured +0.27 % of
+    4 mu F0 u_A, 27x the floor). The report table and the figure are written; the scene is refused
+    without the 3D model."""
+    from validation import report
+    from validation.scenes import TILT_BOUND, tilt_critical
+
+    thc = tilt_critical(0.5, 100e-6, Materials().E_star)
+    s = Scene("tt", "tiny tilt", "flat", b=100e-6, fe_model="3d", fe_levels=(0.3, 0.2), cycles=3, steps=20,
+              group="3d", variants=({"profile": "flat", "b": 100e-6, "tilts": (0.2 * thc, 0.5 * thc)},))
+    res = runner.run_scene(s, tmp_path)
+    (row,) = res["tilt"]
+    assert row["theta_c"] == pytest.approx(thc, rel=1e-12)
+    at02, at05 = row["points"]
+    assert at02["aligned"]["dissipation"]["holds"] is True and at05["aligned"]["dissipation"]["holds"] is False
+    assert row["holds_below"] == pytest.approx(0.2 * thc, rel=1e-12)
+    assert row["fails_at"] == pytest.approx(0.5 * thc, rel=1e-12)
+    assert at05["aligned"]["dissipation"]["effect"] > 10 * at05["aligned"]["dissipation"]["tolerance"]
+    assert row["dissipation_unit"] == "4 mu F0 u_A"  # the aligned punch sticks
+    assert all(p["contact_area_fraction"] == 1.0 for p in row["points"])  # full contact below theta_c
+    assert (tmp_path / res["files"]["tilt"]).exists()
+    text = "\n".join(report._tilt_table(res))
+    assert "tt[flat b = 100 um]" in text and "0.2 theta_c" in text
+    assert report.verdict(res) == (None, "see its table")
+    assert TILT_BOUND == pytest.approx(np.pi / 3600, rel=1e-15)
+    with pytest.raises(Exception, match="tilt variants need fe_model='3d'"):
+        Scene("tt2", "x", "flat", b=1e-4, variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,)},))
+
+
+def test_tilt_family_in_the_catalogue():
+    """The catalogue's tilt family: the flat punch b = 100 um and the truncated spheres b = 20 um and
+    0.6 mm, every tilt up to the paper's bound pi/3600, which is the last."""
+    from validation.scenes import CATALOGUE, TILT_BOUND
+
+    s = CATALOGUE["tilt"]
+    assert s.fe_model == "3d" and s.drive == "force" and (s.F0, s.dF, s.mu, s.amplitude) == (0.5, 0.1, 0.2, 0.06)
+    assert [(v["profile"], v["b"]) for v in s.variants] == [("flat", 100e-6), ("truncated", 20e-6),
+                                                            ("truncated", 0.6e-3)]
+    for v in s.variants:
+        t = np.asarray(v["tilts"])
+        assert np.all(np.diff(t) > 0) and t[-1] == TILT_BOUND and t[0] > 0
+
+
+@pytest.mark.slow
+def test_tilt_family(tmp_path):
+    """The catalogue's tilt family (the README numbers): the aligned answer holds on the dissipation
+    (catalogue tolerance: 0.5 %, or 1e-4 of 4 mu F0 u_A where the aligned face sticks) up to 0.3
+    theta_c and fails from 0.5 theta_c on for the flat punch b = 100 um (3.4e-5, 5.7e-5 rad) and the
+    truncated sphere b = 0.6 mm (9.5e-7, 1.6e-6 rad); the truncated sphere b = 20 um, mostly spherical,
+    holds at 8.6e-5 rad and loses dissipation from 2.9e-4 rad on (measured -6.4 +- 1.9 %, -27 +- 9 % at
+    pi/3600). At theta_c the punch slips (slip index 0.021) and its du loop widens (+24 %). At pi/3600
+    the edge contact of the punch (9 % of its face) and of b = 0.6 mm (2 %) spans under 10 vertices:
+    undetermined."""
+    from validation.scenes import CATALOGUE
+
+    res = runner.run_scene(CATALOGUE["tilt"], tmp_path)
+    flat, t20, t600 = res["tilt"]
+    for row in (flat, t600):
+        assert row["holds_below_ratio"] == pytest.approx(0.3, rel=1e-9)
+        assert row["fails_at"] / row["theta_c"] == pytest.approx(0.5, rel=1e-9)
+    assert t20["holds_below"] == pytest.approx(t20["points"][0]["tilt"], rel=1e-12)
+    d = [p["aligned"]["dissipation"] for p in t20["points"]]
+    assert d[1]["holds"] is False and d[1]["effect"] < 0 and d[-1]["effect"] < d[1]["effect"]
+    at_c = next(p for p in flat["points"] if abs(p["ratio"] - 1) < 1e-9)
+    assert 0.01 < at_c["aligned"]["slip_index"]["effect"] < 0.04  # the aligned punch: 0 (measured 0.021)
+    assert 0.12 < at_c["aligned"]["loop_du"]["effect"] < 0.5  # measured 0.24
+    assert -0.15 < d[1]["effect"] < -0.02 and -0.6 < d[-1]["effect"] < -0.1  # measured -0.064, -0.27
+    # at the paper's bound the edge contact is not resolved: undetermined, never a verdict
+    assert 0.04 < flat["points"][-1]["contact_area_fraction"] < 0.2  # measured 0.093
+    assert t600["points"][-1]["contact_area_fraction"] < 0.04  # measured 0.019
+    for row in (flat, t600):
+        assert row["points"][-1]["resolved"] is False and row["points"][-1]["holds"] is None
+
+
 def test_a_3d_scene_runs_through_the_runner(tmp_path):
     """A scene with fe_model="3d" (fem.law3d) runs like any other: verdicts on both ladders, the
     3D keys in its FE result, the du loop compared (the contact measure), figures without field

@@ -332,6 +332,8 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
         return _run_curvature(s, out_dir, log)
     if s.variants and "relax" in s.variants[0]:
         return _run_assumptions3d(s, out_dir, log)
+    if s.variants and "tilts" in s.variants[0]:
+        return _run_tilt(s, out_dir, log)
     if s.variants:
         return _run_validity(s, out_dir, log)
     out_dir = Path(out_dir) if out_dir is not None else None
@@ -530,6 +532,167 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
         from . import figures
 
         result["files"].update(figures.assumptions3d_figure(result, Path(out_dir)))
+    return result
+
+
+def tilt_variant(s: Scene, v: dict) -> Scene:
+    """The aligned scene of one profile of a tilt scene (``v``: profile, b, tilts)."""
+    from dataclasses import replace
+
+    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um]"
+    return replace(s, name=name, profile=v["profile"], b=float(v["b"]), variants=(),
+                   fe_levels=tuple(v.get("fe_levels", s.fe_levels)))
+
+
+#: the metrics of a tilt, each against the aligned face: tolerance key of ``Scene.tolerances`` (None:
+#: reported, not judged). ``dissipation``: relative to the aligned dissipation, or, where the aligned
+#: loop hardly dissipates (below 1 % of 4 mu F0 u_A: the flat punch sticks), in units of 4 mu F0 u_A
+#: (a slip-index difference; ``metrics.dissipation_error``); ``slip_index`` the difference;
+#: ``contact_area`` the contact area fraction at F0 minus 1; ``loop_du`` ``metrics.loop_distance``'s du
+#: a tilted contact with fewer vertices (half model, at F0 on the finest level) resolves no stick zone:
+#: its verdicts are undetermined
+TILT_MIN_VERTICES = 10
+TILT_METRICS = {"dissipation": "dissipation", "slip_index": "slip_index", "contact_area": None, "loop_du": "loop_du"}
+
+
+def _tilt_effects(run, ref, relative, mu, F0) -> dict:
+    """The tilt metrics (``TILT_METRICS``) of one tilted ``run`` against a reference ``ref`` (the
+    aligned 3D run on the same mesh, or MDR); ``relative``: the dissipation relative to ref's."""
+    scale = 4.0 * mu * F0 * float(ref["displacement_amplitude"])
+    W, W0 = float(run["dissipation"]), float(ref["dissipation"])
+    d, d0 = run.get("slip_index"), ref.get("slip_index")
+    return {"dissipation": (W - W0) / (abs(W0) if relative else scale) if (abs(W0) if relative else scale) > 0
+            else None,
+            "slip_index": None if d is None or d0 is None else float(d) - float(d0),
+            "contact_area": None if run.get("contact_area_fraction") is None else run["contact_area_fraction"] - 1.0,
+            "loop_du": metrics.loop_distance(run["loop"], ref["loop"], mu, F0)["du"]}
+
+
+def _tilt_tolerance(q, tol, relative, W0, scale):
+    from .scenes import DISSIPATION_FLOOR
+
+    if q != "dissipation":
+        return None if TILT_METRICS[q] is None else tol[TILT_METRICS[q]]
+    return tol["dissipation"] if relative else max(tol["dissipation"] * abs(W0) / scale, DISSIPATION_FLOOR)
+
+
+def _run_tilt(s: Scene, out_dir, log) -> dict:
+    """Misalignment of the flat face (``tilt`` family): per profile, the aligned face and every tilt
+    (``v["tilts"]``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.variant``), the
+    normal load applied with friction active and the force-driven cycles of the scene
+    (``fem.contact_run.drive_3d``), and MDR (aligned; its own ladder). Each tilt's metrics
+    (``TILT_METRICS``) against the aligned 3D run on the same mesh: the mesh error the two share
+    cancels, the effect's error bar is its own ladder (``metrics.ladder_error``); the verdict
+    "the aligned answer holds" is |effect| <= error + tolerance. Against MDR: the same metrics
+    of the finest level, error bar the 3D ladder of the tilted value plus MDR's. A tilted contact of
+    fewer than ``TILT_MIN_VERTICES`` vertices resolves nothing: its verdicts are None. ``holds_below``:
+    the largest tilt up to which every swept tilt holds on the dissipation."""
+    import warnings
+
+    from fem.contact_run import drive_3d
+
+    from .scenes import tilt_critical
+
+    t_scene = time.perf_counter()
+    tol = s.tolerances()
+    rows = []
+    for v in s.variants:
+        sv = tilt_variant(s, v)
+        mat = materials_of(sv)
+        thc = tilt_critical(sv.F0, sv.b, mat.E_star)
+        tilts = (0.0,) + tuple(float(t) for t in v["tilts"])
+        mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
+        mdr = mdr_ladder[-1]
+        levels = []
+        for h in sv.fe_levels:
+            t0 = time.perf_counter()
+            law = _fe_law(sv, h)
+            setup = time.perf_counter() - t0
+            runs = []
+            for th in tilts:
+                t1 = time.perf_counter()
+                lt = law.variant(tilt=th)
+                with warnings.catch_warnings():  # stationarity is reported per run
+                    warnings.simplefilter("ignore", RuntimeWarning)
+                    out = drive_3d(lt, sv.mu, sv.F0, sv.dF, sv.alpha, None, sv.amplitude, sv.cycles, sv.steps)
+                tk = lt.tilt_keys(sv.F0)
+                runs.append({"tilt": th, "contact_vertices": int(lt.contact_mask(lt.normal(F_N=sv.F0).p).sum()), **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
+                                                                    "stationary", "dissipation_per_cycle")},
+                             "contact_area_fraction": tk["contact_area_fraction"],
+                             "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
+                             "loop": {k: out["loop"][k] for k in ("du", "Fx")},
+                             "runtime_s": time.perf_counter() - t1})
+            levels.append({"h": h, "dofs": law.ndofs, "vertices": law.n, "setup_s": setup, "runs": runs,
+                           "runtime_s": time.perf_counter() - t0})
+            log(f"  {sv.name} h = {h:g} a_ref ({law.n} vertices): {len(tilts)} tilts in "
+                f"{levels[-1]['runtime_s']:.0f} s")
+        # the dissipation's unit, per reference: relative unless it hardly dissipates (the flat punch sticks)
+        fine0 = levels[-1]["runs"][0]
+
+        def relative(ref):
+            return abs(float(ref["dissipation"])) >= 0.01 * 4.0 * sv.mu * sv.F0 * float(ref["displacement_amplitude"])
+
+        rel3, relm = relative(fine0), relative(mdr)
+        hs = [lv["h"] for lv in levels]
+        md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
+        points = []
+        for i, th in enumerate(tilts[1:], start=1):
+            vs3 = [_tilt_effects(lv["runs"][i], lv["runs"][0], rel3, sv.mu, sv.F0) for lv in levels]
+            vsm = [_tilt_effects(lv["runs"][i], mdr, relm, sv.mu, sv.F0) for lv in levels]
+            fine = levels[-1]["runs"][i]
+            mdr_side = {q: [_tilt_effects(fine, x, relm, sv.mu, sv.F0)[q] for x in mdr_ladder] for q in TILT_METRICS}
+            resolved = fine["contact_vertices"] >= TILT_MIN_VERTICES
+            pt = {"tilt": th, "ratio": th / thc, "aligned": {}, "mdr": {}, "stationary": bool(fine["stationary"]),
+                  "contact_area_fraction": fine["contact_area_fraction"], "contact_vertices": fine["contact_vertices"],
+                  "resolved": resolved}
+            for q in TILT_METRICS:
+                t3 = _tilt_tolerance(q, tol, rel3, fine0["dissipation"], 4.0 * sv.mu * sv.F0 *
+                                     float(fine0["displacement_amplitude"]))
+                lad = metrics.ladder_error(hs, [e[q] for e in vs3])
+                e, err = lad["value"], lad["error"]
+                ok = resolved and e is not None and err is not None and np.isfinite(err)
+                pt["aligned"][q] = {"effect": e, "error": err, "status": lad["status"], "tolerance": t3,
+                                    "holds": None if (t3 is None or not ok) else bool(abs(e) <= err + t3)}
+                if q == "contact_area":
+                    continue
+                tm = _tilt_tolerance(q, tol, relm, mdr["dissipation"], 4.0 * sv.mu * sv.F0 *
+                                     float(mdr["displacement_amplitude"]))
+                lf = metrics.ladder_error(hs, [e[q] for e in vsm])
+                lm = metrics.ladder_error(md_h, mdr_side[q])
+                em = lf["value"]
+                errm = None if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
+                pt["mdr"][q] = {"effect": em, "error": errm, "status": lf["status"], "tolerance": tm,
+                                "holds": None if (not resolved or em is None or errm is None or not np.isfinite(errm))
+                                else bool(abs(em) <= errm + tm)}
+            judged = [x["holds"] for x in pt["aligned"].values() if x["tolerance"] is not None]
+            pt["holds"] = False if False in judged else (None if None in judged else True)
+            points.append(pt)
+            a = pt["aligned"]
+            log(f"  {sv.name} theta = {th:.3g} rad ({th / thc:.3g} theta_c): dissipation "
+                f"{_pct_or(a['dissipation']['effect'])} +- {_pct_or(a['dissipation']['error'])}, contact area "
+                f"{_pct_or(a['contact_area']['effect'])}: {'holds' if pt['holds'] else 'does not hold'}")
+        below = None
+        for pt in points:
+            if pt["aligned"]["dissipation"]["holds"] is not True:
+                break
+            below = pt["tilt"]
+        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc,
+                     "dissipation_unit": "relative" if rel3 else "4 mu F0 u_A",
+                     "dissipation_unit_mdr": "relative" if relm else "4 mu F0 u_A",
+                     "holds_below": below, "holds_below_ratio": None if below is None else below / thc,
+                     "fails_at": next((pt["tilt"] for pt in points if pt["aligned"]["dissipation"]["holds"] is False),
+                                      None),
+                     "mdr": {k: mdr.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude")},
+                     "points": points,
+                     "levels": [{**lv, "runs": [{k: x for k, x in r.items() if k != "loop" or lv is levels[-1]}
+                                                for r in lv["runs"]]} for lv in levels],
+                     "runtime_s": sum(lv["runtime_s"] for lv in levels)})
+    result = {"scene": s.as_dict(), "closed_form": None, "tilt": rows, "errors": {"a_ref": a_ref(s)},
+              "files": {}, "runtime_s": time.perf_counter() - t_scene}
+    if out_dir is not None:
+        from . import figures
+
+        result["files"].update(figures.tilt_figure(result, Path(out_dir)))
     return result
 
 

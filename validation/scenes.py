@@ -60,6 +60,11 @@ FE_MODELS = ("axisym", "3d")
 #: the assumptions of Mindlin's theory (and MDR) a 3D scene can relax, one per variant: the
 #: tangential traction along x, and no normal-tangential coupling of a dissimilar pair
 ASSUMPTIONS_3D = ("direction", "coupling")
+#: the tilt family (``tilt``): the 3D model's coarse levels (a tilt sweep of ~25 runs per level); the
+#: effect of a tilt is measured against the aligned run on the same mesh, where the mesh error cancels
+TILT_LEVELS_3D = (0.3, 0.2)
+#: the paper's bound on the tilt of its flat faces (rad): pi / 3600, 0.05 degrees
+TILT_BOUND = 3.141592653589793 / 3600
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
@@ -96,8 +101,9 @@ class Scene:
     Mindlin's uncoupled friction) or "3d" (``fem.law3d``: the half model with a
     two-component traction of free direction, displacements in the half-space comparable
     contact measure as the axisymmetric model's; force or displacement drive, not the
-    apparatus, whose Newton steps need trial steps the 3D law does not offer). ``variants`` (validity scenes only): mesh
-    size overrides as multiples of a_ref, e.g. ``{"block": 5.0}``.
+    apparatus). ``variants``: of validity scenes mesh size overrides as multiples of a_ref, e.g.
+    ``{"block": 5.0}``; of the 3D assumptions scene ``{"relax": ...}``; of the tilt family
+    ``{"profile", "b", "tilts"}`` (rad) and optionally ``"fe_levels"``.
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
 
@@ -135,7 +141,8 @@ class Scene:
         if self.fe_model not in FE_MODELS:
             raise InputError(f"fe_model must be one of {', '.join(FE_MODELS)}; got {self.fe_model!r}")
         if self.fe_model == "3d" and self.drive == "apparatus":
-            raise InputError(f"scene {self.name}: the 3D model is not offered in the apparatus (no trial steps)")
+            raise InputError(f"scene {self.name}: the 3D model is not offered in the apparatus scenes (the "
+                             "runner drives it directly; its trial steps serve mdr.apparatus.run_apparatus)")
         if self.drive not in DRIVES:
             raise InputError(f"drive must be one of {', '.join(DRIVES)}; got {self.drive!r}")
         if self.drive == "apparatus" and not (self.kx and self.kx > 0):
@@ -147,6 +154,11 @@ class Scene:
                       or not set(relax) <= set(ASSUMPTIONS_3D)):
             raise InputError(f"scene {self.name}: variants that relax an assumption need fe_model='3d' and "
                              f"relax in {', '.join(ASSUMPTIONS_3D)} on every variant")
+        tilted = [v for v in self.variants if "tilts" in v]
+        if tilted and (self.fe_model != "3d" or self.drive != "force" or len(tilted) != len(self.variants)
+                       or any(v.get("profile") not in ("flat", "truncated") or not v.get("b") for v in tilted)):
+            raise InputError(f"scene {self.name}: tilt variants need fe_model='3d', drive='force' and on every "
+                             "variant tilts, a profile flat or truncated and its b > 0")
         unknown = set(self.tolerance) - set(TOLERANCES)
         if unknown:
             raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
@@ -183,6 +195,23 @@ class Scene:
         """Coarser ladders and fewer steps (``--quick``): same physics, larger own errors."""
         return replace(self, fe_levels=FE_LEVELS_QUICK if self.fe_model == "axisym" else self.fe_levels,
                        mdr_cells=MDR_CELLS_QUICK, steps=min(self.steps, 80), cycles=min(self.cycles, 3))
+
+
+def tilt_critical(F, b, E_star) -> float:
+    """The tilt (rad) at which a rigid flat circular punch of radius b under the central force F
+    starts to lose contact at its trailing edge, F / (4 E* b^2) (Johnson 1985, Contact
+    Mechanics, sec. 5.2). For a truncated sphere the same formula with its face radius b is the
+    scale of the tilt (not a threshold: the spherical part keeps contact beyond the face)."""
+    return F / (4.0 * E_star * b * b)
+
+
+def tilt_sweep(b, ratios, F0=0.5) -> tuple:
+    """Tilts (rad) of the tilt family for face radius b: ``ratios`` x theta_c (steel on steel at F0)
+    below the paper's bound ``TILT_BOUND``, and the bound itself."""
+    from mdr.materials import Materials
+
+    thc = tilt_critical(F0, b, Materials(**STEEL).E_star)
+    return tuple(sorted({float(r * thc) for r in ratios if r * thc < TILT_BOUND} | {TILT_BOUND}))
 
 
 def _um(x):
@@ -249,6 +278,23 @@ def _catalogue() -> dict:
                           "free direction; the coupling of steel on an aluminium alloy, Dundurs' beta = +0.11) "
                           "and imposed (q_y = 0; no coupling), the normal load applied with friction active. "
                           "The effect is the difference of the pair, with the error bar of its own ladder."))
+    # misalignment: the flat face tilted about y, against the aligned 3D model on the same mesh and MDR
+    sc.append(Scene("tilt", "Misalignment: the flat face tilted up to the paper's bound pi/3600", "flat", b=100e-6,
+                    fe_model="3d", fe_levels=TILT_LEVELS_3D, cycles=4, steps=40, group="3d",
+                    variants=({"profile": "flat", "b": 100e-6, "tilts": tilt_sweep(100e-6, (0.1, 0.2, 0.3, 0.5, 1, 2, 4))},
+                              {"profile": "truncated", "b": 20e-6, "tilts": tilt_sweep(20e-6, (0.03, 0.1, 0.2)),
+                               "fe_levels": (0.2, 0.14)},
+                              {"profile": "truncated", "b": 0.6e-3,
+                               "tilts": tilt_sweep(0.6e-3, (0.1, 0.2, 0.3, 0.5, 1, 3, 10, 30, 100))}),
+                    notes="Table 2 loading (F0 = 0.5 N, dF = 0.1 N, mu = 0.2; force amplitude 0.06 N as the "
+                          "geometry series), steel on steel, R = 6 mm. theta_c = F0 / (4 E* b^2), the tilted punch's "
+                          "loss of full contact at F0 (for the truncated spheres the same formula with b as the "
+                          "scale). Every tilt runs on the same 3D mesh as the aligned face (FEContact3D.variant), "
+                          "so the effect of the tilt is free of the mesh error the two share; its error bar is the "
+                          "effect's two-level ladder (b = 20 um: h = 0.2, 0.14 a_ref, since at 0.3 a_ref its slip "
+                          "annulus is not resolved and the aligned dissipation is 10x off). The rotation is held by "
+                          "the mount, the load line through the face centre. A tilted contact of fewer than 10 "
+                          "vertices (half model, at F0) is undetermined."))
     out = {}
     for s in sc:
         if s.name in out:

@@ -1,0 +1,74 @@
+"""The apparatus with the tilted 3D law: one experiment of the paper (Figs. 6, 7: truncated sphere
+b = 0.6 mm, R = 6 mm, k_x = 1.9 N/um, ``mdr.study.LOOP_CASES``) read again with a misaligned face.
+
+The MDR law and the 3D law (``fem.law3d.FEContact3D``, contact measure, trial steps) in the same
+apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``mdr.study.loops``):
+the slip index of the aligned face and of faces tilted by multiples of theta_c = F0 / (4 E* b^2)
+up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
+(``FEContact3D.variant``), at two mesh levels; ``contact vertices`` counts the vertices in contact
+at F0 (half model): below 10 the contact is not resolved (``validation.runner.TILT_MIN_VERTICES``).
+Run:
+
+    python benchmarks/bench_tilt_apparatus.py [--case fig6] [--cycles 3] [--steps 80] [h ...]
+"""
+import argparse
+import time
+import warnings
+
+import numpy as np
+
+
+def main(argv=None):
+    from fem.law3d import FEContact3D
+    from mdr.apparatus import Apparatus, run_apparatus
+    from mdr.law import MDRContact
+    from mdr.materials import Materials
+    from mdr.profiles import TruncatedSphere
+    from mdr.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
+    from validation.runner import TILT_MIN_VERTICES
+    from validation.scenes import TILT_BOUND, tilt_critical
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--case", default="fig6", choices=("fig6", "fig7"))
+    ap.add_argument("--cycles", type=int, default=3)
+    ap.add_argument("--steps", type=int, default=80)
+    ap.add_argument("--ratios", type=float, nargs="*", default=[1.0, 3.0, 10.0],
+                    help="tilts as multiples of theta_c (pi/3600 is always added)")
+    ap.add_argument("levels", type=float, nargs="*", default=[0.3, 0.2])
+    args = ap.parse_args(argv)
+    kind, F0, ua, mu1, mu2 = LOOP_CASES[args.case]
+    assert kind == "truncated"
+    mat, prof = Materials(), TruncatedSphere(R_IND, TABLE1_B)
+    dF = 0.2 * F0
+    app = Apparatus(kx=TABLE1_KX, mu2=mu2)
+    kw = dict(dF=dF, alpha=0.0, ua=ua, cycles=args.cycles, steps=args.steps)
+    thc = tilt_critical(F0, TABLE1_B, mat.E_star)
+    tilts = [0.0] + [r * thc for r in args.ratios if r * thc < TILT_BOUND] + [TILT_BOUND]
+    t0 = time.perf_counter()
+    d_md = float(run_apparatus(MDRContact(prof, mat, mu1, F_max=F0 + dF, F_min=F0 - dF, n=400), app, mu1, F0,
+                               **kw)["slip_index"])
+    print(f"{args.case}: b = {TABLE1_B * 1e3:g} mm, F0 = {F0} N, u_A = {ua * 1e9:g} nm, mu1 = {mu1}, mu2 = {mu2}, "
+          f"k_x = {TABLE1_KX / 1e6:g} N/um; theta_c = {thc:.3g} rad; {args.cycles} cycles x {args.steps} steps")
+    print(f"MDR (aligned): slip index {d_md:.5f} ({time.perf_counter() - t0:.1f} s)")
+    print("| h / b | tilt (rad) | tilt / theta_c | slip index | tilted / aligned - 1 | contact vertices | resolved "
+          "| evaluations per step | run (s) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for h in args.levels:
+        law = FEContact3D(prof, mat, mu1, F_max=F0 + dF, h_contact=h, displacement="contact")
+        d0 = None
+        for th in tilts:
+            lt = law.variant(tilt=th)
+            t1 = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                out = run_apparatus(lt, app, mu1, F0, **kw)
+            d = float(out["slip_index"])
+            d0 = d if th == 0.0 else d0
+            nv = int(lt.contact_mask(lt.normal(F_N=F0).p).sum())
+            print(f"| {h:g} | {th:.3g} | {th / thc:.3g} | {d:.5f} | {d / d0 - 1:+.3%} | {nv} | "
+                  f"{'yes' if nv >= TILT_MIN_VERTICES else 'no'} | {out['evaluations_per_step']:.2f} | "
+                  f"{time.perf_counter() - t1:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
