@@ -315,7 +315,8 @@ def test_tilted_punch_mesh_convergence(tmp_path):
 
 #: the paper's bound on the flat faces' tilt (rad), 7.6 theta_c of this punch at F
 TILT_PAPER = np.pi / 3600
-#: the refined ball at the loaded edge (-b, 0) of the punch tilted by theta > 0: (x, h, radius) / b
+#: a refined ball at the loaded edge (-b, 0) of the punch tilted by theta > 0: (x, h, radius) / b (the
+#: cheap one: at pi/3600 a radius of 0.8 b covers the whole edge crescent, see the slow test below)
 REFINE = (-1.0, 0.1, 0.5)
 
 
@@ -375,16 +376,19 @@ def test_refined_edge_moment_and_paper_tilt(refined, punch):
 
 @pytest.mark.slow
 def test_refined_edge_converges_at_the_paper_tilt(tmp_path):
-    """The flat punch at pi/3600 (7.6 theta_c) on two levels of the refined edge ball (radius 0.5 b,
-    h_r = b/10 and b/20 on h_contact = b/3.3): contact area fraction measured 0.148, 0.160 (b/14:
-    0.149; without the refinement 0.078 at b/3.3), x_max -0.591 b, -0.565 b (b/14: -0.540 b)."""
-    out = {}
-    for hr in (0.1, 0.05):
-        law = FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=0.3, refine=(-1.0, hr, 0.5), cache_dir=tmp_path)
+    """The flat punch at pi/3600 (7.6 theta_c) with the loaded edge refined (h_contact = b/3.3), the
+    refined ball's size h_r and radius rho varied: (h_r, rho) = (b/10, 0.8 b), (b/14, 0.8 b),
+    (b/10, b): contact area fraction measured 0.168, 0.179, 0.175, x_max -0.589 b, -0.575 b,
+    -0.594 b. A ball of 0.5 b leaves the crescent's tips on the coarse mesh and undercounts them
+    (0.148 at b/10, 0.160 at b/20); without the refinement 0.078 (b/3.3), 0.093 (b/5)."""
+    out = []
+    for hr, rho in ((0.1, 0.8), (0.07, 0.8), (0.1, 1.0)):
+        law = FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=0.3, refine=(-1.0, hr, rho), cache_dir=tmp_path)
         k = law.tilted(TILT_PAPER).tilt_keys(F)
-        out[hr] = (k["contact_area_fraction"], k["contact_x_max"] / B_F)
-    assert abs(out[0.1][0] - out[0.05][0]) < 0.03 and 0.1 < out[0.05][0] < 0.25, out
-    assert abs(out[0.1][1] - out[0.05][1]) < 0.06 and -0.7 < out[0.05][1] < -0.45, out
+        out.append((k["contact_area_fraction"], k["contact_x_max"] / B_F))
+    fr, xm = np.array(out).T
+    assert np.ptp(fr) < 0.03 and np.all((0.12 < fr) & (fr < 0.25)), out
+    assert np.ptp(xm) < 0.05 and np.all((-0.7 < xm) & (xm < -0.45)), out
 
 
 # ------------------------------------------------------------------ the command
