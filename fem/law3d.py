@@ -145,7 +145,10 @@ class FEContact3D:
     ``block_size`` block radius and height (m; default ``BLOCK_SIZE_DEFAULT`` a_ref);
     ``tilt`` (rad, module docstring); ``cache_dir``; ``backend`` (sparse solver); ``traction``
     (``TRACTIONS``); ``coupling`` (False: a dissimilar pair's normal-tangential coupling left out,
-    as in MDR and Mindlin's theory; the pressure then never feels the tangential traction).
+    as in MDR and Mindlin's theory; the pressure then never feels the tangential traction);
+    ``refine``: None or (x, h, radius) in units of a_ref, element size h (<= h_contact) within the
+    ball of that radius around (x, 0, 0) (``meshes.half3d``, ``refine_*``): the loaded edge of a
+    tilted flat face, (-1, h, radius) for the flat punch at theta > 0. The tilt variants share it.
     """
 
     stick_onset = 0.5
@@ -153,7 +156,8 @@ class FEContact3D:
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
-                 cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True):
+                 cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
+                 refine=None):
         if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
@@ -188,8 +192,13 @@ class FEContact3D:
         L = BLOCK_SIZE_DEFAULT * a_ref if block_size is None else float(positive("block_size", block_size))
         t0 = time.perf_counter()
         edge = b / a_ref if b > 0 and not flat else None  # the flat face's edge: a circle of the mesh
+        if refine is None:
+            refine = (None, None, None)
+        elif np.ndim(refine) != 1 or np.size(refine) != 3:
+            raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), got "
+                             f"{refine!r}")
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
-                                  edge=edge)
+                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2])
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()

@@ -18,6 +18,10 @@ graded from ``h_min = h_contact * a_ref`` on that half disk to ``h_max`` far
 away: a gmsh ``Distance`` field from the half disk and a ``Threshold`` field,
 ``h = h_min`` on the disk, growing linearly with the distance d,
 ``h = h_min + growth * d``, capped at ``h_max``.
+Optionally (``refine_x``, ``refine_h``, ``refine_radius``) a ball around (refine_x, 0, 0) gets the
+finer size ``refine_h`` (a gmsh ``MathEval`` distance and a second ``Threshold``, the smaller of
+the two sizes wins through a ``Min`` field): the loaded edge of a tilted flat face, whose edge
+contact is a narrow crescent.
 
 Physical groups (names used by ``fem.elastic3d``): surfaces ``contact`` (the
 half disk), ``top`` (the rest of the top face), ``bottom`` (z = -height,
@@ -71,8 +75,11 @@ class Half3DMeshParams(ContactZoneParams):
     [0.02, 1]; ``h_max`` far-field size (default size / 4, >= h_min); ``edge`` radius of
     an embedded half circle / a_ref in (0, contact_extent] (None: none; equal to
     contact_extent: the rim itself, nothing to embed). The contact extent may be 1 here
-    (the flat punch: the candidate disk is the punch face). ``edge=None`` is left out of
-    :meth:`as_dict`, so the meshes without an edge keep their cache keys.
+    (the flat punch: the candidate disk is the punch face). ``refine_x``, ``refine_h``,
+    ``refine_radius`` (together or none; / a_ref): element size ``refine_h`` (<= h_contact) within
+    the ball of radius ``refine_radius`` around (refine_x, 0, 0), |refine_x| <= contact_extent,
+    graded at ``growth`` outside it (the loaded edge of a tilted flat face). ``None`` values are
+    left out of :meth:`as_dict`, so the meshes without an edge or a refinement keep their cache keys.
     """
 
     a_ref: float
@@ -84,6 +91,9 @@ class Half3DMeshParams(ContactZoneParams):
     growth: float = 0.3
     h_max: float | None = None
     edge: float | None = None
+    refine_x: float | None = None
+    refine_h: float | None = None
+    refine_radius: float | None = None
 
     def __post_init__(self):
         if self.shape not in SHAPES:
@@ -92,6 +102,27 @@ class Half3DMeshParams(ContactZoneParams):
         if self.edge is not None and not (np.ndim(self.edge) == 0 and 0 < self.edge <= self.contact_extent):
             raise InputError(f"edge must be in (0, contact_extent = {self.contact_extent:g}] (the flat face's edge "
                              f"radius / a_ref inside the candidate disk), got {self.edge!r}")
+        self._check_refine()
+
+    def _check_refine(self):
+        r = (self.refine_x, self.refine_h, self.refine_radius)
+        if all(v is None for v in r):
+            return
+        if any(v is None for v in r):
+            raise InputError(f"refine_x, refine_h and refine_radius go together (all given or none), got {r!r}")
+        for name, v in zip(("refine_x", "refine_h", "refine_radius"), r):
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+                raise InputError(f"{name} must be one finite number (/ a_ref), got {v!r}")
+        ce = self.contact_extent
+        if not (np.ndim(self.refine_x) == 0 and np.isfinite(self.refine_x) and abs(self.refine_x) <= ce):
+            raise InputError(f"refine_x must be in [-{ce:g}, {ce:g}] (x of the refined spot / a_ref, inside the "
+                             f"candidate disk), got {self.refine_x!r}")
+        if not (np.ndim(self.refine_h) == 0 and H_CONTACT_3D_RANGE[0] <= self.refine_h <= self.h_contact):
+            raise InputError(f"refine_h must be in [{H_CONTACT_3D_RANGE[0]:g}, h_contact = {self.h_contact:g}] "
+                             f"(element size at the refined spot / a_ref), got {self.refine_h!r}")
+        if not (np.ndim(self.refine_radius) == 0 and 0 < self.refine_radius <= 2 * ce):
+            raise InputError(f"refine_radius must be in (0, 2 contact_extent = {2 * ce:g}] (radius of the refined "
+                             f"ball / a_ref), got {self.refine_radius!r}")
 
     def resolved(self) -> "Half3DMeshParams":
         L = self.size if self.size is not None else 20.0 * self.a_ref
@@ -99,7 +130,9 @@ class Half3DMeshParams(ContactZoneParams):
         hmax = self.h_max if self.h_max is not None else max(L, H) / 4.0
         p = Half3DMeshParams(float(self.a_ref), float(self.h_contact), float(self.contact_extent),
                              self.shape, float(L), float(H), float(self.growth), float(hmax),
-                             None if self.edge is None else float(self.edge))
+                             None if self.edge is None else float(self.edge),
+                             *(None if v is None else float(v)
+                               for v in (self.refine_x, self.refine_h, self.refine_radius)))
         rc = p.r_contact
         if p.size <= 2.0 * rc:
             raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
@@ -117,8 +150,9 @@ class Half3DMeshParams(ContactZoneParams):
 
     def as_dict(self) -> dict:
         d = asdict(self)
-        if d["edge"] is None:
-            del d["edge"]
+        for k in ("edge", "refine_x", "refine_h", "refine_radius"):
+            if d[k] is None:
+                del d[k]
         return d
 
 
@@ -162,7 +196,7 @@ def _generate(p: Half3DMeshParams):
     would allow the surface classification."""
     unit = p.a_ref
     p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
-                         p.h_max / unit, p.edge)
+                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -214,6 +248,18 @@ def _generate(p: Half3DMeshParams):
             fm.setNumber(thr, "SizeMax", p.h_max)
             fm.setNumber(thr, "DistMin", 0.0)
             fm.setNumber(thr, "DistMax", (p.h_max - p.h_min) / p.growth)
+            if p.refine_x is not None:  # the refined ball around (refine_x, 0, 0), the finer size wins
+                ball = fm.add("MathEval")
+                fm.setString(ball, "F", f"Sqrt((x - ({p.refine_x!r}))^2 + y^2 + z^2)")
+                thr2 = fm.add("Threshold")
+                fm.setNumber(thr2, "InField", ball)
+                fm.setNumber(thr2, "SizeMin", p.refine_h)
+                fm.setNumber(thr2, "SizeMax", p.h_max)
+                fm.setNumber(thr2, "DistMin", p.refine_radius)
+                fm.setNumber(thr2, "DistMax", p.refine_radius + (p.h_max - p.refine_h) / p.growth)
+                both = fm.add("Min")
+                fm.setNumbers(both, "FieldsList", [thr, thr2])
+                thr = both
             fm.setAsBackgroundMesh(thr)
             for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),
                              ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 6),
