@@ -236,6 +236,7 @@ def test_law3d_trial_of_a_dissimilar_pair(law_alu):
     assert 0 < 1 - k / fd < 2.5e-3
 
 
+@pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
 def test_law3d_in_the_apparatus_like_mdr():
     """The apparatus (``mdr.apparatus.run_apparatus``, default plates, Table 2 loading, u_A = 150 nm)
     drives the 3D law through its trials (about 3 force evaluations per step). On the truncated

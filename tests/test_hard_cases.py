@@ -92,6 +92,7 @@ def test_vanishing_contact_and_contact_lost(cache):
         assert lost["error"] <= hc.ROUNDOFF and "before: F_x = 0.06" in lost["note"]
 
 
+@pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
 def test_3d_model_hard_cases(cache):
     """The 3D half model: gross slip at 10 u* (friction work against Mindlin-Deresiewicz within
     2e-3, measured 7.8e-4; no drift; |F_x| <= mu F_N to rounding), the normal force down to 1 %

@@ -304,6 +304,7 @@ def test_assumptions_3d_scene(tmp_path):
         Scene("t3c", "x", "sphere", variants=({"relax": "direction"},))
 
 
+@pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
 def test_tilt_scene_tiny(tmp_path):
     """A tiny tilt family (the flat punch b = 100 um, h = 0.3 and 0.2 b, 3 cycles of 20 steps): each tilt
     against the aligned face on the same mesh. The aligned answer holds (dissipation within the
@@ -381,6 +382,7 @@ def test_tilt_family(tmp_path):
         assert row["points"][-1]["resolved"] is False and row["points"][-1]["holds"] is None
 
 
+@pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
 def test_a_3d_scene_runs_through_the_runner(tmp_path):
     """A scene with fe_model="3d" (fem.law3d) runs like any other: verdicts on both ladders, the
     3D keys in its FE result, the du loop compared (the contact measure), figures without field
