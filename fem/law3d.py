@@ -314,10 +314,6 @@ class FEContact3D:
         new.last_run = None
         return new
 
-    def tilted(self, tilt) -> "FEContact3D":
-        """The same law at another tilt (rad): ``variant(tilt=tilt)``."""
-        return self.variant(tilt=tilt)
-
     # ----------------------------------------------------------------- info
     @property
     def stick_nodes(self):
