@@ -111,7 +111,8 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         H = type(H2)(state=H2.state, **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-1)
                                         for f in ("u", "Fx", "FN", "d", "a", "c", "work")},
                      **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-2) for f in ("slack", "slipping")})
-    cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0)
+    driven = "displacement" if ua is not None else "force"
+    cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0, driven=driven)
     last = slice(first, cycles * steps + 1)
     dW = float(cyc.dissipation[-1])
     u_amp = ua if ua is not None else 0.5 * float(np.ptp(H.u[last]))
@@ -120,8 +121,9 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     if not stationary:
         W = np.asarray(cyc.dissipation, dtype=float)
         change = abs(W[-1] - W[-2]) / max(abs(W[-1]), 1e-300) if W.size > 1 else float("inf")
+        unit = "mu F0 in F_x" if driven == "displacement" else "the du amplitude in du"
         warnings.warn(f"the last of {cycles} cycles is not stationary (loop change "
-                      f"{float(cyc.loop_change[-1]):.2e} of mu F0, dissipation change {change:.2e} of the "
+                      f"{float(cyc.loop_change[-1]):.2e} of {unit}, dissipation change {change:.2e} of the "
                       "last cycle's); run more --cycles", RuntimeWarning)
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start

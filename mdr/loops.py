@@ -4,7 +4,10 @@ A history sampled with ``steps`` samples per cycle and T = cycles*steps + 1
 samples (t = 0 included) is cut into cycles k = 0..cycles-1, cycle k holding
 samples k*steps .. (k+1)*steps. The first cycle starts from rest and is not
 stationary; a cycle counts as stationary when its loop matches the previous
-one (max |F_x difference| <= tol * mu F0 and relative dissipation change <= tol).
+one in the free variable of the drive and in dissipation (relative change <= tol).
+The free variable is F_x under displacement control (max |F_x difference| <= tol * mu F0)
+and du under force control, where F_x repeats by construction (max |du difference| <=
+tol * the cycle's du amplitude, half its du range: a ratcheting loop drifts in du).
 Dissipation per cycle dW = |closed integral F_x d(du)| (trapezoidal rule on the
 samples); slip index delta = dW / (4 mu u_A F0) (Willert, Machines 11 (2023)
 484, Eq. 4, after Varenberg, Etsion & Halperin, Tribol. Lett. 17 (2004) 569).
@@ -15,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import positive_int
+from .errors import InputError, positive_int
 
 
 def loop_integral(du, Fx):
@@ -31,7 +34,7 @@ def loop_integral(du, Fx):
 @dataclass
 class CycleAnalysis:
     dissipation: np.ndarray       # dW of every cycle (batch + (cycles,))
-    loop_change: np.ndarray       # max |Fx_k - Fx_{k-1}| / (mu F0), cycle 0: inf
+    loop_change: np.ndarray       # max change of the free variable from cycle k-1 to k (see analyse_cycles), cycle 0: inf
     stationary: np.ndarray        # bool (batch + (cycles,)): cycle k is stationary
     first_stationary: np.ndarray  # index of the first stationary cycle, -1 if none
 
@@ -40,9 +43,21 @@ class CycleAnalysis:
         return self.stationary[..., -1]
 
 
-def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3) -> CycleAnalysis:
-    """Cut a history (batch + (T,)) into cycles and test them for stationarity."""
+#: what a history's drive prescribes: ``analyse_cycles(driven=...)``
+DRIVEN = ("displacement", "force")
+
+
+def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3, *, driven: str) -> CycleAnalysis:
+    """Cut a history (batch + (T,)) into cycles and test them for stationarity.
+
+    ``driven``: ``"displacement"`` when the history prescribes a displacement (du itself, or a
+    machine stroke in series with compliances: F_x is free), its loop change max |F_x,k -
+    F_x,k-1| / (mu F0); ``"force"`` when it prescribes F_x, whose repetition says nothing, so the
+    loop change is max |du_k - du_k-1| / u_k with u_k = ptp(du_k) / 2 the du amplitude of cycle k.
+    """
     steps = positive_int("steps", steps, minimum=4)
+    if driven not in DRIVEN:
+        raise InputError(f"driven must be one of {DRIVEN} (what the history prescribes), got {driven!r}")
     du = np.asarray(du, dtype=float)
     Fx = np.asarray(Fx, dtype=float)
     T = du.shape[-1]
@@ -56,7 +71,11 @@ def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3) -> CycleAnalys
     scale = np.maximum(np.asarray(mu, dtype=float) * np.asarray(F0, dtype=float), 1e-300)
     scale = np.reshape(scale, np.shape(scale) + (1,)) if np.ndim(scale) else scale
     change = np.full(W.shape, np.inf)
-    change[..., 1:] = np.max(np.abs(F[..., 1:, :] - F[..., :-1, :]), axis=-1) / scale
+    if driven == "displacement":
+        change[..., 1:] = np.max(np.abs(F[..., 1:, :] - F[..., :-1, :]), axis=-1) / scale
+    else:
+        u_amp = np.maximum(0.5 * np.ptp(U[..., 1:, :], axis=-1), 1e-300)
+        change[..., 1:] = np.max(np.abs(U[..., 1:, :] - U[..., :-1, :]), axis=-1) / u_amp
     dW_change = np.full(W.shape, np.inf)
     with np.errstate(divide="ignore", invalid="ignore"):
         dW_change[..., 1:] = np.abs(W[..., 1:] - W[..., :-1]) / np.maximum(W[..., 1:], 1e-300)

@@ -234,3 +234,67 @@ def test_readme_discretisation_table_and_friction_work():
         if n >= 800:
             # README: the friction work is exact in time and converges to 2e-6 (measured 1.8e-6)
             assert abs(np.sum(H.work[2 * steps + 1:]) / W_ref - 1) < 5e-6
+
+
+def _masing_force_history(FA, cycles, steps, drift=0.0):
+    """Closed-form history under force control F_x = F_A sin(2 pi t) at constant F_N (sphere):
+    the virgin Cattaneo-Mindlin curve up to F_A, then the Masing branches of Mindlin-Deresiewicz,
+    du = +-u_A -+ 2 u_CM((F_A -+ F_x) / 2), plus a hand-made ratchet ``drift * t`` (du per cycle)."""
+    t = np.arange(cycles * steps + 1) / steps
+    Fx = FA * np.sin(2 * np.pi * t)
+    uA = ref.cattaneo_mindlin_displacement(FA, F0, MU, USTAR)
+    falling = np.cos(2 * np.pi * t) < 0
+    du = np.where(falling, uA - 2 * ref.cattaneo_mindlin_displacement((FA - Fx) / 2, F0, MU, USTAR),
+                  -uA + 2 * ref.cattaneo_mindlin_displacement((FA + Fx) / 2, F0, MU, USTAR))
+    virgin = t <= 0.25
+    du[virgin] = ref.cattaneo_mindlin_displacement(Fx[virgin], F0, MU, USTAR)
+    return t, du + drift * t, Fx, float(uA)
+
+
+def test_stationarity_under_force_control_tests_the_displacement():
+    """Under force control F_x repeats by construction: the loop change compares du. A closed-form
+    Masing loop is stationary from cycle 2 (its dissipation Mindlin-Deresiewicz's); the same loop
+    ratcheting by 1 % of u_A per cycle dissipates the same (the drift integrates F_x dt = 0 over a
+    cycle) and repeats F_x, yet is not stationary: its loop change is the drift / u_A."""
+    from mdr.loops import analyse_cycles
+
+    steps, FA = 400, 0.5 * MU * F0
+    _, du, Fx, uA = _masing_force_history(FA, 4, steps)
+    cyc = analyse_cycles(du, Fx, steps, MU, F0, driven="force")
+    # cycle 0 starts on the virgin curve, so cycle 1 differs from it; cycle 2 repeats cycle 1
+    assert not np.any(cyc.stationary[:2]) and np.all(cyc.stationary[2:]) and cyc.first_stationary == 2
+    assert cyc.loop_change[1] > 1e-2 and np.max(cyc.loop_change[2:]) < 1e-12
+    np.testing.assert_allclose(cyc.dissipation[1:], ref.mindlin_deresiewicz_dissipation_force(FA, F0, MU, USTAR),
+                               rtol=1e-4)  # trapezoidal rule on 400 steps
+    drift = 0.01 * uA
+    _, du_r, Fx_r, _ = _masing_force_history(FA, 4, steps, drift=drift)
+    np.testing.assert_array_equal(Fx_r, Fx)
+    rat = analyse_cycles(du_r, Fx_r, steps, MU, F0, driven="force")
+    np.testing.assert_allclose(rat.dissipation, cyc.dissipation, rtol=1e-9)
+    assert not np.any(rat.stationary) and rat.first_stationary == -1
+    np.testing.assert_allclose(rat.loop_change[2:], drift / uA, rtol=0.01)  # the cycle's du range grows by < drift
+    # read as displacement-driven, the ratchet is invisible (F_x and dW repeat): what the drive prescribes matters
+    assert np.all(analyse_cycles(du_r, Fx_r, steps, MU, F0, driven="displacement").stationary[2:])
+    with pytest.raises(InputError, match="driven must be one of"):
+        analyse_cycles(du, Fx, steps, MU, F0, driven="stroke")
+
+
+def test_stationarity_under_displacement_control_tests_the_force():
+    """Displacement control: the closed-form Masing loop u = u_A sin(2 pi t) is stationary; its
+    force loop drifting by 1e-2 mu F0 per cycle is not, with that loop change."""
+    from mdr.loops import analyse_cycles
+
+    steps, uA = 400, 0.5 * USTAR
+    t = np.arange(4 * steps + 1) / steps
+    u = uA * np.sin(2 * np.pi * t)
+    falling = np.cos(2 * np.pi * t) < 0
+    Fx = np.where(falling, ref.mindlin_deresiewicz_loop(u, uA, F0, MU, USTAR, "unloading"),
+                  ref.mindlin_deresiewicz_loop(u, uA, F0, MU, USTAR, "loading"))
+    Fx[t <= 0.25] = ref.cattaneo_mindlin_force(u[t <= 0.25], F0, MU, USTAR)
+    cyc = analyse_cycles(u, Fx, steps, MU, F0, driven="displacement")
+    assert cyc.first_stationary == 2 and np.all(cyc.stationary[2:])  # cycle 0 holds the virgin curve
+    np.testing.assert_allclose(cyc.dissipation[1:], ref.mindlin_deresiewicz_dissipation(uA, F0, MU, USTAR),
+                               rtol=1e-4)
+    rat = analyse_cycles(u, Fx + 1e-2 * MU * F0 * t, steps, MU, F0, driven="displacement")
+    assert not np.any(rat.stationary)
+    np.testing.assert_allclose(rat.loop_change[2:], 1e-2, rtol=1e-9)
