@@ -182,6 +182,27 @@ def _commit(du, v1, vmax, ell, carried, nodes, a, p, at_lim, v, slack, slip, tmp
     return _sum(tmp1), _sum(tmp2), _stick_one(nodes, slack, first, a, p)
 
 
+@_jit
+def _newton_step(x, r, slope, lo, hi):
+    """One step of the safeguarded Newton iteration of ``mdr.solve.solve_increasing`` (the one
+    home of its update in the compiled loops) for a nondecreasing function whose residual at x
+    is r with slope ``slope``, on the bracket [lo, hi]: the bracket shrinks to the root's side
+    (r < 0: lo = x; r > 0: hi = x), then the Newton step, or the bisection of the bracket when
+    that step is not finite or leaves the open bracket. Returns (x, lo, hi). The callers keep
+    their own loops around it: each residual reads its own arrays (one law's cells; the law,
+    the compliances and the bedding spheres; a batch of profiles) and stops on its own test,
+    and one shared loop would take the residual as a closure over those arrays, which numba
+    does not compile as an argument."""
+    if r < 0:
+        lo = x
+    if r > 0:
+        hi = x
+    xn = x - r / slope
+    if not np.isfinite(xn) or xn <= lo or xn >= hi:
+        xn = 0.5 * (lo + hi)
+    return xn, lo, hi
+
+
 # ------------------------------------------------------------------ MDRContact.run
 @_jit
 def run_law(force_mode, dp, a, kk, part, drive, lo, width, int_g, nodes, E, G, mu, p, at_lim,
@@ -240,14 +261,7 @@ def run_law(force_mode, dp, a, kk, part, drive, lo, width, int_g, nodes, E, G, m
                     if abs(r) <= atol or hi_x - lo_x <= 0.0:
                         done = True
                         break
-                    if r < 0:
-                        lo_x = x
-                    if r > 0:
-                        hi_x = x
-                    xn = x - r / sl
-                    if not np.isfinite(xn) or xn <= lo_x or xn >= hi_x:
-                        xn = 0.5 * (lo_x + hi_x)
-                    x = xn
+                    x, lo_x, hi_x = _newton_step(x, r, sl, lo_x, hi_x)
                 if not done:
                     f, sl = _force(v1, vmax, ellN, G2, x)
                     status[s] = NO_CONVERGENCE
@@ -398,14 +412,7 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                 if abs(r) <= xtol or hi_x - lo_x <= xtol:
                     done = True
                     break
-                if r < 0:
-                    lo_x = x
-                if r > 0:
-                    hi_x = x
-                xn = x - r / sl
-                if not np.isfinite(xn) or xn <= lo_x or xn >= hi_x:
-                    xn = 0.5 * (lo_x + hi_x)
-                x = xn
+                x, lo_x, hi_x = _newton_step(x, r, sl, lo_x, hi_x)
             o_evals[s, k] = calls
             if not done:
                 status[s] = NO_CONVERGENCE
@@ -675,15 +682,10 @@ def approach_truncated_sphere(F, R, b, Es, rtol, d):
             if frozen[i]:
                 a_new[i] = a[i]
                 continue
-            if res[i] < 0:
-                lo[i] = a[i]
-            if res[i] >= 0:
-                hi[i] = a[i]
             ai, bi = a[i], b[i]
             dg = (2.0 * ai**2 - bi**2) / (R[i] * math.sqrt(ai**2 - bi**2)) if ai > bi else 0.0
-            an = ai - res[i] / (2.0 * Es * ai * dg)
-            if not np.isfinite(an) or an <= lo[i] or an >= hi[i]:
-                an = 0.5 * (lo[i] + hi[i])
+            # (res = 0 is converged and frozen below, so its bracket no longer matters)
+            an, lo[i], hi[i] = _newton_step(ai, res[i], 2.0 * Es * ai * dg, lo[i], hi[i])
             done = abs(res[i]) <= 1e-14 * Fp[i] or Fp[i] == 0
             if done:
                 an = ai
