@@ -147,8 +147,9 @@ def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
 
 
 def _fe3d_outputs(s: Scene, law, out, st, h, t0, t1, t2) -> tuple[dict, None]:
-    """The 3D run's result: the keys of ``FEContact3D.result_keys``, the stick zone and traction
-    angle at the peak of the last cycle (``st``), profiles along the +x axis (the vertices on the
+    """The 3D run's result (any drive; in the apparatus beside its keys, e.g. ``slip_index``): the
+    keys of ``FEContact3D.result_keys``, the stick zone and traction angle at the peak of the
+    tangential drive in the last cycle (``st``), profiles along the +x axis (the vertices on the
     symmetry plane); no field data (no VTU of the 3D model yet)."""
     out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h)
     nr = law.normal(F_N=s.F0)

@@ -100,8 +100,9 @@ class Scene:
     axisymmetric body under a tangential load with linear elasticity and
     Mindlin's uncoupled friction) or "3d" (``fem.law3d``: the half model with a
     two-component traction of free direction, displacements in the half-space comparable
-    contact measure as the axisymmetric model's; force or displacement drive, not the
-    apparatus). ``variants``: of validity scenes mesh size overrides as multiples of a_ref, e.g.
+    contact measure as the axisymmetric model's; any drive, in the apparatus through the
+    law's trial steps, ``FEContact3D.prepare``; no such scene in the catalogue, for its cost).
+    ``variants``: of validity scenes mesh size overrides as multiples of a_ref, e.g.
     ``{"block": 5.0}``; of the 3D assumptions scene ``{"relax": ...}``; of the tilt family
     ``{"profile", "b", "tilts"}`` (rad) and optionally ``"fe_levels"``.
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
@@ -140,9 +141,6 @@ class Scene:
             raise InputError(f"profile must be one of {', '.join(PROFILES)}; got {self.profile!r}")
         if self.fe_model not in FE_MODELS:
             raise InputError(f"fe_model must be one of {', '.join(FE_MODELS)}; got {self.fe_model!r}")
-        if self.fe_model == "3d" and self.drive == "apparatus":
-            raise InputError(f"scene {self.name}: the 3D model is not offered in the apparatus scenes (the "
-                             "runner drives it directly; its trial steps serve mdr.apparatus.run_apparatus)")
         if self.drive not in DRIVES:
             raise InputError(f"drive must be one of {', '.join(DRIVES)}; got {self.drive!r}")
         if self.drive == "apparatus" and not (self.kx and self.kx > 0):
