@@ -378,7 +378,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua
         out["c"][..., k] = res.c
         if k >= first and res.slack is not None:
             window.append((res.slack, res.slipping))
-    cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0, driven="displacement")  # the stroke u3
+    cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0, driven="displacement")  # u3 prescribed, F_x free
     last_a = out["a"][..., first:]
     if window and len(window) == last_a.shape[-1]:
         out["stick_radius"] = stick_radius(law.stick_nodes, np.stack([w[0] for w in window], axis=-2),

@@ -34,7 +34,7 @@ def loop_integral(du, Fx):
 @dataclass
 class CycleAnalysis:
     dissipation: np.ndarray       # dW of every cycle (batch + (cycles,))
-    loop_change: np.ndarray       # max change of the free variable from cycle k-1 to k (see analyse_cycles), cycle 0: inf
+    loop_change: np.ndarray       # change of the free variable from cycle k-1 (analyse_cycles), cycle 0: inf
     stationary: np.ndarray        # bool (batch + (cycles,)): cycle k is stationary
     first_stationary: np.ndarray  # index of the first stationary cycle, -1 if none
 
