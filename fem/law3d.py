@@ -153,6 +153,10 @@ class FEContact3D:
     ``refine``: None or (x, h, radius) in units of a_ref, element size h (<= h_contact) within the
     ball of that radius around (x, 0, 0) (``meshes.half3d``, ``refine_*``): the loaded edge of a
     tilted flat face, (-1, h, radius) for the flat punch at theta > 0. The tilt variants share it.
+    ``ring``: None or (r, width, h) in units of a_ref, element size h (<= h_contact) within
+    ``width`` of the circle of radius r on the contact face (``meshes.half3d``, ``ring_*``): the
+    slip annulus and the contact edge of a partial-slip cycle, where the stick radius and the
+    dissipation are decided (the sphere at F_x = mu F_N / 2: (0.9, 0.18, h) covers 0.72-1.08 a).
     """
 
     stick_onset = 0.5
@@ -161,7 +165,7 @@ class FEContact3D:
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
                  cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
-                 refine=None):
+                 refine=None, ring=None):
         if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
@@ -201,8 +205,14 @@ class FEContact3D:
         elif np.ndim(refine) != 1 or np.size(refine) != 3:
             raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), got "
                              f"{refine!r}")
+        if ring is None:
+            ring = (None, None, None)
+        elif np.ndim(ring) != 1 or np.size(ring) != 3:
+            raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
+                             f"{ring!r}")
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
-                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2])
+                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2],
+                                  ring_r=ring[0], ring_width=ring[1], ring_h=ring[2])
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()

@@ -591,3 +591,13 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
     assert newton.method == "newton" and secant.method == "secant"
     assert abs(secant.delta / newton.delta - 1) < 1e-6
     assert np.max(np.abs(secant.q - newton.q)) < 1e-6 * g.max()
+
+
+def test_law3d_ring_input():
+    from fem.law3d import FEContact3D
+    from mdr.profiles import Sphere
+
+    with pytest.raises(InputError, match="ring must be"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1))
+    with pytest.raises(InputError, match="ring_h must be"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1, 0.3))
