@@ -321,12 +321,21 @@ def test_law3d_fretting_run(law3d):
     (["--profile", "sphere", "--R", "6e-3", "--block-size", "2e-5"], "size must be >"),
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),
+    (["--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.5"], "ring_h must be"),
 ])
 def test_cli_model_3d_bad_input(flags, msg, capsys):
     from fem.cli import main
 
     assert main(["contact", "--model", "3d", *flags, "--mu", "0.2", "--F0", "0.5", "--fa", "0.05"]) == 2
     assert msg in capsys.readouterr().err
+
+
+def test_cli_ring_is_for_the_3d_model(capsys):
+    from fem.cli import main
+
+    assert main(["contact", "--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.05", "--mu", "0.2",
+                 "--F0", "0.5", "--fa", "0.05"]) == 2
+    assert "--ring applies to --model 3d only" in capsys.readouterr().err
 
 
 def test_cli_traction_is_for_the_3d_model(capsys):
