@@ -6,7 +6,10 @@ amplitude mu F_N / 2 (Mindlin & Deresiewicz partial slip), 3 cycles; the station
 dissipation against Mindlin & Deresiewicz and the ladder's extrapolation
 (``validation.metrics.ladder_error``). Run:
 
-    python benchmarks/bench_fem3d_contact.py [--steps 100] [h_contact ...]
+    python benchmarks/bench_fem3d_contact.py [--steps 100] [--ring R W F] [h_contact ...]
+
+``--ring R W F``: every 3D level h gets the refined ring (R, W, F h) (``FEContact3D(ring=)``), fine in
+the slip annulus and at the contact edge, coarse (h) elsewhere; e.g. ``--ring 0.9 0.18 0.5 0.2 0.14 0.1``.
 """
 import argparse
 import json
@@ -18,13 +21,14 @@ import numpy as np
 R, F0, MU = 6e-3, 0.5, 0.2
 
 
-def one(h, steps, model="3d"):
+def one(h, steps, model="3d", ring=None):
     from fem.contact_run import run_fem_contact
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 
     out = run_fem_contact(Sphere(R), Materials(), MU, F0, fa=0.5 * MU * F0, cycles=3, steps=steps, h_contact=h,
-                          model=model, displacement="plate")
+                          model=model, displacement="plate",
+                          **({} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)}))
     if model != "3d":
         return {k: out[k] for k in ("dissipation", "dofs", "runtime_s")}
     keys = ("contact_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "traction_angle_max",
@@ -37,12 +41,14 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=100)
     ap.add_argument("--one", type=float, default=None, help=argparse.SUPPRESS)
     ap.add_argument("--model", default="3d", help=argparse.SUPPRESS)
+    ap.add_argument("--ring", type=float, nargs=3, default=None, metavar=("R", "W", "F"),
+                    help="refined ring of every 3D level h: element size F h within W of r = R (/ a)")
     ap.add_argument("--axisym", type=float, nargs="*", default=[1 / 10, 1 / 20, 1 / 40],
                     help="levels h/a of the axisymmetric model for the cost ratio at equal error")
     ap.add_argument("levels", type=float, nargs="*", default=[0.2, 0.14, 0.1, 0.07])
     args = ap.parse_args(argv)
     if args.one is not None:
-        print(json.dumps(one(args.one, args.steps, args.model)))
+        print(json.dumps(one(args.one, args.steps, args.model, args.ring)))
         return
     from mdr import reference as ref
     from mdr.materials import Materials
@@ -58,7 +64,8 @@ def main(argv=None):
           "| max angle |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for h in args.levels:
-        res = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--one", str(h)],
+        ring = [] if args.ring is None else ["--ring", *map(str, args.ring)]
+        res = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--one", str(h), *ring],
                              capture_output=True, text=True, check=True)
         r = json.loads(res.stdout.strip().splitlines()[-1])
         r["h"] = h

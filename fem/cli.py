@@ -114,6 +114,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="--model 3d only: 'free' (default) a two-component tangential traction of free "
                         "direction; 'x' q_y = 0 everywhere (Mindlin's assumption, as --model axisym and MDR), "
                         "so that the pair of runs on one mesh isolates the effect of the direction")
+    c.add_argument("--ring", type=float, nargs=3, default=None, metavar=("R", "W", "H"),
+                   help="--model 3d only: refine the mesh to element size H within W of the circle r = R of the "
+                        "contact face (all / a_ref, H <= --h-contact): the slip annulus and the contact edge of "
+                        "a partial-slip cycle (the sphere at F_x = mu F_N / 2: 0.9 0.18 H)")
     add_output_args(c)
     c.set_defaults(func=_contact)
     return p
@@ -132,6 +136,9 @@ def _contact(args) -> dict:
             opts.pop(k)
         opts["contact_extent"] = args.contact_extent
         opts["tilt"] = args.tilt
+        opts["ring"] = None if args.ring is None else tuple(args.ring)
+    elif args.ring is not None:
+        raise InputError("--ring applies to --model 3d only (the refined ring of the 3D mesh)")
     elif args.tilt != 0:
         raise InputError(f"--tilt applies to --model 3d only, got --tilt {args.tilt!r}")
     disp = args.displacement or "contact"

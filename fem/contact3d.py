@@ -220,6 +220,9 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
     Cvec = np.concatenate([c, cy[yi]])
     dz_dv = np.eye(m) - Cvec[:, None] * D  # dz/dv = I - C D (C = diag(c)), dz/d delta = C ex
     dz_dd = Cvec * ex
+    off = np.concatenate([g <= 0, g[yi] <= 0])  # packed unknowns of vertices out of contact
+    kept = np.flatnonzero(np.append(~off, True) if fc else ~off)
+    out = np.flatnonzero(off)
     R, s, z = residual(v, dl)
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R)) <= tolR:
@@ -231,8 +234,12 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         if fc:
             J[:m, m] = -Pdd * dscale
             J[m, :n] = A / (A.sum() + 1e-300)
+        # the rows of vertices out of contact (g = 0) are identity rows (their traction is zero):
+        # eliminated, so the dense solve has the size of the contact, not of the candidate disk
+        step = -R.copy()
         try:
-            step = -sla.solve(J, R, check_finite=False)
+            step[kept] = -sla.solve(J[np.ix_(kept, kept)], R[kept] - J[np.ix_(kept, out)] @ R[out],
+                                    check_finite=False)
         except (sla.LinAlgError, ValueError):
             break
         dv = step[:m]

@@ -32,17 +32,21 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
                     h_contact=H_CONTACT_DEFAULT, contact_extent=None, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
                     backend=None, displacement="contact", return_law=False, model="axisym", traction=None,
-                    tilt=0.0):
+                    tilt=0.0, ring=None):
     """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
     ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
     in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``; ``tilt`` of the flat
-    face, rad). ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1)."""
+    face, rad; ``ring`` (r, width, h) / a_ref, the 3D mesh's refined ring, ``fem.law3d.FEContact3D``).
+    ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1)."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
     if model == "3d":
         return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
-                       displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt)
+                       displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt,
+                       ring=ring)
+    if ring is not None:
+        raise InputError("ring (the refined ring of the mesh) applies to the 3D model only")
     if traction is not None:
         raise InputError("traction applies to the 3D model only")
     if model != "axisym":
@@ -72,7 +76,7 @@ RAMP_STEPS = 20
 
 
 def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_contact, contact_extent, block_size,
-            cache_dir, backend, displacement, return_law, traction, tilt):
+            cache_dir, backend, displacement, return_law, traction, tilt, ring=None):
     import resource
 
     from .law3d import FEContact3D
@@ -80,7 +84,7 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
     t0 = time.perf_counter()
     law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
                       block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
-                      traction=traction, tilt=tilt)
+                      traction=traction, tilt=tilt, ring=ring)
     t1 = time.perf_counter()
     out = drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t1 - t0)
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB

@@ -66,7 +66,7 @@ from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
-from .contact3d import (RelativeFlexibility, solve_coupled3d, solve_normal3d, solve_tangential3d,
+from .contact3d import (RelativeFlexibility, _proj_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
                         tangential_slope)
 from .elastic3d import stiffness3d
 from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
@@ -112,13 +112,17 @@ def _check_tilt(tilt) -> float:
 @dataclass(frozen=True)
 class FE3DState:
     """History of the 3D law: tractions ``q`` (n, 2) and pressures ``p`` (n,) at the vertices (Pa),
-    weighted slip ``P`` (n, 2) (m^3), tangential displacement ``u`` and approach ``d`` (m)."""
+    weighted slip ``P`` (n, 2) (m^3), tangential displacement ``u`` and approach ``d`` (m).
+    ``dq`` (n, 2) and ``du``: the last step's increments of q and u, which only start the next
+    step's iteration (:meth:`FEContact3D._predict`); the answer does not depend on them."""
 
     q: np.ndarray
     P: np.ndarray
     p: np.ndarray
     u: float
     d: float
+    dq: np.ndarray | None = None
+    du: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -149,6 +153,10 @@ class FEContact3D:
     ``refine``: None or (x, h, radius) in units of a_ref, element size h (<= h_contact) within the
     ball of that radius around (x, 0, 0) (``meshes.half3d``, ``refine_*``): the loaded edge of a
     tilted flat face, (-1, h, radius) for the flat punch at theta > 0. The tilt variants share it.
+    ``ring``: None or (r, width, h) in units of a_ref, element size h (<= h_contact) within
+    ``width`` of the circle of radius r on the contact face (``meshes.half3d``, ``ring_*``): the
+    slip annulus and the contact edge of a partial-slip cycle, where the stick radius and the
+    dissipation are decided (the sphere at F_x = mu F_N / 2: (0.9, 0.18, h) covers 0.72-1.08 a).
     """
 
     stick_onset = 0.5
@@ -157,7 +165,7 @@ class FEContact3D:
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
                  cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
-                 refine=None):
+                 refine=None, ring=None):
         if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
@@ -197,8 +205,14 @@ class FEContact3D:
         elif np.ndim(refine) != 1 or np.size(refine) != 3:
             raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), got "
                              f"{refine!r}")
+        if ring is None:
+            ring = (None, None, None)
+        elif np.ndim(ring) != 1 or np.size(ring) != 3:
+            raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
+                             f"{ring!r}")
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
-                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2])
+                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2],
+                                  ring_r=ring[0], ring_width=ring[1], ring_h=ring[2])
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()
@@ -528,11 +542,13 @@ class FEContact3D:
                     uu = float(state.u if u is None else u)
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=uu)
                 elif u is not None:
+                    q0, _ = self._predict(state, g, u, None)
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
                                              delta=u, q0=q0)
                 else:
+                    q0, u0 = self._predict(state, g, None, Fx)
                     res = solve_tangential3d(self.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
-                                             force=Fx / 2, q0=q0, delta0=state.u)
+                                             force=Fx / 2, q0=q0, delta0=u0)
         FN = nr.force if nr is not None else 0.0
         contact = g > 0
         work = 2.0 * float(np.sum((res.q * (res.s - np.asarray(state.P)))[contact]))
@@ -546,9 +562,30 @@ class FEContact3D:
         self.stats["trial_solves"] += 1
         self.stats["newton"] += res.iterations
         new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.delta),
-                        d=float(nr.approach if nr is not None else (d or 0.0)))
+                        d=float(nr.approach if nr is not None else (d or 0.0)),
+                        dq=_frozen(res.q - np.asarray(state.q)), du=float(res.delta) - float(state.u))
         return StepResult(Fx=2.0 * float(mi.A @ res.q[:, 0]), FN=FN, d=new.d, a=a, c=c, u=new.u, work=work,
                           slack=slack[ray], slipping=slipping[ray]), new, (g, res, res.s - np.asarray(state.P))
+
+    def _predict(self, state: FE3DState, g, u, Fx):
+        """Start of a Coulomb increment: the last step's increments (``state.dq``, ``state.du``)
+        extrapolated to the new load (F_x or u) when it moves on in the same direction (secant
+        predictor), else the state itself (a reversal sticks first). Projected onto the new slip
+        disks. Only the iteration count depends on it (measured on the sphere at 453 vertices:
+        14 semi-smooth Newton iterations per force step without it, 4.4 with it)."""
+        q = np.asarray(state.q)
+        if state.dq is None:
+            return q, state.u
+        dq = np.asarray(state.dq)
+        if Fx is not None:
+            last = 2.0 * float(self.mi.A @ dq[:, 0])
+            ahead = Fx - 2.0 * float(self.mi.A @ q[:, 0])
+        else:
+            last, ahead = state.du, u - state.u
+        if not (last != 0.0 and 0.0 < ahead / last <= 4.0):
+            return q, state.u
+        f = ahead / last
+        return _proj_disk(q + f * dq, g), state.u + f * state.du
 
     def _check_force_limit(self, Fx, FN):
         """A prescribed tangential force must stay below mu F_N (no force-controlled gross slip)."""

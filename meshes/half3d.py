@@ -21,7 +21,11 @@ away: a gmsh ``Distance`` field from the half disk and a ``Threshold`` field,
 Optionally (``refine_x``, ``refine_h``, ``refine_radius``) a ball around (refine_x, 0, 0) gets the
 finer size ``refine_h`` (a gmsh ``MathEval`` distance and a second ``Threshold``, the smaller of
 the two sizes wins through a ``Min`` field): the loaded edge of a tilted flat face, whose edge
-contact is a narrow crescent.
+contact is a narrow crescent. Optionally (``ring_r``, ``ring_width``, ``ring_h``) the tube of radius
+``ring_width`` around the circle r = ring_r of the top face gets the size ``ring_h`` (again a
+``MathEval`` distance, a ``Threshold`` and a ``Min``): the annulus of a partial-slip contact
+between the stick edge and the contact edge, the only place where a fretting cycle's
+tractions change their state, so the rest of the disk can stay coarse.
 
 Physical groups (names used by ``fem.elastic3d``): surfaces ``contact`` (the
 half disk), ``top`` (the rest of the top face), ``bottom`` (z = -height,
@@ -78,7 +82,10 @@ class Half3DMeshParams(ContactZoneParams):
     (the flat punch: the candidate disk is the punch face). ``refine_x``, ``refine_h``,
     ``refine_radius`` (together or none; / a_ref): element size ``refine_h`` (<= h_contact) within
     the ball of radius ``refine_radius`` around (refine_x, 0, 0), |refine_x| <= contact_extent,
-    graded at ``growth`` outside it (the loaded edge of a tilted flat face). ``None`` values are
+    graded at ``growth`` outside it (the loaded edge of a tilted flat face). ``ring_r``, ``ring_width``,
+    ``ring_h`` (together or none; / a_ref): element size ``ring_h`` (<= h_contact) within ``ring_width``
+    (in (0, contact_extent]) of the circle r = ``ring_r`` (in (0, contact_extent]) of the top face,
+    graded at ``growth`` outside (a partial-slip annulus). ``None`` values are
     left out of :meth:`as_dict`, so the meshes without an edge or a refinement keep their cache keys.
     """
 
@@ -94,6 +101,9 @@ class Half3DMeshParams(ContactZoneParams):
     refine_x: float | None = None
     refine_h: float | None = None
     refine_radius: float | None = None
+    ring_r: float | None = None
+    ring_width: float | None = None
+    ring_h: float | None = None
 
     def __post_init__(self):
         if self.shape not in SHAPES:
@@ -103,6 +113,27 @@ class Half3DMeshParams(ContactZoneParams):
             raise InputError(f"edge must be in (0, contact_extent = {self.contact_extent:g}] (the flat face's edge "
                              f"radius / a_ref inside the candidate disk), got {self.edge!r}")
         self._check_refine()
+        self._check_ring()
+
+    def _check_ring(self):
+        r = (self.ring_r, self.ring_width, self.ring_h)
+        if all(v is None for v in r):
+            return
+        if any(v is None for v in r):
+            raise InputError(f"ring_r, ring_width and ring_h go together (all given or none), got {r!r}")
+        for name, v in zip(("ring_r", "ring_width", "ring_h"), r):
+            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+                raise InputError(f"{name} must be one finite number (/ a_ref), got {v!r}")
+        ce = self.contact_extent
+        if not 0 < self.ring_r <= ce:
+            raise InputError(f"ring_r must be in (0, contact_extent = {ce:g}] (radius of the refined ring's "
+                             f"centre circle / a_ref), got {self.ring_r!r}")
+        if not 0 < self.ring_width <= ce:
+            raise InputError(f"ring_width must be in (0, contact_extent = {ce:g}] (half-width of the refined ring "
+                             f"/ a_ref), got {self.ring_width!r}")
+        if not H_CONTACT_3D_RANGE[0] <= self.ring_h <= self.h_contact:
+            raise InputError(f"ring_h must be in [{H_CONTACT_3D_RANGE[0]:g}, h_contact = {self.h_contact:g}] "
+                             f"(element size in the refined ring / a_ref), got {self.ring_h!r}")
 
     def _check_refine(self):
         r = (self.refine_x, self.refine_h, self.refine_radius)
@@ -132,7 +163,8 @@ class Half3DMeshParams(ContactZoneParams):
                              self.shape, float(L), float(H), float(self.growth), float(hmax),
                              None if self.edge is None else float(self.edge),
                              *(None if v is None else float(v)
-                               for v in (self.refine_x, self.refine_h, self.refine_radius)))
+                               for v in (self.refine_x, self.refine_h, self.refine_radius,
+                                         self.ring_r, self.ring_width, self.ring_h)))
         rc = p.r_contact
         if p.size <= 2.0 * rc:
             raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
@@ -150,7 +182,7 @@ class Half3DMeshParams(ContactZoneParams):
 
     def as_dict(self) -> dict:
         d = asdict(self)
-        for k in ("edge", "refine_x", "refine_h", "refine_radius"):
+        for k in ("edge", "refine_x", "refine_h", "refine_radius", "ring_r", "ring_width", "ring_h"):
             if d[k] is None:
                 del d[k]
         return d
@@ -196,7 +228,8 @@ def _generate(p: Half3DMeshParams):
     would allow the surface classification."""
     unit = p.a_ref
     p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
-                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius)
+                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius, p.ring_r, p.ring_width,
+                         p.ring_h)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -259,6 +292,18 @@ def _generate(p: Half3DMeshParams):
                 fm.setNumber(thr2, "DistMax", p.refine_radius + (p.h_max - p.refine_h) / p.growth)
                 both = fm.add("Min")
                 fm.setNumbers(both, "FieldsList", [thr, thr2])
+                thr = both
+            if p.ring_r is not None:  # the refined ring around the circle r = ring_r of the top face
+                tube = fm.add("MathEval")
+                fm.setString(tube, "F", f"Sqrt((Sqrt(x^2 + y^2) - ({p.ring_r!r}))^2 + z^2)")
+                thr3 = fm.add("Threshold")
+                fm.setNumber(thr3, "InField", tube)
+                fm.setNumber(thr3, "SizeMin", p.ring_h)
+                fm.setNumber(thr3, "SizeMax", p.h_max)
+                fm.setNumber(thr3, "DistMin", p.ring_width)
+                fm.setNumber(thr3, "DistMax", p.ring_width + (p.h_max - p.ring_h) / p.growth)
+                both = fm.add("Min")
+                fm.setNumbers(both, "FieldsList", [thr, thr3])
                 thr = both
             fm.setAsBackgroundMesh(thr)
             for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),

@@ -226,6 +226,37 @@ def test_law3d_trial_commit_equals_step_and_slope_is_the_tangent(law3d):
     assert k > 0 and abs(k / fd - 1) < 1e-6
 
 
+def test_law3d_predictor_changes_iterations_not_answers(law3d):
+    """Each step starts from the last step's increments extrapolated to the new load
+    (``FEContact3D._predict``). Along a partial-slip cycle with a reversal, under force and under
+    displacement control, every step equals the step started from the state alone (state.dq
+    dropped) to the solver tolerance, with fewer semi-smooth Newton iterations over the cycle."""
+    from dataclasses import replace
+
+    law3d.stats["newton"] = 0
+    fa = 0.6 * MU * F
+    for kind, loads in (("Fx", fa * np.sin(np.linspace(0, 1.5 * np.pi, 13)[1:])), ("u", None)):
+        st = law3d.rest_state()
+        with_p = without = 0
+        if kind == "u":  # the same path under displacement control: the u the force path reached
+            loads = np.asarray(us)
+        us = []
+        for x in loads:
+            n0 = law3d.stats["newton"]
+            r1, s1 = law3d.step(st, F_N=F, **{kind: x})
+            n1 = law3d.stats["newton"]
+            r0, s0 = law3d.step(replace(st, dq=None, du=0.0), F_N=F, **{kind: x})
+            with_p += n1 - n0
+            without += law3d.stats["newton"] - n1
+            scale = np.abs(s0.q).max()
+            assert np.allclose(s1.q, s0.q, rtol=0, atol=1e-8 * scale), kind
+            assert abs(r1.Fx - r0.Fx) <= 1e-8 * fa and abs(r1.u - r0.u) <= 1e-8 * abs(r0.u) + 1e-18
+            assert abs(r1.work - r0.work) <= 1e-6 * abs(r0.work) + 1e-22
+            us.append(r1.u)
+            st = s1
+        assert with_p < without, (kind, with_p, without)
+
+
 def test_law3d_trial_of_a_dissimilar_pair(law_alu):
     """With coupling each trial solves the coupled increment at its u: commit is step to round-off;
     the slope holds the pressure fixed, so it misses the coupling's O(beta^2) share of dFx/du
@@ -290,12 +321,21 @@ def test_law3d_fretting_run(law3d):
     (["--profile", "sphere", "--R", "6e-3", "--block-size", "2e-5"], "size must be >"),
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),
+    (["--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.5"], "ring_h must be"),
 ])
 def test_cli_model_3d_bad_input(flags, msg, capsys):
     from fem.cli import main
 
     assert main(["contact", "--model", "3d", *flags, "--mu", "0.2", "--F0", "0.5", "--fa", "0.05"]) == 2
     assert msg in capsys.readouterr().err
+
+
+def test_cli_ring_is_for_the_3d_model(capsys):
+    from fem.cli import main
+
+    assert main(["contact", "--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.05", "--mu", "0.2",
+                 "--F0", "0.5", "--fa", "0.05"]) == 2
+    assert "--ring applies to --model 3d only" in capsys.readouterr().err
 
 
 def test_cli_traction_is_for_the_3d_model(capsys):
@@ -560,3 +600,13 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
     assert newton.method == "newton" and secant.method == "secant"
     assert abs(secant.delta / newton.delta - 1) < 1e-6
     assert np.max(np.abs(secant.q - newton.q)) < 1e-6 * g.max()
+
+
+def test_law3d_ring_input():
+    from fem.law3d import FEContact3D
+    from mdr.profiles import Sphere
+
+    with pytest.raises(InputError, match="ring must be"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1))
+    with pytest.raises(InputError, match="ring_h must be"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1, 0.3))
