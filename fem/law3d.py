@@ -149,6 +149,11 @@ class FEContact3D:
     ``refine``: None or (x, h, radius) in units of a_ref, element size h (<= h_contact) within the
     ball of that radius around (x, 0, 0) (``meshes.half3d``, ``refine_*``): the loaded edge of a
     tilted flat face, (-1, h, radius) for the flat punch at theta > 0. The tilt variants share it.
+    ``band``: None or (h, width, angle[, growth]): element size h / a_ref (<= h_contact) within
+    width / a_ref of the flat face's edge circle (r = b; the flat punch: its rim) on the arc
+    |phi - pi| <= angle (rad), graded at growth outside (default the mesh's) (``meshes.half3d``, ``band_*``): the thin edge crescent of a face tilted far beyond
+    theta_c (theta > 0 loads the -x side). It assumes the crescent lies within the band; the tilt
+    variants share it.
     """
 
     stick_onset = 0.5
@@ -157,7 +162,7 @@ class FEContact3D:
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
                  cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
-                 refine=None):
+                 refine=None, band=None):
         if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
@@ -197,8 +202,15 @@ class FEContact3D:
         elif np.ndim(refine) != 1 or np.size(refine) != 3:
             raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), got "
                              f"{refine!r}")
+        if band is None:
+            band = (None, None, None, None)
+        elif np.ndim(band) != 1 or np.size(band) not in (3, 4):
+            raise InputError(f"band must be None or (h / a_ref, width / a_ref, angle in rad[, growth]) (the refined "
+                             f"band along the loaded edge), got {band!r}")
+        band = tuple(band) + (None,) * (4 - len(band))
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
-                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2])
+                                  edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2],
+                                  band_h=band[0], band_width=band[1], band_angle=band[2], band_growth=band[3])
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()
