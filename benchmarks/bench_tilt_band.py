@@ -7,8 +7,8 @@ The scene's loading and metrics (``validation.runner._run_tilt``: Table 2 loadin
 dF = 0.1 N, mu = 0.2, force amplitude 0.06 N, 4 cycles of 40 steps; the tilt against the aligned
 face on the same banded mesh, error bar the two-level ladder of the band size, the face elsewhere at
 h = 0.3 b). It is a benchmark, not a scene row: one banded level costs minutes (the tilted run slips
-on a crescent of 20-40 vertices among 340-560), so the two levels take 10-20 min on the shared
-2-core machine, more than the slow suite can spend on one point. Run:
+on a crescent of 20-40 vertices among 340-560: 3 and 22 min), so the two levels took 31 min on the
+shared 2-core machine, more than the slow suite can spend on one point. Run:
 
     python benchmarks/bench_tilt_band.py [--h-contact 0.3] [--width 0.06] [--angle 0.45] [band_h ...]
 """
