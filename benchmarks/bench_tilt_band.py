@@ -1,14 +1,13 @@
 """The truncated sphere b = 0.6 mm of the paper's experiments (R = 6 mm) at its tilt bound pi/3600
-(274 theta_c at the Table 2 force): the row of the ``tilt`` scene that its meshes leave undetermined
-(the edge crescent spans one vertex there), on meshes with a band along the loaded rim arc
-(``FEContact3D(..., band=(h, width, angle, growth))``, ``meshes.half3d`` ``band_*``).
+(274 theta_c at the Table 2 force) on meshes with a band along the loaded rim arc
+(``FEContact3D(..., band=(h, width, angle, growth))``, ``meshes.half3d`` ``band_*``), finer than the
+``tilt`` scene's banded row (``TILT_BAND``: band_h = b/33, b/50): by default b/50 and b/70.
 
 The scene's loading and metrics (``validation.runner._run_tilt``: Table 2 loading F0 = 0.5 N,
 dF = 0.1 N, mu = 0.2, force amplitude 0.06 N, 4 cycles of 40 steps; the tilt against the aligned
 face on the same banded mesh, error bar the two-level ladder of the band size, the face elsewhere at
-h = 0.3 b). It is a benchmark, not a scene row: one banded level costs minutes (the tilted run slips
-on a crescent of 20-40 vertices among 340-560: 3 and 22 min), so the two levels took 31 min on the
-shared 2-core machine, more than the slow suite can spend on one point. Run:
+h = 0.3 b). Not in the scene: the b/70 level has 560 interface vertices and its tilted run (the
+crescent slips) took 22 min on the shared 2-core machine, 31 min in all. Run:
 
     python benchmarks/bench_tilt_band.py [--h-contact 0.3] [--width 0.06] [--angle 0.45] [band_h ...]
 """

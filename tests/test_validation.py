@@ -345,12 +345,16 @@ def test_tilt_family_in_the_catalogue():
     s = CATALOGUE["tilt"]
     assert s.fe_model == "3d" and s.drive == "force" and (s.F0, s.dF, s.mu, s.amplitude) == (0.5, 0.1, 0.2, 0.06)
     assert [(v["profile"], v["b"]) for v in s.variants] == [("flat", 100e-6), ("truncated", 20e-6),
-                                                            ("truncated", 0.6e-3)]
+                                                            ("truncated", 0.6e-3), ("truncated", 0.6e-3)]
     for v in s.variants:
         t = np.asarray(v["tilts"])
         assert np.all(np.diff(t) > 0) and t[-1] == TILT_BOUND and t[0] > 0
     # the punch's loaded edge refined on every level, half the level's size, a ball of 0.8 b
     assert s.variants[0]["refine"] == tuple((-1.0, h / 2, 0.8) for h in s.fe_levels)
+    # b = 0.6 mm at pi/3600 on its own banded meshes, the band finer on the finer level
+    banded = s.variants[3]
+    assert banded["tilts"] == (TILT_BOUND,) and len(banded["band"]) == len(banded["fe_levels"])
+    assert banded["band"][1][0] < banded["band"][0][0]
     with pytest.raises(Exception, match="refine needs one refine tuple per FE level"):
         Scene("tt3", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3, 0.2),
               variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "refine": ((-1.0, 0.1, 0.8),)},))
@@ -371,11 +375,13 @@ def test_tilt_family(tmp_path):
     resolved (measured 0.162, 0.178 of the face on the two levels, 42 vertices): the aligned answer
     fails there (slip index +0.031 +- 0.002, dissipation +0.067 +- 0.006 of 4 mu F0 u_A). The edge
     contact of b = 0.6 mm at pi/3600 (2 % of its face on these meshes) spans under 10 vertices:
-    undetermined."""
+    undetermined; on its own meshes banded along the loaded rim arc (b/33, b/50) it is resolved
+    (0.0046 of the aligned contact, 20 vertices) and the aligned answer fails (slip index +0.024 where
+    the aligned face sticks; dissipation +0.18 of 4 mu F0 u_A; the du loop 7.5 aligned u_A away)."""
     from validation.scenes import CATALOGUE
 
     res = runner.run_scene(CATALOGUE["tilt"], tmp_path)
-    flat, t20, t600 = res["tilt"]
+    flat, t20, t600, t600b = res["tilt"]
     for row in (flat, t600):
         assert row["holds_below_ratio"] == pytest.approx(0.3, rel=1e-9)
         assert row["fails_at"] / row["theta_c"] == pytest.approx(0.5, rel=1e-9)
@@ -395,6 +401,13 @@ def test_tilt_family(tmp_path):
     # b = 0.6 mm at the bound: not resolved on these meshes, undetermined, never a verdict
     assert t600["points"][-1]["contact_area_fraction"] < 0.04  # measured 0.019
     assert t600["points"][-1]["resolved"] is False and t600["points"][-1]["holds"] is None
+    # ... and on its banded meshes resolved: the crescent slips where the aligned face sticks
+    (band,) = t600b["points"]
+    assert band["resolved"] is True and band["holds"] is False
+    assert 0.002 < band["contact_area_fraction"] < 0.009  # measured 0.0046 (+- 0.0015)
+    assert 0.012 < band["aligned"]["slip_index"]["effect"] < 0.06  # measured 0.024 (b/70 benchmark: 0.029)
+    assert 0.08 < band["aligned"]["dissipation"]["effect"] < 0.4  # measured 0.18 (of 4 mu F0 u_A)
+    assert 3 < band["aligned"]["loop_du"]["effect"] < 20  # measured 7.5 +- 0.5
 
 
 @pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min

@@ -539,7 +539,7 @@ def tilt_variant(s: Scene, v: dict) -> Scene:
     """The aligned scene of one profile of a tilt scene (``v``: profile, b, tilts)."""
     from dataclasses import replace
 
-    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um]"
+    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um{', banded edge' if 'band' in v else ''}]"
     return replace(s, name=name, profile=v["profile"], b=float(v["b"]), variants=(),
                    fe_levels=tuple(v.get("fe_levels", s.fe_levels)))
 
@@ -691,7 +691,7 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
             if pt["aligned"]["dissipation"]["holds"] is not True:
                 break
             below = pt["tilt"]
-        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc,
+        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc, "banded": "band" in v,
                      "dissipation_unit": "relative" if rel3 else "4 mu F0 u_A",
                      "dissipation_unit_mdr": "relative" if relm else "4 mu F0 u_A",
                      "holds_below": below, "holds_below_ratio": None if below is None else below / thc,

@@ -69,6 +69,12 @@ TILT_BOUND = 3.141592653589793 / 3600
 #: (-b, 0) refined to half the level's size (``FEContact3D`` ``refine``; the ball covers the whole
 #: edge crescent at pi/3600, ``tests/test_punch3d.py``)
 TILT_REFINE_PUNCH = tuple((-1.0, h / 2, 0.8) for h in TILT_LEVELS_3D)
+#: the truncated sphere b = 0.6 mm at pi/3600 (274 theta_c): its own row on two meshes (h = 0.3 b)
+#: banded along the loaded rim arc, band_h = b/33 and b/50 (``FEContact3D`` ``band``: (h, width,
+#: angle, growth); the edge crescent reaches r = 0.96 b and |phi - pi| = 0.35 rad,
+#: ``tests/test_punch3d.py``), the aligned face on the same meshes
+TILT_BAND_LEVELS = (0.3, 0.3)
+TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
@@ -298,7 +304,9 @@ def _catalogue() -> dict:
                               {"profile": "truncated", "b": 20e-6, "tilts": tilt_sweep(20e-6, (0.03, 0.1, 0.2)),
                                "fe_levels": (0.2, 0.14)},
                               {"profile": "truncated", "b": 0.6e-3,
-                               "tilts": tilt_sweep(0.6e-3, (0.1, 0.2, 0.3, 0.5, 1, 3, 10, 30, 100))}),
+                               "tilts": tilt_sweep(0.6e-3, (0.1, 0.2, 0.3, 0.5, 1, 3, 10, 30, 100))},
+                              {"profile": "truncated", "b": 0.6e-3, "tilts": (TILT_BOUND,),
+                               "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}),
                     notes="Table 2 loading (F0 = 0.5 N, dF = 0.1 N, mu = 0.2; force amplitude 0.06 N as the "
                           "geometry series), steel on steel, R = 6 mm. theta_c = F0 / (4 E* b^2), the tilted punch's "
                           "loss of full contact at F0 (for the truncated spheres the same formula with b as the "
@@ -308,8 +316,9 @@ def _catalogue() -> dict:
                           "annulus is not resolved and the aligned dissipation is 10x off). The rotation is held by "
                           "the mount, the load line through the face centre. The flat punch's mesh is refined at "
                           "its loaded edge (a ball of 0.8 b at half the level's size), which resolves its edge "
-                          "crescent up to pi/3600. A tilted contact of fewer than 10 vertices (half model, at F0) "
-                          "is undetermined."))
+                          "crescent up to pi/3600; b = 0.6 mm at pi/3600 has its own row on meshes banded along "
+                          "the loaded rim arc (band_h = b/33, b/50), where its edge crescent is resolved. A tilted "
+                          "contact of fewer than 10 vertices (half model, at F0) is undetermined."))
     out = {}
     for s in sc:
         if s.name in out:
