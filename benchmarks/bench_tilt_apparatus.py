@@ -11,7 +11,7 @@ at F0 (half model): below 10 the contact is not resolved (``validation.runner.TI
 growth))`` (sizes / b), to resolve the edge crescent at pi/3600. Run:
 
     python benchmarks/bench_tilt_apparatus.py [--case fig6] [--cycles 3] [--steps 80] [h ...]
-    python benchmarks/bench_tilt_apparatus.py --ratios --band 0.02 0.014 0.3 0.3   # pi/3600 on banded meshes
+    python benchmarks/bench_tilt_apparatus.py --ratios --band 0.02 0.014 -- 0.3 0.3   # pi/3600, banded meshes
 """
 import argparse
 import time
