@@ -7,9 +7,11 @@ the slip index of the aligned face and of faces tilted by multiples of theta_c =
 up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
 (``FEContact3D.variant``), at two mesh levels; ``contact vertices`` counts the vertices in contact
 at F0 (half model): below 10 the contact is not resolved (``validation.runner.TILT_MIN_VERTICES``).
-Run:
+``--band H ...`` (one per level): the loaded rim arc banded, ``FEContact3D(band=(H, width, angle,
+growth))`` (sizes / b), to resolve the edge crescent at pi/3600. Run:
 
     python benchmarks/bench_tilt_apparatus.py [--case fig6] [--cycles 3] [--steps 80] [h ...]
+    python benchmarks/bench_tilt_apparatus.py --ratios --band 0.02 0.014 -- 0.3 0.3   # pi/3600, banded meshes
 """
 import argparse
 import time
@@ -34,8 +36,15 @@ def main(argv=None):
     ap.add_argument("--steps", type=int, default=80)
     ap.add_argument("--ratios", type=float, nargs="*", default=[1.0, 3.0, 10.0],
                     help="tilts as multiples of theta_c (pi/3600 is always added)")
+    ap.add_argument("--band", type=float, nargs="*", default=None,
+                    help="band element size / b per level (the loaded rim arc; none: no band)")
+    ap.add_argument("--band-shape", type=float, nargs=3, default=[0.06, 0.45, 1.0],
+                    help="the band's half width / b, half angle (rad) and growth")
     ap.add_argument("levels", type=float, nargs="*", default=[0.3, 0.2])
     args = ap.parse_args(argv)
+    if args.band is not None and len(args.band) != len(args.levels):
+        ap.error(f"--band needs one size per level ({len(args.levels)}), got {len(args.band)}")
+    bands = [None] * len(args.levels) if args.band is None else [(h, *args.band_shape) for h in args.band]
     kind, F0, ua, mu1, mu2 = LOOP_CASES[args.case]
     assert kind == "truncated"
     mat, prof = Materials(), TruncatedSphere(R_IND, TABLE1_B)
@@ -50,11 +59,11 @@ def main(argv=None):
     print(f"{args.case}: b = {TABLE1_B * 1e3:g} mm, F0 = {F0} N, u_A = {ua * 1e9:g} nm, mu1 = {mu1}, mu2 = {mu2}, "
           f"k_x = {TABLE1_KX / 1e6:g} N/um; theta_c = {thc:.3g} rad; {args.cycles} cycles x {args.steps} steps")
     print(f"MDR (aligned): slip index {d_md:.5f} ({time.perf_counter() - t0:.1f} s)")
-    print("| h / b | tilt (rad) | tilt / theta_c | slip index | tilted / aligned - 1 | contact vertices | resolved "
-          "| evaluations per step | run (s) |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    for h in args.levels:
-        law = FEContact3D(prof, mat, mu1, F_max=F0 + dF, h_contact=h, displacement="contact")
+    print("| h / b | band h / b | tilt (rad) | tilt / theta_c | slip index | tilted / aligned - 1 | contact vertices "
+          "| resolved | evaluations per step | run (s) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for h, band in zip(args.levels, bands):
+        law = FEContact3D(prof, mat, mu1, F_max=F0 + dF, h_contact=h, displacement="contact", band=band)
         d0 = None
         for th in tilts:
             lt = law.variant(tilt=th)
@@ -65,7 +74,7 @@ def main(argv=None):
             d = float(out["slip_index"])
             d0 = d if th == 0.0 else d0
             nv = int(lt.contact_mask(lt.normal(F_N=F0).p).sum())
-            print(f"| {h:g} | {th:.3g} | {th / thc:.3g} | {d:.5f} | {d / d0 - 1:+.3%} | {nv} | "
+            print(f"| {h:g} | {'-' if band is None else f'{band[0]:g}'} | {th:.3g} | {th / thc:.3g} | {d:.5f} | {d / d0 - 1:+.3%} | {nv} | "
                   f"{'yes' if nv >= TILT_MIN_VERTICES else 'no'} | {out['evaluations_per_step']:.2f} | "
                   f"{time.perf_counter() - t1:.1f} |", flush=True)
 

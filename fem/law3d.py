@@ -157,6 +157,11 @@ class FEContact3D:
     ``width`` of the circle of radius r on the contact face (``meshes.half3d``, ``ring_*``): the
     slip annulus and the contact edge of a partial-slip cycle, where the stick radius and the
     dissipation are decided (the sphere at F_x = mu F_N / 2: (0.9, 0.18, h) covers 0.72-1.08 a).
+    ``band``: None or (h, width, angle[, growth]): element size h / a_ref (<= h_contact) within
+    width / a_ref of the flat face's edge circle (r = b; the flat punch: its rim) on the arc
+    |phi - pi| <= angle (rad), graded at growth outside (default the mesh's) (``meshes.half3d``, ``band_*``): the thin edge crescent of a face tilted far beyond
+    theta_c (theta > 0 loads the -x side). It assumes the crescent lies within the band; the tilt
+    variants share it.
     """
 
     stick_onset = 0.5
@@ -165,7 +170,7 @@ class FEContact3D:
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
                  cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
-                 refine=None, ring=None):
+                 refine=None, ring=None, band=None):
         if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
             kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
             raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
@@ -210,8 +215,15 @@ class FEContact3D:
         elif np.ndim(ring) != 1 or np.size(ring) != 3:
             raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
                              f"{ring!r}")
+        if band is None:
+            band = (None, None, None, None)
+        elif np.ndim(band) != 1 or np.size(band) not in (3, 4):
+            raise InputError(f"band must be None or (h / a_ref, width / a_ref, angle in rad[, growth]) (the refined "
+                             f"band along the loaded edge), got {band!r}")
+        band = tuple(band) + (None,) * (4 - len(band))
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
                                   edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2],
+                                  band_h=band[0], band_width=band[1], band_angle=band[2], band_growth=band[3],
                                   ring_r=ring[0], ring_width=ring[1], ring_h=ring[2])
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh

@@ -249,7 +249,7 @@ def tilt_figure(result: dict, out_dir) -> dict:
             if not pts:
                 continue
             unit = f" ({r['dissipation_unit']})" if q == "dissipation" else ""
-            label = f"{r['profile']} b = {r['b'] * 1e6:g} um{unit}"
+            label = f"{r['profile']} b = {r['b'] * 1e6:g} um{', banded edge' if r.get('banded') else ''}{unit}"
             ok = [p for p in pts if p.get("resolved", True)]
             x = np.array([p["ratio"] for p in ok])
             y = np.array([100 * p["aligned"][q]["effect"] for p in ok])

@@ -216,7 +216,8 @@ def _tilt_table(res):
                      "theta_c)")
                   + ("" if r["fails_at"] is None else f", not at {r['fails_at']:.3g} rad")
                   + f"; {len(r['points']) + 1} runs per level, "
-                  + ", ".join(f"h = {lv['h']:g}: {lv['vertices']} vertices, {lv['runtime_s']:.0f} s" for lv in r["levels"])
+                  + ", ".join(f"h = {lv['h']:g}" + ("" if lv.get("band") is None else f" (band {lv['band']:g})")
+                              + f": {lv['vertices']} vertices, {lv['runtime_s']:.0f} s" for lv in r["levels"])
                   + ".", "",
                   "| theta (rad) | theta / theta_c | dissipation | vs MDR | slip index | vs MDR | contact area "
                   "| loop du | vs MDR | stationary | aligned holds? |",

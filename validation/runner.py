@@ -540,7 +540,7 @@ def tilt_variant(s: Scene, v: dict) -> Scene:
     """The aligned scene of one profile of a tilt scene (``v``: profile, b, tilts)."""
     from dataclasses import replace
 
-    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um]"
+    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um{', banded edge' if 'band' in v else ''}]"
     return replace(s, name=name, profile=v["profile"], b=float(v["b"]), variants=(),
                    fe_levels=tuple(v.get("fe_levels", s.fe_levels)))
 
@@ -554,6 +554,17 @@ def tilt_variant(s: Scene, v: dict) -> Scene:
 #: its verdicts are undetermined
 TILT_MIN_VERTICES = 10
 TILT_METRICS = {"dissipation": "dissipation", "slip_index": "slip_index", "contact_area": None, "loop_du": "loop_du"}
+
+
+def _tilt_law(sv: Scene, h, refine=None, band=None):
+    """The 3D law of one profile of a tilt scene at level h, its loaded edge refined as ``refine``
+    (a ball) and ``band`` (a band along the rim arc) of ``FEContact3D`` (None: not)."""
+    if refine is None and band is None:
+        return _fe_law(sv, h)
+    from fem.law3d import FEContact3D
+
+    return FEContact3D(profile_of(sv), materials_of(sv), sv.mu, F_max=sv.F0 + sv.dF, h_contact=h,
+                       displacement="contact", refine=refine, band=band)
 
 
 def _tilt_effects(run, ref, relative, mu, F0) -> dict:
@@ -605,9 +616,9 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
         mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
         mdr = mdr_ladder[-1]
         levels = []
-        for h in sv.fe_levels:
+        for j, h in enumerate(sv.fe_levels):
             t0 = time.perf_counter()
-            law = _fe_law(sv, h)
+            law = _tilt_law(sv, h, *(v[k][j] if k in v else None for k in ("refine", "band")))
             setup = time.perf_counter() - t0
             runs = []
             for th in tilts:
@@ -623,9 +634,13 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
                              "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
                              "loop": {k: out["loop"][k] for k in ("du", "Fx")},
                              "runtime_s": time.perf_counter() - t1})
-            levels.append({"h": h, "dofs": law.ndofs, "vertices": law.n, "setup_s": setup, "runs": runs,
+            levels.append({"h": h, "refine": law.hmesh.params.refine_h, "band": law.hmesh.params.band_h,
+                           "dofs": law.ndofs, "vertices": law.n,
+                           "setup_s": setup, "runs": runs,
                            "runtime_s": time.perf_counter() - t0})
-            log(f"  {sv.name} h = {h:g} a_ref ({law.n} vertices): {len(tilts)} tilts in "
+            mp = law.hmesh.params
+            edge = "".join(f", {k} {x:g} a_ref" for k, x in (("ball", mp.refine_h), ("band", mp.band_h)) if x is not None)
+            log(f"  {sv.name} h = {h:g} a_ref{edge} ({law.n} vertices): {len(tilts)} tilts in "
                 f"{levels[-1]['runtime_s']:.0f} s")
         # the dissipation's unit, per reference: relative unless it hardly dissipates (the flat punch sticks)
         fine0 = levels[-1]["runs"][0]
@@ -677,7 +692,7 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
             if pt["aligned"]["dissipation"]["holds"] is not True:
                 break
             below = pt["tilt"]
-        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc,
+        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc, "banded": "band" in v,
                      "dissipation_unit": "relative" if rel3 else "4 mu F0 u_A",
                      "dissipation_unit_mdr": "relative" if relm else "4 mu F0 u_A",
                      "holds_below": below, "holds_below_ratio": None if below is None else below / thc,

@@ -65,6 +65,16 @@ ASSUMPTIONS_3D = ("direction", "coupling")
 TILT_LEVELS_3D = (0.3, 0.2)
 #: the paper's bound on the tilt of its flat faces (rad): pi / 3600, 0.05 degrees
 TILT_BOUND = 3.141592653589793 / 3600
+#: the flat punch's mesh per level of ``TILT_LEVELS_3D``: a ball of radius 0.8 b at its loaded edge
+#: (-b, 0) refined to half the level's size (``FEContact3D`` ``refine``; the ball covers the whole
+#: edge crescent at pi/3600, ``tests/test_punch3d.py``)
+TILT_REFINE_PUNCH = tuple((-1.0, h / 2, 0.8) for h in TILT_LEVELS_3D)
+#: the truncated sphere b = 0.6 mm at pi/3600 (274 theta_c): its own row on two meshes (h = 0.3 b)
+#: banded along the loaded rim arc, band_h = b/33 and b/50 (``FEContact3D`` ``band``: (h, width,
+#: angle, growth); the edge crescent reaches r = 0.96 b and |phi - pi| = 0.35 rad,
+#: ``tests/test_punch3d.py``), the aligned face on the same meshes
+TILT_BAND_LEVELS = (0.3, 0.3)
+TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
@@ -104,7 +114,10 @@ class Scene:
     law's trial steps, ``FEContact3D.prepare``; no such scene in the catalogue, for its cost).
     ``variants``: of validity scenes mesh size overrides as multiples of a_ref, e.g.
     ``{"block": 5.0}``; of the 3D assumptions scene ``{"relax": ...}``; of the tilt family
-    ``{"profile", "b", "tilts"}`` (rad) and optionally ``"fe_levels"``.
+    ``{"profile", "b", "tilts"}`` (rad) and optionally ``"fe_levels"``, ``"refine"`` and ``"band"``:
+    one ``FEContact3D`` ``refine`` (x, h, radius) / a_ref, or ``band`` (h, width, angle[, growth]),
+    per FE level (the loaded edge refined: a ball, a band along the rim arc; the aligned face and
+    every tilt share each level's mesh).
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
 
@@ -157,6 +170,11 @@ class Scene:
                        or any(v.get("profile") not in ("flat", "truncated") or not v.get("b") for v in tilted)):
             raise InputError(f"scene {self.name}: tilt variants need fe_model='3d', drive='force' and on every "
                              "variant tilts, a profile flat or truncated and its b > 0")
+        for v in tilted:
+            for k in ("refine", "band"):
+                if k in v and len(v[k]) != len(v.get("fe_levels", self.fe_levels)):
+                    raise InputError(f"scene {self.name}: a tilt variant's {k} needs one {k} tuple per FE level "
+                                     f"({len(v.get('fe_levels', self.fe_levels))}), got {v[k]!r}")
         unknown = set(self.tolerance) - set(TOLERANCES)
         if unknown:
             raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
@@ -279,11 +297,14 @@ def _catalogue() -> dict:
     # misalignment: the flat face tilted about y, against the aligned 3D model on the same mesh and MDR
     sc.append(Scene("tilt", "Misalignment: the flat face tilted up to the paper's bound pi/3600", "flat", b=100e-6,
                     fe_model="3d", fe_levels=TILT_LEVELS_3D, cycles=4, steps=40, group="3d",
-                    variants=({"profile": "flat", "b": 100e-6, "tilts": tilt_sweep(100e-6, (0.1, 0.2, 0.3, 0.5, 1, 2, 4))},
+                    variants=({"profile": "flat", "b": 100e-6, "tilts": tilt_sweep(100e-6, (0.1, 0.2, 0.3, 0.5, 1, 2, 4)),
+                               "refine": TILT_REFINE_PUNCH},
                               {"profile": "truncated", "b": 20e-6, "tilts": tilt_sweep(20e-6, (0.03, 0.1, 0.2)),
                                "fe_levels": (0.2, 0.14)},
                               {"profile": "truncated", "b": 0.6e-3,
-                               "tilts": tilt_sweep(0.6e-3, (0.1, 0.2, 0.3, 0.5, 1, 3, 10, 30, 100))}),
+                               "tilts": tilt_sweep(0.6e-3, (0.1, 0.2, 0.3, 0.5, 1, 3, 10, 30, 100))},
+                              {"profile": "truncated", "b": 0.6e-3, "tilts": (TILT_BOUND,),
+                               "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}),
                     notes="Table 2 loading (F0 = 0.5 N, dF = 0.1 N, mu = 0.2; force amplitude 0.06 N as the "
                           "geometry series), steel on steel, R = 6 mm. theta_c = F0 / (4 E* b^2), the tilted punch's "
                           "loss of full contact at F0 (for the truncated spheres the same formula with b as the "
@@ -291,8 +312,11 @@ def _catalogue() -> dict:
                           "so the effect of the tilt is free of the mesh error the two share; its error bar is the "
                           "effect's two-level ladder (b = 20 um: h = 0.2, 0.14 a_ref, since at 0.3 a_ref its slip "
                           "annulus is not resolved and the aligned dissipation is 10x off). The rotation is held by "
-                          "the mount, the load line through the face centre. A tilted contact of fewer than 10 "
-                          "vertices (half model, at F0) is undetermined."))
+                          "the mount, the load line through the face centre. The flat punch's mesh is refined at "
+                          "its loaded edge (a ball of 0.8 b at half the level's size), which resolves its edge "
+                          "crescent up to pi/3600; b = 0.6 mm at pi/3600 has its own row on meshes banded along "
+                          "the loaded rim arc (band_h = b/33, b/50), where its edge crescent is resolved. A tilted "
+                          "contact of fewer than 10 vertices (half model, at F0) is undetermined."))
     out = {}
     for s in sc:
         if s.name in out:
