@@ -154,7 +154,8 @@ class FEContact3D:
     ball of that radius around (x, 0, 0) (``meshes.half3d``, ``refine_*``): the loaded edge of a
     tilted flat face, (-1, h, radius) for the flat punch at theta > 0. The tilt variants share it.
     ``ring``: None or (r, width, h) in units of a_ref, element size h (<= h_contact) within
-    ``width`` of the circle of radius r on the contact face (``meshes.half3d``, ``ring_*``): the
+    ``width`` of the circle of radius r on the contact face (``meshes.half3d``: the band around the
+    whole circle, ``band_r = r``, ``band_angle = pi``; not together with ``band``): the
     slip annulus and the contact edge of a partial-slip cycle, where the stick radius and the
     dissipation are decided (the sphere at F_x = mu F_N / 2: (0.9, 0.18, h) covers 0.72-1.08 a).
     ``band``: None or (h, width, angle[, growth]): element size h / a_ref (<= h_contact) within
@@ -210,21 +211,25 @@ class FEContact3D:
         elif np.ndim(refine) != 1 or np.size(refine) != 3:
             raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), got "
                              f"{refine!r}")
-        if ring is None:
-            ring = (None, None, None)
-        elif np.ndim(ring) != 1 or np.size(ring) != 3:
-            raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
-                             f"{ring!r}")
+        if ring is not None:  # a band around the whole circle r
+            if band is not None:
+                raise InputError("give ring or band, not both (a ring is the band around a whole circle)")
+            if np.ndim(ring) != 1 or np.size(ring) != 3:
+                raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
+                                 f"{ring!r}")
         if band is None:
             band = (None, None, None, None)
         elif np.ndim(band) != 1 or np.size(band) not in (3, 4):
             raise InputError(f"band must be None or (h / a_ref, width / a_ref, angle in rad[, growth]) (the refined "
                              f"band along the loaded edge), got {band!r}")
         band = tuple(band) + (None,) * (4 - len(band))
+        band_r = None
+        if ring is not None:
+            band_r, band = ring[0], (ring[2], ring[1], np.pi, None)
         params = Half3DMeshParams(a_ref=a_ref, h_contact=h_contact, contact_extent=contact_extent, size=L, height=L,
                                   edge=edge, refine_x=refine[0], refine_h=refine[1], refine_radius=refine[2],
                                   band_h=band[0], band_width=band[1], band_angle=band[2], band_growth=band[3],
-                                  ring_r=ring[0], ring_width=ring[1], ring_h=ring[2])
+                                  band_r=band_r)
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()

@@ -21,17 +21,16 @@ away: a gmsh ``Distance`` field from the half disk and a ``Threshold`` field,
 Optionally (``refine_x``, ``refine_h``, ``refine_radius``) a ball around (refine_x, 0, 0) gets the
 finer size ``refine_h`` (a gmsh ``MathEval`` distance and a second ``Threshold``, the smaller of
 the two sizes wins through a ``Min`` field): the loaded edge of a tilted flat face, whose edge
-contact is a narrow crescent. Optionally (``ring_r``, ``ring_width``, ``ring_h``) the tube of radius
-``ring_width`` around the circle r = ring_r of the top face gets the size ``ring_h`` (again a
-``MathEval`` distance, a ``Threshold`` and a ``Min``): the annulus of a partial-slip contact
-between the stick edge and the contact edge, the only place where a fretting cycle's
-tractions change their state, so the rest of the disk can stay coarse.
-Optionally (``band_h``, ``band_width``, ``band_angle``) a band along an arc of the edge circle
-gets the finer size ``band_h``: within ``band_width`` of the circle r = edge * a_ref (the rim
-without an edge) on the arc |phi - pi| <= ``band_angle`` (the -x side; phi the polar angle in
-the top face), graded at ``band_growth`` (default ``growth``) outside (a ``MathEval`` distance to the arc, a ``Threshold``,
-the finest size wins): the loaded edge of a flat face tilted far beyond its loss of full contact,
-whose edge contact is a thin crescent along the rim.
+contact is a narrow crescent.
+Optionally (``band_h``, ``band_width``, ``band_angle``) a band along an arc of a circle of the top
+face gets the finer size ``band_h``: within ``band_width`` of the circle r = ``band_r`` (default:
+the edge circle r = edge * a_ref, the rim without an edge) on the arc |phi - pi| <= ``band_angle``
+(the -x side; phi the polar angle in the top face), graded at ``band_growth`` (default ``growth``)
+outside (a ``MathEval`` distance to the arc, a ``Threshold``, the finest size wins). Two uses: the
+loaded edge of a flat face tilted far beyond its loss of full contact, whose edge contact is a
+thin crescent along the rim (an arc of the edge circle); and, with band_angle = pi, the ring of
+a partial-slip contact between the stick edge and the contact edge, the only place where a
+fretting cycle's tractions change their state, so the rest of the disk can stay coarse.
 
 Physical groups (names used by ``fem.elastic3d``): surfaces ``contact`` (the
 half disk), ``top`` (the rest of the top face), ``bottom`` (z = -height,
@@ -88,16 +87,14 @@ class Half3DMeshParams(ContactZoneParams):
     (the flat punch: the candidate disk is the punch face). ``refine_x``, ``refine_h``,
     ``refine_radius`` (together or none; / a_ref): element size ``refine_h`` (<= h_contact) within
     the ball of radius ``refine_radius`` around (refine_x, 0, 0), |refine_x| <= contact_extent,
-    graded at ``growth`` outside it (the loaded edge of a tilted flat face). ``ring_r``, ``ring_width``,
-    ``ring_h`` (together or none; / a_ref): element size ``ring_h`` (<= h_contact) within ``ring_width``
-    (in (0, contact_extent]) of the circle r = ``ring_r`` (in (0, contact_extent]) of the top face,
-    graded at ``growth`` outside (a partial-slip annulus). ``band_h``, ``band_width``, ``band_angle``
-    (together or none): element size ``band_h`` (/ a_ref, <= h_contact)
-    within ``band_width`` (/ a_ref, in (0, contact_extent]) of the circle r = edge (the rim
-    r = contact_extent without an edge) on the arc |phi - pi| <= ``band_angle`` (rad, in (0, pi]),
+    graded at ``growth`` outside it (the loaded edge of a tilted flat face). ``band_h``, ``band_width``,
+    ``band_angle`` (together or none): element size ``band_h`` (/ a_ref, <= h_contact)
+    within ``band_width`` (/ a_ref, in (0, contact_extent]) of the circle r = ``band_r`` (/ a_ref, in
+    (0, contact_extent]; None: the edge circle, or the rim r = contact_extent without an edge) on the
+    arc |phi - pi| <= ``band_angle`` (rad, in (0, pi]; pi: the whole circle, a ring),
     graded at ``band_growth`` (in [0.02, 1]; None: ``growth``) outside (a thin edge crescent of a face
     tilted about y, lifted at +x; a steeper grading than the volume's keeps the interface small).
-    ``None`` values are left out of :meth:`as_dict`, so the meshes without an edge, a refinement, a ring or
+    ``None`` values are left out of :meth:`as_dict`, so the meshes without an edge, a refinement or
     a band keep their cache keys.
     """
 
@@ -113,13 +110,11 @@ class Half3DMeshParams(ContactZoneParams):
     refine_x: float | None = None
     refine_h: float | None = None
     refine_radius: float | None = None
-    ring_r: float | None = None
-    ring_width: float | None = None
-    ring_h: float | None = None
     band_h: float | None = None
     band_width: float | None = None
     band_angle: float | None = None
     band_growth: float | None = None
+    band_r: float | None = None
 
     def __post_init__(self):
         if self.shape not in SHAPES:
@@ -129,34 +124,15 @@ class Half3DMeshParams(ContactZoneParams):
             raise InputError(f"edge must be in (0, contact_extent = {self.contact_extent:g}] (the flat face's edge "
                              f"radius / a_ref inside the candidate disk), got {self.edge!r}")
         self._check_refine()
-        self._check_ring()
         self._check_band()
-
-    def _check_ring(self):
-        r = (self.ring_r, self.ring_width, self.ring_h)
-        if all(v is None for v in r):
-            return
-        if any(v is None for v in r):
-            raise InputError(f"ring_r, ring_width and ring_h go together (all given or none), got {r!r}")
-        for name, v in zip(("ring_r", "ring_width", "ring_h"), r):
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
-                raise InputError(f"{name} must be one finite number (/ a_ref), got {v!r}")
-        ce = self.contact_extent
-        if not 0 < self.ring_r <= ce:
-            raise InputError(f"ring_r must be in (0, contact_extent = {ce:g}] (radius of the refined ring's "
-                             f"centre circle / a_ref), got {self.ring_r!r}")
-        if not 0 < self.ring_width <= ce:
-            raise InputError(f"ring_width must be in (0, contact_extent = {ce:g}] (half-width of the refined ring "
-                             f"/ a_ref), got {self.ring_width!r}")
-        if not H_CONTACT_3D_RANGE[0] <= self.ring_h <= self.h_contact:
-            raise InputError(f"ring_h must be in [{H_CONTACT_3D_RANGE[0]:g}, h_contact = {self.h_contact:g}] "
-                             f"(element size in the refined ring / a_ref), got {self.ring_h!r}")
 
     def _check_band(self):
         r = (self.band_h, self.band_width, self.band_angle)
         if all(v is None for v in r):
-            if self.band_growth is not None:
-                raise InputError(f"band_growth needs a band (band_h, band_width, band_angle), got {self.band_growth!r}")
+            for name in ("band_growth", "band_r"):
+                if getattr(self, name) is not None:
+                    raise InputError(f"{name} needs a band (band_h, band_width, band_angle), got "
+                                     f"{getattr(self, name)!r}")
             return
         if any(v is None for v in r):
             raise InputError(f"band_h, band_width and band_angle go together (all given or none), got {r!r}")
@@ -172,6 +148,11 @@ class Half3DMeshParams(ContactZoneParams):
         if not 0 < self.band_angle <= np.pi:
             raise InputError(f"band_angle must be in (0, pi] (half angle of the band's arc about phi = pi, rad), "
                              f"got {self.band_angle!r}")
+        br = self.band_r
+        if br is not None and (isinstance(br, bool) or not isinstance(br, (int, float, np.integer, np.floating))
+                               or not 0 < br <= self.contact_extent):
+            raise InputError(f"band_r must be in (0, contact_extent = {self.contact_extent:g}] (radius of the band's "
+                             f"circle / a_ref) or None (the edge circle), got {br!r}")
         g = self.band_growth
         if g is not None and (isinstance(g, bool) or not isinstance(g, (int, float, np.integer, np.floating))
                               or not 0.02 <= g <= 1):
@@ -207,8 +188,8 @@ class Half3DMeshParams(ContactZoneParams):
                              None if self.edge is None else float(self.edge),
                              *(None if v is None else float(v)
                                for v in (self.refine_x, self.refine_h, self.refine_radius,
-                                         self.ring_r, self.ring_width, self.ring_h,
-                                         self.band_h, self.band_width, self.band_angle, self.band_growth)))
+                                         self.band_h, self.band_width, self.band_angle, self.band_growth,
+                                         self.band_r)))
         rc = p.r_contact
         if p.size <= 2.0 * rc:
             raise InputError(f"size must be > 2 * contact_extent * a_ref = {2 * rc:.4g} m, got {p.size!r}")
@@ -226,8 +207,8 @@ class Half3DMeshParams(ContactZoneParams):
 
     def as_dict(self) -> dict:
         d = asdict(self)
-        for k in ("edge", "refine_x", "refine_h", "refine_radius", "ring_r", "ring_width", "ring_h", "band_h",
-                  "band_width", "band_angle", "band_growth"):
+        for k in ("edge", "refine_x", "refine_h", "refine_radius", "band_h", "band_width", "band_angle",
+                  "band_growth", "band_r"):
             if d[k] is None:
                 del d[k]
         return d
@@ -273,8 +254,8 @@ def _generate(p: Half3DMeshParams):
     would allow the surface classification."""
     unit = p.a_ref
     p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
-                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius, p.ring_r, p.ring_width,
-                         p.ring_h, p.band_h, p.band_width, p.band_angle, p.band_growth)
+                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius, p.band_h, p.band_width,
+                         p.band_angle, p.band_growth, p.band_r)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -338,32 +319,20 @@ def _generate(p: Half3DMeshParams):
                 both = fm.add("Min")
                 fm.setNumbers(both, "FieldsList", [thr, thr2])
                 thr = both
-            if p.ring_r is not None:  # the refined ring around the circle r = ring_r of the top face
-                tube = fm.add("MathEval")
-                fm.setString(tube, "F", f"Sqrt((Sqrt(x^2 + y^2) - ({p.ring_r!r}))^2 + z^2)")
-                thr3 = fm.add("Threshold")
-                fm.setNumber(thr3, "InField", tube)
-                fm.setNumber(thr3, "SizeMin", p.ring_h)
-                fm.setNumber(thr3, "SizeMax", p.h_max)
-                fm.setNumber(thr3, "DistMin", p.ring_width)
-                fm.setNumber(thr3, "DistMax", p.ring_width + (p.h_max - p.ring_h) / p.growth)
-                both = fm.add("Min")
-                fm.setNumbers(both, "FieldsList", [thr, thr3])
-                thr = both
-            if p.band_h is not None:  # the band along the arc |phi - pi| <= band_angle of the edge circle
-                rb = p.edge if p.edge is not None else p.contact_extent
+            if p.band_h is not None:  # the band along the arc |phi - pi| <= band_angle of the circle r = rb
+                rb = p.band_r if p.band_r is not None else p.edge if p.edge is not None else p.contact_extent
                 band = fm.add("MathEval")  # distance to the arc: radial, normal and (beyond its ends) along it
                 fm.setString(band, "F", f"Sqrt((Sqrt(x^2 + y^2) - {rb!r})^2 + z^2 + ({rb!r} * Max(0, "
                                         f"Acos(-x / (Sqrt(x^2 + y^2) + 1e-12)) - {p.band_angle!r}))^2)")
-                thr4 = fm.add("Threshold")
-                fm.setNumber(thr4, "InField", band)
-                fm.setNumber(thr4, "SizeMin", p.band_h)
-                fm.setNumber(thr4, "SizeMax", p.h_max)
-                fm.setNumber(thr4, "DistMin", p.band_width)
+                thr3 = fm.add("Threshold")
+                fm.setNumber(thr3, "InField", band)
+                fm.setNumber(thr3, "SizeMin", p.band_h)
+                fm.setNumber(thr3, "SizeMax", p.h_max)
+                fm.setNumber(thr3, "DistMin", p.band_width)
                 gb = p.growth if p.band_growth is None else p.band_growth
-                fm.setNumber(thr4, "DistMax", p.band_width + (p.h_max - p.band_h) / gb)
+                fm.setNumber(thr3, "DistMax", p.band_width + (p.h_max - p.band_h) / gb)
                 both = fm.add("Min")
-                fm.setNumbers(both, "FieldsList", [thr, thr4])
+                fm.setNumbers(both, "FieldsList", [thr, thr3])
                 thr = both
             fm.setAsBackgroundMesh(thr)
             for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),

@@ -321,7 +321,7 @@ def test_law3d_fretting_run(law3d):
     (["--profile", "sphere", "--R", "6e-3", "--block-size", "2e-5"], "size must be >"),
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),
-    (["--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.5"], "ring_h must be"),
+    (["--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.5"], "band_h must be"),
 ])
 def test_cli_model_3d_bad_input(flags, msg, capsys):
     from fem.cli import main
@@ -631,5 +631,7 @@ def test_law3d_ring_input():
 
     with pytest.raises(InputError, match="ring must be"):
         FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1))
-    with pytest.raises(InputError, match="ring_h must be"):
+    with pytest.raises(InputError, match="band_h must be"):
         FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1, 0.3))
+    with pytest.raises(InputError, match="ring or band, not both"):
+        FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, ring=(0.9, 0.1, 0.1), band=(0.1, 0.1, 1.0))

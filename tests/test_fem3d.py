@@ -177,22 +177,25 @@ def test_bad_mesh_parameter(kwargs, name):
 
 
 def test_ring_refinement():
-    """The refined ring is a tube of the mesh around the circle r = ring_r: contact-face edges in
-    the annulus are about ring_h long (median below 1.5 ring_h), near the centre about h_contact
-    (above 2 ring_h); meshes without it keep their cache keys; bad input names the parameter."""
-    assert not {"ring_r", "ring_width", "ring_h"} & set(Half3DMeshParams(a_ref=1.0).resolved().as_dict())
+    """A ring is the band around a whole circle r = band_r (band_angle = pi): contact-face edges in
+    the annulus are about band_h long (median below 1.5 band_h), near the centre about h_contact
+    (above 2 band_h); meshes without it keep their cache keys; bad input names the parameter."""
+    assert "band_r" not in Half3DMeshParams(a_ref=1.0).resolved().as_dict()
     h, rh = 0.25, 0.08
-    m = build_mesh3d(Half3DMeshParams(a_ref=1.0, h_contact=h, size=4.0, height=4.0, h_max=1.5, ring_r=0.9,
-                                      ring_width=0.15, ring_h=rh)).mesh
+    m = build_mesh3d(Half3DMeshParams(a_ref=1.0, h_contact=h, size=4.0, height=4.0, h_max=1.5, band_r=0.9,
+                                      band_width=0.15, band_h=rh, band_angle=np.pi)).mesh
     tri = m.facets[:, m.boundaries["contact"]]
     e = np.concatenate([tri[[0, 1]], tri[[1, 2]], tri[[2, 0]]], axis=1)
     rmid = np.hypot(*(0.5 * (m.p[:2, e[0]] + m.p[:2, e[1]])))
     le = np.linalg.norm(m.p[:, e[0]] - m.p[:, e[1]], axis=0)
-    assert np.median(le[np.abs(rmid - 0.9) < 0.1]) < 1.5 * rh
+    ring = np.abs(rmid - 0.9) < 0.1
+    assert np.median(le[ring]) < 1.5 * rh
+    # all around the circle: the +x side (phi near 0) as fine as the -x side
+    xs = 0.5 * (m.p[0, e[0]] + m.p[0, e[1]])
+    assert np.median(le[ring & (xs > 0.6)]) < 1.5 * rh
     assert np.median(le[rmid < 0.35]) > 2 * rh
-    for kw, name in ((dict(ring_r=0.9), "go together"), (dict(ring_r=2.0, ring_width=0.1, ring_h=0.05), "ring_r"),
-                     (dict(ring_r=0.9, ring_width=0.0, ring_h=0.05), "ring_width"),
-                     (dict(ring_r=0.9, ring_width=0.1, ring_h=0.5), "ring_h"),
-                     (dict(ring_r=np.inf, ring_width=0.1, ring_h=0.05), "ring_r")):
+    for kw, name in ((dict(band_r=0.9), "band_r needs a band"),
+                     (dict(band_r=2.0, band_width=0.1, band_h=0.05, band_angle=np.pi), "band_r must be"),
+                     (dict(band_r=np.inf, band_width=0.1, band_h=0.05, band_angle=np.pi), "band_r must be")):
         with pytest.raises(InputError, match=name):
             Half3DMeshParams(a_ref=1.0, h_contact=0.3, **kw)
