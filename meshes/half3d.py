@@ -127,18 +127,12 @@ class Half3DMeshParams(ContactZoneParams):
         self._check_band()
 
     def _check_band(self):
-        r = (self.band_h, self.band_width, self.band_angle)
-        if all(v is None for v in r):
+        if not self._together("band_h", "band_width", "band_angle"):
             for name in ("band_growth", "band_r"):
                 if getattr(self, name) is not None:
                     raise InputError(f"{name} needs a band (band_h, band_width, band_angle), got "
                                      f"{getattr(self, name)!r}")
             return
-        if any(v is None for v in r):
-            raise InputError(f"band_h, band_width and band_angle go together (all given or none), got {r!r}")
-        for name, v in zip(("band_h", "band_width", "band_angle"), r):
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
-                raise InputError(f"{name} must be one finite number, got {v!r}")
         if not H_CONTACT_3D_RANGE[0] <= self.band_h <= self.h_contact:
             raise InputError(f"band_h must be in [{H_CONTACT_3D_RANGE[0]:g}, h_contact = {self.h_contact:g}] "
                              f"(element size in the band / a_ref), got {self.band_h!r}")
@@ -159,15 +153,22 @@ class Half3DMeshParams(ContactZoneParams):
             raise InputError(f"band_growth must be in [0.02, 1] (size growth per unit distance outside the band) "
                              f"or None, got {g!r}")
 
-    def _check_refine(self):
-        r = (self.refine_x, self.refine_h, self.refine_radius)
-        if all(v is None for v in r):
-            return
-        if any(v is None for v in r):
-            raise InputError(f"refine_x, refine_h and refine_radius go together (all given or none), got {r!r}")
-        for name, v in zip(("refine_x", "refine_h", "refine_radius"), r):
+    def _together(self, *names) -> bool:
+        """Whether the option group ``names`` is given: all None (False) or all finite numbers (True),
+        else InputError naming the parameter."""
+        vals = tuple(getattr(self, n) for n in names)
+        if all(v is None for v in vals):
+            return False
+        if any(v is None for v in vals):
+            raise InputError(f"{', '.join(names[:-1])} and {names[-1]} go together (all given or none), got {vals!r}")
+        for name, v in zip(names, vals):
             if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
-                raise InputError(f"{name} must be one finite number (/ a_ref), got {v!r}")
+                raise InputError(f"{name} must be one finite number, got {v!r}")
+        return True
+
+    def _check_refine(self):
+        if not self._together("refine_x", "refine_h", "refine_radius"):
+            return
         ce = self.contact_extent
         if not (np.ndim(self.refine_x) == 0 and np.isfinite(self.refine_x) and abs(self.refine_x) <= ce):
             raise InputError(f"refine_x must be in [-{ce:g}, {ce:g}] (x of the refined spot / a_ref, inside the "
