@@ -72,6 +72,11 @@ H_CONTACT_3D_DEFAULT = 0.1
 H_CONTACT_3D_RANGE = (1.0 / 200.0, 0.5)
 
 
+def _number(v) -> bool:
+    """One real number (no bool, no array)."""
+    return not isinstance(v, bool) and isinstance(v, (int, float, np.integer, np.floating))
+
+
 @dataclass(frozen=True)
 class Half3DMeshParams(ContactZoneParams):
     """All parameters that determine a 3D half-model mesh (SI). Defaults via :meth:`resolved`.
@@ -138,18 +143,16 @@ class Half3DMeshParams(ContactZoneParams):
                              f"(element size in the band / a_ref), got {self.band_h!r}")
         if not 0 < self.band_width <= self.contact_extent:
             raise InputError(f"band_width must be in (0, contact_extent = {self.contact_extent:g}] (half width of "
-                             f"the band about the edge circle / a_ref), got {self.band_width!r}")
+                             f"the band about its circle / a_ref), got {self.band_width!r}")
         if not 0 < self.band_angle <= np.pi:
             raise InputError(f"band_angle must be in (0, pi] (half angle of the band's arc about phi = pi, rad), "
                              f"got {self.band_angle!r}")
         br = self.band_r
-        if br is not None and (isinstance(br, bool) or not isinstance(br, (int, float, np.integer, np.floating))
-                               or not 0 < br <= self.contact_extent):
+        if br is not None and not (_number(br) and 0 < br <= self.contact_extent):
             raise InputError(f"band_r must be in (0, contact_extent = {self.contact_extent:g}] (radius of the band's "
                              f"circle / a_ref) or None (the edge circle), got {br!r}")
         g = self.band_growth
-        if g is not None and (isinstance(g, bool) or not isinstance(g, (int, float, np.integer, np.floating))
-                              or not 0.02 <= g <= 1):
+        if g is not None and not (_number(g) and 0.02 <= g <= 1):
             raise InputError(f"band_growth must be in [0.02, 1] (size growth per unit distance outside the band) "
                              f"or None, got {g!r}")
 
@@ -162,7 +165,7 @@ class Half3DMeshParams(ContactZoneParams):
         if any(v is None for v in vals):
             raise InputError(f"{', '.join(names[:-1])} and {names[-1]} go together (all given or none), got {vals!r}")
         for name, v in zip(names, vals):
-            if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not np.isfinite(v):
+            if not (_number(v) and np.isfinite(v)):
                 raise InputError(f"{name} must be one finite number, got {v!r}")
         return True
 

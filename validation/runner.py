@@ -104,11 +104,13 @@ def run_mdr(s: Scene, n: int) -> dict:
 
 
 def _fe_law(s: Scene, h, **mesh_kw):
+    """The scene's FE law at mesh level h; ``mesh_kw`` the model's own mesh options (the 3D law's
+    ``refine``, ``band``)."""
     if s.fe_model == "3d":
         from fem.law3d import FEContact3D
 
         return FEContact3D(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
-                           displacement="contact")
+                           displacement="contact", **mesh_kw)
     from fem.law import FEContact
 
     return FEContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
@@ -556,17 +558,6 @@ TILT_MIN_VERTICES = 10
 TILT_METRICS = {"dissipation": "dissipation", "slip_index": "slip_index", "contact_area": None, "loop_du": "loop_du"}
 
 
-def _tilt_law(sv: Scene, h, refine=None, band=None):
-    """The 3D law of one profile of a tilt scene at level h, its loaded edge refined as ``refine``
-    (a ball) and ``band`` (a band along the rim arc) of ``FEContact3D`` (None: not)."""
-    if refine is None and band is None:
-        return _fe_law(sv, h)
-    from fem.law3d import FEContact3D
-
-    return FEContact3D(profile_of(sv), materials_of(sv), sv.mu, F_max=sv.F0 + sv.dF, h_contact=h,
-                       displacement="contact", refine=refine, band=band)
-
-
 def _tilt_effects(run, ref, relative, mu, F0) -> dict:
     """The tilt metrics (``TILT_METRICS``) of one tilted ``run`` against a reference ``ref`` (the
     aligned 3D run on the same mesh, or MDR); ``relative``: the dissipation relative to ref's."""
@@ -618,7 +609,7 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
         levels = []
         for j, h in enumerate(sv.fe_levels):
             t0 = time.perf_counter()
-            law = _tilt_law(sv, h, *(v[k][j] if k in v else None for k in ("refine", "band")))
+            law = _fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
             setup = time.perf_counter() - t0
             runs = []
             for th in tilts:
