@@ -649,6 +649,16 @@ class FEContact3D:
         the stick set by one vertex moves them by ~A_j / area, far less than an element);
         ``stick_axis_quantum`` (m), their resolution: the change of an axis when one vertex of median
         area joins the stick set, axis * A_median / (2 area);
+        ``stick_fit_x``, ``stick_fit_y``, ``stick_fit_center_x``: the stick ellipse fitted to the
+        slack s = mu p - |q| of the sticking vertices, s^2 = A - B (x - x0)^2 - C y^2 (least squares
+        weighted by A_j; semi-axes sqrt(A / B), sqrt(A / C), centre x0; NaN with fewer than 5 sticking
+        vertices or a fit without a closed ellipse): exact for Cattaneo-Mindlin, whose slack is
+        (mu p0 / a) sqrt(c^2 - r^2) (Hertz pressure, traction along x), and an approximation
+        elsewhere. It uses every sticking vertex, so it moves continuously with the solution instead
+        of by one vertex at a time. It assumes that form: at a constant normal force the traction of
+        free direction stays close to it (the fit converges, ``tests/test_contact3d.py``); under a
+        varying normal force the stick zone's slack carries its history and the fit is no estimate
+        (the assumptions-3d scene's Table 2 loading: a free-direction pair differs by 2-20 % of a);
         ``traction_angle_max``, the largest |q_y|/|q| over the vertices in contact that slip;
         ``pressure_center_x``, the x of the pressure's centroid (m)."""
         mi = self.mi
@@ -674,7 +684,9 @@ class FEContact3D:
             quantum = 0.5 * max(axes) * float(np.median(mi.A[st])) / area
         else:
             axes, quantum = (0.0, 0.0), 0.0
+        fit = stick_ellipse_fit(mi.x[st], mi.y[st], slack[st], mi.A[st])
         return {"stick_radius_x": 0.5 * (ext["+x"] + ext["-x"]), "stick_center_x": 0.5 * (ext["+x"] - ext["-x"]),
+                "stick_fit_x": fit[0], "stick_fit_y": fit[1], "stick_fit_center_x": fit[2],
                 "stick_radius_y": ext["y"], "stick_axis_x": float(axes[0]), "stick_axis_y": float(axes[1]),
                 "stick_axis_quantum": quantum, "traction_angle_max": ang,
                 "pressure_center_x": float(w @ mi.x / w.sum()) if w.sum() > 0 else 0.0}
@@ -707,7 +719,8 @@ class FEContact3D:
             k = k0 + int(np.argmax(Fx[k0:]))
             z = self.stick_zone(run["q"][k], run["p"][k], run["a"][k])
             out.update({key: z[key] for key in ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
-                                                "stick_axis_quantum", "traction_angle_max")})
+                                                "stick_axis_quantum", "stick_fit_x", "stick_fit_y",
+                                                "traction_angle_max")})
             peaks = np.flatnonzero((Fx[1:-1] >= Fx[:-2]) & (Fx[1:-1] > Fx[2:]) & (Fx[1:-1] > 0)) + 1
             k1 = int(peaks[0]) if peaks.size else k
             z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])
@@ -722,6 +735,26 @@ class FEContact3D:
         x0, x1 = self.contact_extent_x(nr.p)
         return {"tilt": self.tilt, "contact_area_fraction": self.contact_area(nr.p) / ref,
                 "contact_x_min": x0, "contact_x_max": x1}
+
+
+def stick_ellipse_fit(x, y, slack, w) -> tuple:
+    """(semi-axis x, semi-axis y, centre x) (m) of the ellipse where the fitted squared slack of the
+    sticking vertices vanishes: least squares of s^2 = A - B (x - x0)^2 - C y^2 (the half model,
+    symmetric in y), weights ``w`` (vertex areas). Exact for a Cattaneo-Mindlin stick zone (slack
+    proportional to sqrt(c^2 - r^2)); NaNs with fewer than 5 vertices or B, C or the fitted A <= 0."""
+    nan = (float("nan"),) * 3
+    if np.size(x) < 5:
+        return nan
+    sw = np.sqrt(np.asarray(w, dtype=float))
+    M = np.column_stack([np.ones(np.size(x)), -np.square(x), -np.square(y), x]) * sw[:, None]
+    (A, B, C, D), *_ = np.linalg.lstsq(M, np.square(slack) * sw, rcond=None)
+    if not (B > 0 and C > 0):
+        return nan
+    x0 = D / (2.0 * B)
+    A0 = A + B * x0 ** 2  # s^2 = A0 - B (x - x0)^2 - C y^2
+    if not A0 > 0:
+        return nan
+    return float(np.sqrt(A0 / B)), float(np.sqrt(A0 / C)), float(x0)
 
 
 class FE3DTrial:
