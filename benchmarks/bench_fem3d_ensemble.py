@@ -1,0 +1,138 @@
+"""The 3D sphere's dissipation and the effect of the traction direction over an ensemble of ring
+meshes (issue 13): the error a single unstructured mesh cannot show.
+
+Why: on graded ring meshes (``FEContact3D(ring=)``) the 3D dissipation is within 0.45 % of
+Mindlin & Deresiewicz from a/7 on, but the ladder is not monotone (the stick and contact edges
+cross the vertices of an unstructured mesh, so each mesh carries its own quantisation error of
+a few 0.1 %). A structured, edge-aligned (polar) annulus does not remove it: the whole vertex
+ring at the stick edge switches at once, and the dissipation follows which ring the stick zone
+ends on at the load reversal (measured: 0.993, 0.984, 0.996 of Mindlin-Deresiewicz at radial
+sizes a/20, a/28, a/40, the stick edge on a ring at 1.008, 0.990, 1.008 of Cattaneo-Mindlin).
+So every level here is an ensemble of meshes of the same resolution whose ring circle r = R
+varies (0.88-0.92 a; the refined annulus R -+ 0.18 a always covers the slip zone 0.79-1 a): the
+ensemble mean and its standard error, and the ladder of the means
+(``mdr.ladder.ladder_error``).
+
+Each member runs the sphere twice on its mesh (``FEContact3D.variant``): the tangential traction
+of free direction and along x (Mindlin's assumption, as MDR), so the paired difference measures
+what the direction costs, against the half-space boundary-element solution without Mindlin's
+approximation (dissipation -0.2 +- 0.4 %, stick radius -0.32 %). The stick zone is read three ways:
+the stick set's axes (``stick_axis_x/y``: one vertex at a time; over an ensemble the mean of a
+quantised estimator is dithered), the ray radii, and the ellipse fitted to the slack
+(``stick_fit_x/y``: continuous in the solution; on the runs along x it is compared with
+Cattaneo-Mindlin, the exact half-space answer under Mindlin's assumption).
+
+Sphere R = 6 mm, identical steel bodies, F_N = 0.5 N, mu = 0.2, force amplitude mu F_N / 2, 3 cycles
+of 100 steps (the loading of ``bench_fem3d_contact.py``). Run:
+
+    python benchmarks/bench_fem3d_ensemble.py [--steps 100] [--radii 0.88 0.9 0.92] [h ...]
+
+(h: the coarse size / a, the ring at h / 2; default 0.2 0.14 0.12 0.1; one member's pair of runs took
+16-22, 37-46, 58-64 and 138-159 s on one core, OMP_NUM_THREADS=1, so the default about 30 min.)
+"""
+import argparse
+import json
+import time
+
+import numpy as np
+
+R, F0, MU = 6e-3, 0.5, 0.2
+RING_WIDTH = 0.18
+
+
+def member(h, ring_r, steps):
+    """One mesh of the ensemble: the free and the x-traction runs on it."""
+    from fem.contact_run import drive_3d
+    from fem.law3d import FEContact3D
+    from mdr.materials import Materials
+    from mdr.profiles import Sphere
+
+    law = FEContact3D(Sphere(R), Materials(), MU, F_max=F0, h_contact=h, ring=(ring_r, RING_WIDTH, 0.5 * h),
+                      displacement="plate")
+    out = {}
+    for side, v in (("free", law.variant(traction="free")), ("x", law.variant(traction="x"))):
+        o = drive_3d(v, MU, F0, 0.0, 0.0, None, 0.5 * MU * F0, 3, steps)
+        out[side] = {k: o[k] for k in ("dissipation", "stick_axis_x", "stick_axis_y", "stick_radius_x",
+                                       "stick_radius_y", "stick_fit_x", "stick_fit_y", "stick_axis_quantum",
+                                       "contact_radius", "traction_angle_max")}
+    out["vertices"] = law.n
+    return out
+
+
+def stats(x):
+    x = np.asarray(x, dtype=float)
+    sd = float(np.std(x, ddof=1)) if x.size > 1 else float("nan")
+    return float(np.mean(x)), sd / np.sqrt(x.size)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--steps", type=int, default=100)
+    ap.add_argument("--radii", type=float, nargs="+", default=[0.88, 0.9, 0.92],
+                    help="ring circles r = R / a of the ensemble's meshes (each in [0.85, 0.95])")
+    ap.add_argument("levels", type=float, nargs="*", default=[0.2, 0.14, 0.12, 0.1])
+    args = ap.parse_args(argv)
+    if any(not 0.85 <= r <= 0.95 for r in args.radii):
+        ap.error(f"--radii must lie in [0.85, 0.95] (the annulus R -+ {RING_WIDTH} a must cover the slip zone "
+                 f"0.79-1 a), got {args.radii}")
+    from mdr import reference as ref
+    from mdr.ladder import ladder_error
+    from mdr.materials import Materials
+
+    mat = Materials()
+    hz = ref.hertz(F0, R, mat.E_star)
+    us = ref.gross_slip_displacement(hz["d"], MU, mat.E_star, mat.G_star)
+    W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F0, F0, MU, us)
+    c_cm = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F0, F0, MU, hz["a"])
+    levels = []
+    for h in args.levels:
+        rows = []
+        for rr in args.radii:
+            t = time.perf_counter()
+            m = member(h, rr, args.steps)
+            f, x = m["free"], m["x"]
+            row = {"ring_r": rr, "vertices": m["vertices"], "W": f["dissipation"] / W_md,
+                   "W_x": x["dissipation"] / W_md,
+                   "dW_dir": (f["dissipation"] - x["dissipation"]) / x["dissipation"],
+                   **{f"d_{k}": (f[k] - x[k]) / c_cm for k in ("stick_axis_x", "stick_axis_y", "stick_radius_x",
+                                                                "stick_radius_y", "stick_fit_x", "stick_fit_y")},
+                   "fit_x": x["stick_fit_x"] / c_cm - 1, "fit_y": x["stick_fit_y"] / c_cm - 1,
+                   "quantum": x["stick_axis_quantum"] / c_cm, "angle": f["traction_angle_max"],
+                   "seconds": time.perf_counter() - t}
+            rows.append(row)
+            print(f"h = a/{1 / h:.3g}, ring r = {rr:g} a ({row['vertices']} vertices, {row['seconds']:.0f} s): "
+                  f"dW / MD {row['W']:.4f} (along x {row['W_x']:.4f}), direction effect: dissipation "
+                  f"{row['dW_dir']:+.3%}, stick axes x, y {row['d_stick_axis_x']:+.3%}, {row['d_stick_axis_y']:+.3%} "
+                  f"of c (quantum {row['quantum']:.3%}), rays x, y {row['d_stick_radius_x']:+.3%}, "
+                  f"{row['d_stick_radius_y']:+.3%}, fitted ellipse x, y {row['d_stick_fit_x']:+.3%}, "
+                  f"{row['d_stick_fit_y']:+.3%} (along x: {row['fit_x']:+.3%}, {row['fit_y']:+.3%} off "
+                  f"Cattaneo-Mindlin)", flush=True)
+        lv = {"h": h, "members": rows}
+        for k in ("W", "W_x", "dW_dir", "d_stick_axis_x", "d_stick_axis_y", "d_stick_radius_x", "d_stick_radius_y",
+                  "d_stick_fit_x", "d_stick_fit_y", "fit_x", "fit_y", "quantum", "angle"):
+            lv[k] = stats([r[k] for r in rows])
+        levels.append(lv)
+    print("\n| h / a (ring) | members | vertices | dW / MD (free) | dW / MD (along x) | direction: dissipation | "
+          "stick axis x | stick axis y | ray x | ray y | fitted x | fitted y | axis quantum | fit along x - C-M (x, y) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for lv in levels:
+        h = lv["h"]
+        cell = lambda k, pct: (f"{lv[k][0]:+.2%} +- {lv[k][1]:.2%}" if pct  # noqa: E731
+                               else f"{lv[k][0]:.4f} +- {lv[k][1]:.4f}")
+        print(f"| 1/{1 / h:.3g} (1/{2 / h:.3g}) | {len(lv['members'])} | "
+              f"{int(np.median([r['vertices'] for r in lv['members']]))} | {cell('W', False)} | {cell('W_x', False)} | "
+              f"{cell('dW_dir', True)} | {cell('d_stick_axis_x', True)} | {cell('d_stick_axis_y', True)} | "
+              f"{cell('d_stick_radius_x', True)} | {cell('d_stick_radius_y', True)} | {cell('d_stick_fit_x', True)} | "
+              f"{cell('d_stick_fit_y', True)} | {lv['quantum'][0]:.2%} | {lv['fit_x'][0]:+.2%}, {lv['fit_y'][0]:+.2%} |")
+    print("(means +- standard errors over the members; stick effects in % of the Cattaneo-Mindlin radius)")
+    if len(levels) >= 2:
+        for k in ("W", "W_x", "dW_dir", "d_stick_fit_x", "d_stick_fit_y", "fit_x", "fit_y"):
+            e = ladder_error([lv["h"] for lv in levels], [lv[k][0] for lv in levels])
+            se = levels[-1][k][1]
+            print(f"{k}: ladder of the means {json.dumps(e, default=float)}; finest level's standard error {se:.4f}; "
+                  f"error bar (ladder error + 2 standard errors) "
+                  f"{(e['error'] or float('nan')) + 2 * se:.4f}")
+
+
+if __name__ == "__main__":
+    main()
