@@ -25,10 +25,11 @@ Cattaneo-Mindlin, the exact half-space answer under Mindlin's assumption).
 Sphere R = 6 mm, identical steel bodies, F_N = 0.5 N, mu = 0.2, force amplitude mu F_N / 2, 3 cycles
 of 100 steps (the loading of ``bench_fem3d_contact.py``). Run:
 
-    python benchmarks/bench_fem3d_ensemble.py [--steps 100] [--radii 0.88 0.9 0.92] [h ...]
+    python benchmarks/bench_fem3d_ensemble.py [--steps 100] [--radii R ...] [-- h ...]
 
-(h: the coarse size / a, the ring at h / 2; default 0.2 0.14 0.12 0.1; one member's pair of runs took
-16-22, 37-46, 58-64 and 138-159 s on one core, OMP_NUM_THREADS=1, so the default about 30 min.)
+(h: the coarse size / a, the ring at h / 2; default 0.2 0.14 0.12 0.1; --radii default 0.88 0.89 0.9
+0.91 0.92; one member's pair of runs took 16-22, 37-46, 58-64 and 138-159 s on one core,
+OMP_NUM_THREADS=1, so the default about 25 min.)
 """
 import argparse
 import json
@@ -67,10 +68,11 @@ def stats(x):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--steps", type=int, default=100)
-    ap.add_argument("--radii", type=float, nargs="+", default=[0.88, 0.9, 0.92],
+    ap.add_argument("--steps", type=int, default=100, help="steps per cycle (default 100)")
+    ap.add_argument("--radii", type=float, nargs="+", default=[0.88, 0.89, 0.9, 0.91, 0.92],
                     help="ring circles r = R / a of the ensemble's meshes (each in [0.85, 0.95])")
-    ap.add_argument("levels", type=float, nargs="*", default=[0.2, 0.14, 0.12, 0.1])
+    ap.add_argument("levels", type=float, nargs="*", default=[0.2, 0.14, 0.12, 0.1],
+                    help="coarse element sizes h / a, the ring at h / 2 (after --, following --radii)")
     args = ap.parse_args(argv)
     if any(not 0.85 <= r <= 0.95 for r in args.radii):
         ap.error(f"--radii must lie in [0.85, 0.95] (the annulus R -+ {RING_WIDTH} a must cover the slip zone "
