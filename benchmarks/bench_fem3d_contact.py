@@ -16,9 +16,20 @@ import json
 import subprocess
 import sys
 
-import numpy as np
 
 R, F0, MU = 6e-3, 0.5, 0.2
+
+
+def md_references():
+    """(Mindlin-Deresiewicz dissipation (J), Cattaneo-Mindlin stick radius (m)) of this loading."""
+    from mdr import reference as ref
+    from mdr.materials import Materials
+
+    mat = Materials()
+    hz = ref.hertz(F0, R, mat.E_star)
+    us = ref.gross_slip_displacement(hz["d"], MU, mat.E_star, mat.G_star)
+    return (ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F0, F0, MU, us),
+            ref.cattaneo_mindlin_stick_radius(0.5 * MU * F0, F0, MU, hz["a"]))
 
 
 def one(h, steps, model="3d", ring=None):
@@ -51,15 +62,9 @@ def main(argv=None):
     if args.one is not None:
         print(json.dumps(one(args.one, args.steps, args.model, args.ring)))
         return
-    from mdr import reference as ref
-    from mdr.materials import Materials
     from validation.metrics import ladder_error
 
-    mat = Materials()
-    hz = ref.hertz(F0, R, mat.E_star)
-    us = ref.gross_slip_displacement(hz["d"], MU, mat.E_star, mat.G_star)
-    W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F0, F0, MU, us)
-    c_cm = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F0, F0, MU, hz["a"])
+    W_md, c_cm = md_references()
     rows = []
     print("| h / a | DOFs | vertices | setup (s) | cycles (s) | peak memory (GB) | dW / MD | c_x / CM | c_y / CM "
           "| max angle |")

@@ -36,8 +36,8 @@ import json
 import time
 
 import numpy as np
+from bench_fem3d_contact import F0, MU, R, md_references  # the same loading and closed forms
 
-R, F0, MU = 6e-3, 0.5, 0.2
 RING_WIDTH = 0.18
 
 
@@ -77,15 +77,9 @@ def main(argv=None):
     if any(not 0.85 <= r <= 0.95 for r in args.radii):
         ap.error(f"--radii must lie in [0.85, 0.95] (the annulus R -+ {RING_WIDTH} a must cover the slip zone "
                  f"0.79-1 a), got {args.radii}")
-    from mdr import reference as ref
     from mdr.ladder import ladder_error
-    from mdr.materials import Materials
 
-    mat = Materials()
-    hz = ref.hertz(F0, R, mat.E_star)
-    us = ref.gross_slip_displacement(hz["d"], MU, mat.E_star, mat.G_star)
-    W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F0, F0, MU, us)
-    c_cm = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F0, F0, MU, hz["a"])
+    W_md, c_cm = md_references()
     levels = []
     for h in args.levels:
         rows = []
