@@ -77,8 +77,6 @@ def main(argv=None):
     if any(not 0.85 <= r <= 0.95 for r in args.radii):
         ap.error(f"--radii must lie in [0.85, 0.95] (the annulus R -+ {RING_WIDTH} a must cover the slip zone "
                  f"0.79-1 a), got {args.radii}")
-    from mdr.ladder import ladder_error
-
     W_md, c_cm = md_references()
     levels = []
     for h in args.levels:
@@ -123,11 +121,29 @@ def main(argv=None):
     print("(means +- standard errors over the members; stick effects in % of the Cattaneo-Mindlin radius)")
     if len(levels) >= 2:
         for k in ("W", "W_x", "dW_dir", "d_stick_fit_x", "d_stick_fit_y", "fit_x", "fit_y"):
-            e = ladder_error([lv["h"] for lv in levels], [lv[k][0] for lv in levels])
-            se = levels[-1][k][1]
-            print(f"{k}: ladder of the means {json.dumps(e, default=float)}; finest level's standard error {se:.4f}; "
-                  f"error bar (ladder error + 2 standard errors) "
-                  f"{(e['error'] or float('nan')) + 2 * se:.4f}")
+            err = ensemble_error([lv["h"] for lv in levels], [lv[k] for lv in levels])
+            print(f"{k}: {json.dumps(err, default=float)}")
+
+
+def ensemble_error(sizes, means_se) -> dict:
+    """Error bar of the finest ensemble mean: ``ladder_error`` of the means, plus two standard
+    errors of the finest mean; where a step between the three finest means is below two of its
+    standard errors no order can be observed, and the error is their spread plus two standard errors
+    (the rule of a ladder without an observed order)."""
+    from mdr.ladder import ladder_error
+
+    m = [x[0] for x in means_se]
+    se = [x[1] for x in means_se]
+    lad = ladder_error(sizes, m)
+    out = {"value": m[-1], "ladder": lad, "standard_error": se[-1]}
+    tail = list(zip(m[-3:], se[-3:]))
+    noisy = any(abs(b[0] - a[0]) < 2 * np.hypot(a[1], b[1]) for a, b in zip(tail, tail[1:]))
+    if noisy and len(tail) == 3:
+        out.update(status="steps within two standard errors: no order observed",
+                   error=float(np.ptp([t[0] for t in tail]) + 2 * se[-1]))
+    else:
+        out.update(status=lad["status"], error=(lad["error"] if lad["error"] is not None else float("nan")) + 2 * se[-1])
+    return out
 
 
 if __name__ == "__main__":

@@ -649,16 +649,18 @@ class FEContact3D:
         the stick set by one vertex moves them by ~A_j / area, far less than an element);
         ``stick_axis_quantum`` (m), their resolution: the change of an axis when one vertex of median
         area joins the stick set, axis * A_median / (2 area);
-        ``stick_fit_x``, ``stick_fit_y``, ``stick_fit_center_x``: the stick ellipse fitted to the
-        slack s = mu p - |q| of the sticking vertices, s^2 = A - B (x - x0)^2 - C y^2 (least squares
-        weighted by A_j; semi-axes sqrt(A / B), sqrt(A / C), centre x0; NaN with fewer than 5 sticking
-        vertices or a fit without a closed ellipse): exact for Cattaneo-Mindlin, whose slack is
-        (mu p0 / a) sqrt(c^2 - r^2) (Hertz pressure, traction along x), and an approximation
-        elsewhere. It uses every sticking vertex, so it moves continuously with the solution instead
-        of by one vertex at a time. It assumes that form: at a constant normal force the traction of
-        free direction stays close to it (the fit converges, ``tests/test_contact3d.py``); under a
-        varying normal force the stick zone's slack carries its history and the fit is no estimate
-        (the assumptions-3d scene's Table 2 loading: a free-direction pair differs by 2-20 % of a);
+        ``stick_fit_x``, ``stick_fit_y``, ``stick_fit_center_x`` (m): the stick ellipse fitted to the
+        slack s = mu p - |q| of the sticking vertices, s^2 = A0 - B (x - x0)^2 - C y^2
+        (:func:`stick_ellipse_fit`; semi-axes sqrt(A0 / B), sqrt(A0 / C), centre x0; NaN where it
+        cannot be fitted): exact for Cattaneo-Mindlin, whose slack is (mu p0 / a) sqrt(c^2 - r^2)
+        (Hertz pressure, traction along x), an approximation elsewhere. It uses every sticking
+        vertex, so it moves almost continuously with the solution (a small jump when a vertex of
+        near-zero slack joins the stick set) instead of by one vertex at a time. It assumes that
+        form: at a constant normal force the traction of free direction stays close to it (the fit
+        converges, ``tests/test_contact3d.py``); under a varying normal force the stick zone's slack
+        carries its history and the fit is no estimate (the assumptions-3d scene's Table 2 loading:
+        the fitted axes of the sphere's free-direction run and of its twin along x on one mesh
+        differed by 1.5-15 % of a, where the two stick sets were identical);
         ``traction_angle_max``, the largest |q_y|/|q| over the vertices in contact that slip;
         ``pressure_center_x``, the x of the pressure's centroid (m)."""
         mi = self.mi
@@ -739,9 +741,10 @@ class FEContact3D:
 
 def stick_ellipse_fit(x, y, slack, w) -> tuple:
     """(semi-axis x, semi-axis y, centre x) (m) of the ellipse where the fitted squared slack of the
-    sticking vertices vanishes: least squares of s^2 = A - B (x - x0)^2 - C y^2 (the half model,
-    symmetric in y), weights ``w`` (vertex areas). Exact for a Cattaneo-Mindlin stick zone (slack
-    proportional to sqrt(c^2 - r^2)); NaNs with fewer than 5 vertices or B, C or the fitted A <= 0."""
+    sticking vertices vanishes: weighted least squares (weights ``w``, the vertex areas) of
+    s^2 = A + D x - B x^2 - C y^2 (the half model, symmetric in y), i.e. A0 - B (x - x0)^2 - C y^2
+    with x0 = D / (2 B), A0 = A + B x0^2. Exact for a Cattaneo-Mindlin stick zone (slack
+    proportional to sqrt(c^2 - r^2)); NaNs with fewer than 5 vertices or B, C or A0 <= 0."""
     nan = (float("nan"),) * 3
     if np.size(x) < 5:
         return nan

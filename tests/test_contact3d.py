@@ -535,10 +535,12 @@ def test_fitted_stick_ellipse_converges_to_cattaneo_mindlin(ring_pair):
     """The stick ellipse fitted to the slack (``FEContact3D.stick_zone``, ``stick_fit_x/y``) at the
     peak of F_x = mu F_N / 2, on the ring meshes of ``test_ring_ladder``. With the traction along x
     (Mindlin's assumption, under which Cattaneo-Mindlin is the exact half-space answer) its error
-    against Cattaneo-Mindlin, the larger of its two axes', falls from h = a/5 to a/7 (measured x, y:
-    +1.65 %, +0.39 % and +0.76 %, +0.70 %; README), within 1.5 % at a/7. The traction of free
-    direction changes the fitted axes by under 0.15 % of c at a/7 (measured -0.03 %, -0.05 %): a
-    sub-vertex estimator (the stick set's own axes move by one vertex, 0.27 % of c, at a/7)."""
+    against Cattaneo-Mindlin, the larger of its two axes', falls from h = a/5 to a/7 (measured on this
+    r = 0.9 a mesh, x, y: +1.65 %, +0.39 % and +0.76 %, +0.70 %; the README's five-member means
+    +1.74 %, +1.14 % and +0.64 %, +0.88 %), within 1.5 % at a/7. The traction of free direction
+    changes the fitted axes by under 0.15 % of c at a/7 (measured on this mesh -0.03 %, -0.05 %; the
+    README's means -0.01 %, -0.03 %): a sub-vertex estimator (the stick set's own axes move by one
+    vertex, 0.27 % of c on this a/7 mesh)."""
     c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
     err, eff = {}, {}
     for h in (0.2, 0.14):
