@@ -139,8 +139,9 @@ def solve_normal3d(Dn, g0, A, *, force=None, approach=None, p0=None, max_iter=10
                            f"({int(act.sum())} of {n} vertices active, min p {p.min():.3g} Pa)")
 
 
-def _proj_disk(z, g):
-    """Project the rows of z (n, 2) onto the disks |z_j| <= g_j."""
+def project_disk(z, g):
+    """Project the rows of z (n, 2) onto the disks |z_j| <= g_j (the Coulomb cones of a given pressure:
+    the return map of a trial traction; g_j >= 0)."""
     nz = np.hypot(z[:, 0], z[:, 1])
     f = np.where(nz > g, g / np.maximum(nz, 1e-300), 1.0)
     return z * f[:, None]
@@ -197,14 +198,14 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
         r = unpack(s - Pold)  # slip increments (n, 2)
         q = unpack(v)
         z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
-        pz = _proj_disk(z, g)
+        pz = project_disk(z, g)
         R = pack(q - pz)
         if fc:
             R = np.append(R, (A @ q[:, 0] - force) / (A.sum() + 1e-300))
         return R, s, z
 
     v = pack(q0) if q0 is not None else np.zeros(m)
-    v = pack(_proj_disk(unpack(v), g))
+    v = pack(project_disk(unpack(v), g))
     dl = float(delta) if delta is not None else (0.0 if delta0 is None else float(delta0))
     if fc and q0 is None:  # full stick of the vertices in contact, scaled to the force
         kin = np.flatnonzero(np.concatenate([g > 0, g[yi] > 0]))
@@ -214,7 +215,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
                             check_finite=False)
             x0[kin], x1[kin] = sol[:, 0], sol[:, 1]
             dl = (force - A @ x0[:n]) / max(A @ x1[:n], 1e-300)
-            v = pack(_proj_disk(unpack(x0 + dl * x1), g))
+            v = pack(project_disk(unpack(x0 + dl * x1), g))
     tolR = TOL * gmax
     dscale = 1.0 / float(np.mean(c * A))  # delta column scaling: O(1) entries (delta in m, q in Pa)
     Cvec = np.concatenate([c, cy[yi]])
@@ -324,7 +325,7 @@ def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
     cmin = 1.0 / np.max(np.diag(D))
     for it in range(max_iter):
         grad = D @ y - b
-        xn = pack(_proj_disk(unpack(y - grad / L), g))
+        xn = pack(project_disk(unpack(y - grad / L), g))
         if (xn - x) @ (y - xn) > 0:  # restart when the momentum points uphill
             tk = 1.0
             y = xn.copy()
@@ -333,7 +334,7 @@ def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
         x, tk = xn, tn
         if it % 50 == 0:
             r = b - D @ x  # slip increments
-            R = np.max(np.abs(x - pack(_proj_disk(unpack(x + cmin * r), g))))
+            R = np.max(np.abs(x - pack(project_disk(unpack(x + cmin * r), g))))
             if R <= tolR:
                 return x, r
     raise ConvergenceError(f"Coulomb increment: projected gradient did not converge in {max_iter} iterations "

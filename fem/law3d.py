@@ -66,7 +66,7 @@ from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
-from .contact3d import (RelativeFlexibility, _proj_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
+from .contact3d import (RelativeFlexibility, project_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
                         tangential_slope)
 from .elastic3d import stiffness3d
 from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
@@ -602,7 +602,7 @@ class FEContact3D:
         if not (last != 0.0 and 0.0 < ahead / last <= 4.0):
             return q, state.u
         f = ahead / last
-        return _proj_disk(q + f * dq, g), state.u + f * state.du
+        return project_disk(q + f * dq, g), state.u + f * state.du
 
     def _check_force_limit(self, Fx, FN):
         """A prescribed tangential force must stay below mu F_N (no force-controlled gross slip)."""
