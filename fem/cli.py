@@ -61,6 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
                            "indenter (sphere cap, truncated sphere, or flat punch) on an elastic cylindrical "
                            "block. The stiffness is factorised once and condensed to the contact interface; "
                            "penalty contact with augmented-Lagrangian iterations. Writes contact_radius, "
+                           "pressure_radius (the pressure's second-moment radius sqrt(5 M2 / (2 F)), "
+                           "M2 = int p r^2 dA), "
                            "indentation (half-space comparable: finite-body bulk compliance removed with "
                            "probes at depth 20 a and the Boussinesq solution), approach (raw FE), "
                            "normal_force, pressure {r, p}, dofs, mesh, runtime_s {mesh, setup, solve, total}. "

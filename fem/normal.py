@@ -28,7 +28,8 @@ lbar - k gap until it repeats.
 Outputs (``NormalResult``): F_N, the approach ``delta`` (indenter top to block
 bottom, includes the finite bodies' bulk compliance), the half-space-comparable
 indentation (``fem.bulk``), nodal pressures p_i = lam_i / w_i, the contact radius and
-the penalty error (relative penetration).
+the penalty error (relative penetration), and ``pressure_radius``, the pressure's
+second-moment radius (``mdr.normal.moment_radius``) from the pair forces, sum lam_i r_i^2.
 
 Half-space-comparable indentation: the approach of two axis probes plus the Boussinesq
 displacement below them, ``fem.bulk.normal_indentation`` (the one home of both bulk
@@ -53,6 +54,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from mdr.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
+from mdr.normal import moment_radius
 
 from .bulk import normal_indentation
 from .solvers import blas_threads
@@ -80,6 +82,7 @@ class NormalResult:
     al_iterations: int
     probe: dict = field(default_factory=dict)
     runtime_s: float = 0.0
+    pressure_radius: float = float("nan")
 
 
 def _active_solve(C, gap0, k, lbar, A, force, approach):
@@ -208,4 +211,5 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
                         r=np.concatenate([[0.0], it.r]), pressure=np.concatenate([[p0], p]), lam=lam,
                         gap=gap, p0=p0, penetration=rel_pen, active=int(np.count_nonzero(lam > 0)),
                         newton_iterations=n_newton, al_iterations=n_al, probe=probe,
-                        runtime_s=time.perf_counter() - t0)
+                        runtime_s=time.perf_counter() - t0,
+                        pressure_radius=moment_radius(F, float(lam @ it.r ** 2)))

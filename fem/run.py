@@ -80,6 +80,7 @@ def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None,
                                f"(now {contact_extent:g})")
     out = {
         "contact_radius": res.contact_radius,
+        "pressure_radius": res.pressure_radius,
         "indentation": res.indentation,
         "normal_force": res.force,
         "pressure": {"r": res.r, "p": res.pressure},

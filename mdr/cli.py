@@ -60,7 +60,7 @@ def materials_from_args(args):
 
 
 def _cmd_normal(args):
-    from .normal import approach_from_force, contact_radius, pressure
+    from .normal import approach_from_force, contact_radius, pressure, pressure_radius
     from .errors import positive
 
     t0 = time.perf_counter()
@@ -75,7 +75,8 @@ def _cmd_normal(args):
     # radii avoid r = a (and r = b) where the pressure may be singular
     r = (np.arange(n) + 0.5) / n * a
     p = pressure(prof, mat, d, r)
-    return {"contact_radius": a, "indentation": d, "normal_force": F,
+    return {"contact_radius": a, "pressure_radius": pressure_radius(prof, mat, d), "indentation": d,
+            "normal_force": F,
             "pressure": {"r": r.tolist(), "p": p.tolist()},
             "runtime_s": time.perf_counter() - t0,
             "inputs": {**prof.describe(), **mat.as_dict(), "F": F}}

@@ -166,3 +166,34 @@ def normal_energy(profile: Profile, materials: Materials, d):
         x = lo + (hi - lo) * t**2
         total += np.sum(w * (d - profile.g(x)) ** 2 * 2.0 * (hi - lo) * t)
     return materials.E_star * total
+
+
+def moment_radius(force, second_moment):
+    """The pressure's second-moment radius sqrt(5 M2 / (2 F_N)) (m), from the force F_N = int p dA (N)
+    and the second moment M2 = int p r^2 dA (N m^2) about the load axis: the radius of the Hertz
+    pressure p0 sqrt(1 - r^2/a^2) of that force and moment (M2 / F_N = 2 a^2 / 5), so for a sphere the
+    contact radius. An integral of the pressure, it needs no edge to be located: the one definition
+    of ``pressure_radius`` for MDR (:func:`pressure_radius`) and the FE models. NaN for F_N <= 0."""
+    force, second_moment = float(force), float(second_moment)
+    return float(np.sqrt(2.5 * second_moment / force)) if force > 0 else float("nan")
+
+
+def pressure_radius(profile: Profile, materials: Materials, d):
+    """:func:`moment_radius` of the MDR pressure at approach ``d`` (scalar, m); NaN without contact.
+
+    The MDR line load E* (d - g(x)) is the pressure integrated across the contact (its Abel
+    transform), so int p r^2 dA = 2 int q x^2 dx = 4 E* int_0^a (d - g(x)) x^2 dx exactly (the
+    same assumptions as :func:`force_from_approach`); Gauss-Legendre split at the kinks of g, with
+    the substitution of :func:`normal_energy`. Hertz: the contact radius; flat punch: sqrt(5/3) b."""
+    d = float(nonnegative("d (approach)", d))
+    if d == 0.0:
+        return float("nan")
+    a = float(contact_radius(profile, d))
+    edges = [0.0] + sorted(float(np.max(k)) for k in profile.kinks if 0.0 < float(np.max(k)) < a) + [a]
+    t, w = np.polynomial.legendre.leggauss(48)
+    t, w = 0.5 * (t + 1.0), 0.5 * w
+    M2 = 0.0
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        x = lo + (hi - lo) * t**2
+        M2 += np.sum(w * (d - profile.g(x)) * x**2 * 2.0 * (hi - lo) * t)
+    return moment_radius(force_from_approach(profile, materials, d), 4.0 * materials.E_star * M2)

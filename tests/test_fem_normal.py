@@ -12,6 +12,8 @@ from skfem import FacetBasis, LinearForm, MeshTri1, asm, condense, solve
 
 from mdr.errors import InputError
 from mdr.materials import Materials
+from mdr.normal import approach_from_force, pressure_radius
+from mdr.profiles import TruncatedSphere
 from mdr.reference import (flat_punch_approach, flat_punch_pressure, hertz, truncated_approach,
                            truncated_contact_radius, truncated_force)
 from fem.axisym import boundary_nodes, lame, node_coords, node_dofs, stiffness
@@ -152,6 +154,8 @@ def test_sphere_against_hertz(hertz_run):
     # and the correction is what brings it to the half-space value
     assert abs(out["approach"] / h["d"] - 1) > 2 * abs(out["indentation"] / h["d"] - 1)
     assert out["penalty_error"] <= 1e-8
+    # the pressure's second-moment radius (no edge to locate): Hertz's a, measured +2.4e-5
+    assert abs(out["pressure_radius"] / h["a"] - 1) < 7e-5
 
 
 def test_interface_areas_and_interpolation(hertz_run):
@@ -190,6 +194,11 @@ def test_truncated_sphere_against_closed_forms(cache, b, tol):
     assert abs(a / a_ref - 1) < tol[0]
     assert abs(truncated_force(a, R, b, MAT.E_star) / F - 1) < tol[1]  # F_N(a) closed form
     assert abs(out["indentation"] / truncated_approach(a_ref, R, b) - 1) < tol[2]
+    # the pressure's second-moment radius against MDR's (exact for the half-space): measured
+    # +5.9e-6 (b = 20 um) and +2.6e-5 (b = 27 um)
+    prof = TruncatedSphere(R, b)
+    rm = pressure_radius(prof, MAT, float(approach_from_force(prof, MAT, F)))
+    assert abs(out["pressure_radius"] / rm - 1) < 7e-5
 
 
 def test_flat_punch_stiffness_and_pressure(cache):
@@ -204,6 +213,9 @@ def test_flat_punch_stiffness_and_pressure(cache):
     r, p = np.array(o1["pressure"]["r"]), np.array(o1["pressure"]["p"])
     away = r < 0.8 * b
     assert np.max(np.abs(p[away] / flat_punch_pressure(r[away], F, b) - 1)) < 1e-2
+    # second-moment radius sqrt(5/3) b: the singular edge is resolved to first order (measured
+    # +1.16e-3 at a/80, +2.3e-3 at a/40)
+    assert 0 < o1["pressure_radius"] / (np.sqrt(5 / 3) * b) - 1 < 3e-3
 
 
 def test_penalty_error_falls_with_penalty_and_al_removes_it(hertz_run):

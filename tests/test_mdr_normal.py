@@ -4,7 +4,8 @@ import pytest
 
 from mdr import FlatPunch, GeneralProfile, Materials, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
-from mdr.normal import approach_from_force, contact_radius, force_from_approach, normal_energy, pressure
+from mdr.normal import (approach_from_force, contact_radius, force_from_approach, normal_energy, pressure,
+                        pressure_radius)
 
 from conftest import F0, R, STEEL
 
@@ -115,3 +116,27 @@ def test_truncated_sphere_with_vanishing_flat_is_the_sphere(b):
     d_t = approach_from_force(TruncatedSphere(R, b), STEEL, F)
     d_s = approach_from_force(Sphere(R), STEEL, F)
     np.testing.assert_allclose(d_t, d_s, rtol=1e-6 if b < 1e-10 else 1e-4)
+
+
+@pytest.mark.parametrize("prof", [Sphere(R), TruncatedSphere(R, 20e-6), TruncatedSphere(R, 20e-6, exact=True),
+                                  TruncatedSphere(R, 0.6e-3), FlatPunch(50e-6)], ids=lambda p: p.describe()["profile"])
+def test_pressure_radius_is_the_second_moment_of_the_pressure(prof):
+    """pressure_radius (from the line load, int p r^2 dA = 4 E* int_0^a (d - g) x^2 dx) against the
+    second moment of the Abel pressure p(r) integrated over the disk (a separate path: the pressure
+    formula, summed by the trapezoidal rule on points clustered at the edge), and the closed forms:
+    Hertz's contact radius for the sphere, sqrt(5/3) b for the flat punch (p ~ 1/sqrt(b^2 - r^2))."""
+    d = float(approach_from_force(prof, STEEL, F0))
+    a = float(contact_radius(prof, d))
+    rm = pressure_radius(prof, STEEL, d)
+    r = a * np.sin(np.linspace(0.0, np.pi / 2, 40001))
+    p = pressure(prof, STEEL, d, r)
+    trap = getattr(np, "trapezoid", None) or np.trapz
+    moment = np.sqrt(2.5 * trap(p * r ** 3, r) / trap(p * r, r))
+    assert abs(rm / moment - 1) < 2e-5  # measured 2.5e-8 (smooth edges) and 5e-6 (the punch's singular edge)
+    kind = prof.describe()["profile"]
+    if kind == "sphere" or (kind == "truncated" and prof.b == 0):
+        assert abs(rm / ref.hertz(F0, R, STEEL.E_star)["a"] - 1) < 1e-12
+    if kind == "flat":
+        assert abs(rm / (np.sqrt(5.0 / 3.0) * prof.b) - 1) < 1e-12
+    assert np.isnan(pressure_radius(prof, STEEL, 0.0))
+
