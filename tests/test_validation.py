@@ -296,8 +296,14 @@ def test_assumptions_3d_scene(tmp_path):
         for side in ("on", "off"):  # the stationary cycle's dissipation is the last cycle's
             assert lv[side]["dissipation"] == lv[side]["dissipation_per_cycle"][-1] > 0
     assert (tmp_path / res["files"]["assumptions3d"]).exists()
+    # the pressure against MDR's (Hertz's a for the sphere), by its second-moment radius: within
+    # 0.5 % on both coarse levels (measured -0.14 % at a/4), and judged with its ladder's error bar
+    pr = direction["pressure"]
+    assert abs(pr["mdr"] / ref.hertz(s.F0, s.R, runner.materials_of(s).E_star)["a"] - 1) < 1e-12
+    assert all(abs(x) < 5e-3 for x in pr["levels"]) and pr["error"] is not None and pr["holds"] is True
     text = "\n".join(report._assumptions3d_table(res))
     assert "| t3a[direction: sphere]" in text and "| t3a[coupling: sphere]" in text
+    assert text.count("(two levels): yes |") == 2
     with pytest.raises(Exception, match="relax in direction, coupling"):
         Scene("t3b", "x", "sphere", fe_model="3d", variants=({"relax": "tilt"},))
     with pytest.raises(Exception, match="need fe_model='3d'"):

@@ -170,9 +170,12 @@ def _assumptions3d_table(res):
              "estimators (one vertex; the element for the centre); dissipation in % of the imposed run's, "
              "radii and centres in % of the contact radius. The assumption holds where |effect| <= error + "
              "the catalogue's tolerance.", "",
+             "The last column is no effect: the 3D pressure at F0 with Mindlin's assumptions imposed against "
+             "MDR's, by its second-moment radius (pressure_radius, which needs no contact edge located between "
+             "vertices): 3D / MDR - 1 +- its ladder's error bar.", "",
              "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
-             "| pressure centre x | largest traction angle | assumption holds? |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D vs MDR |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def eff(r, q):
         x = r["verdicts"][q]
@@ -181,13 +184,20 @@ def _assumptions3d_table(res):
         err = "undetermined" if x["error"] is None else f"{100 * x['error']:.2g}"
         return f"{100 * x['effect']:+.2g} +- {err} % ({x['status']})"
 
+    def pressure(r):
+        x = r.get("pressure")
+        if not x or x["difference"] is None:
+            return "undetermined"
+        err = "undetermined" if x["error"] is None else f"{100 * x['error']:.2g}"
+        return f"{100 * x['difference']:+.2g} +- {err} % ({x['status']}): {_holds(x['holds'])}"
+
     for r in res["assumptions3d"]:
         failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
         lines.append(f"| {r['variant']} | {r['levels'][-1]['dofs']} | {eff(r, 'dissipation')} | "
                      f"{eff(r, 'dissipation_first_cycle')} | {eff(r, 'stick_axis_x')} | {eff(r, 'stick_axis_y')} | "
                      f"{eff(r, 'stick_center_x')} | {eff(r, 'pressure_center_x')} | "
                      f"{_num(r['traction_angle_max'], '.3f')} | "
-                     f"{_holds(r['holds'])}{': ' + ', '.join(failed) if failed else ''} |")
+                     f"{_holds(r['holds'])}{': ' + ', '.join(failed) if failed else ''} | {pressure(r)} |")
     return lines
 
 

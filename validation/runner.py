@@ -467,6 +467,26 @@ def assumption_variant(s: Scene, v: dict) -> Scene:
     return replace(s, name=f"{s.name}[{v['relax']}: {label}]", variants=(), **kw)
 
 
+def pressure_against_mdr(s: Scene, levels) -> dict:
+    """The 3D pressure at F0 against MDR's (the frictionless normal contact of the imposed runs,
+    "off", of an assumptions scene; as MDR's, without tangential traction): ``pressure_radius`` (``mdr.normal.moment_radius``, an integral that
+    needs no contact edge located between vertices) of every level over MDR's, minus 1; the error
+    bar of its ladder (``metrics.ladder_error``); holds where |3D - MDR| <= error + the catalogue's
+    ``contact_radius`` tolerance (MDR's own error: round-off), None if not finite."""
+    from mdr.normal import pressure_radius
+
+    prof, mat = make_profile(s.profile, s.R, s.b), materials_of(s)
+    rm = pressure_radius(prof, mat, float(approach_from_force(prof, mat, s.F0)))
+    vals = [None if x["off"].get("pressure_radius") is None else x["off"]["pressure_radius"] / rm - 1
+            for x in levels]
+    lad = metrics.ladder_error([x["h"] for x in levels], vals)
+    tol = s.tolerances()["contact_radius"]
+    e, err = lad["value"], lad["error"]
+    holds = None if e is None or err is None or not np.isfinite(err) else bool(abs(e) <= err + tol)
+    return {"mdr": rm, "difference": e, "error": err, "status": lad["status"], "tolerance": tol, "holds": holds,
+            "levels": vals, "ladder": lad}
+
+
 def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
     """Mindlin's assumptions, one at a time, on the 3D model: every variant at every 3D mesh level
     twice on the same mesh (``FEContact3D.variant``) with the assumption relaxed ("on": the free
@@ -502,8 +522,8 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
                 eff[q] = float((on - off) / scale) if ok else None
             levels.append({"h": h, "dofs": runs["on"]["dofs"], "effects": eff,
                            **{side: {k: runs[side].get(k) for k in (*EFFECTS_3D, "traction_angle_max", "contact_radius",
-                                                                     "stationary", "dissipation_per_cycle",
-                                                                     "stick_axis_quantum")}
+                                                                     "pressure_radius", "stationary",
+                                                                     "dissipation_per_cycle", "stick_axis_quantum")}
                               for side in ("on", "off")},
                            "runtime_s": runs["on"]["runtime_s"]["total"] + runs["off"]["runtime_s"]["total"]})
             log(f"  {sv.name} a/{1 / h:.0f}: dissipation {_pct_or(eff['dissipation'])}, stick axes x, y "
@@ -526,7 +546,7 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
                            "kind": kind, "resolution": floor[res], "ladder": lad}
         judged = [x["holds"] for x in verdicts.values() if x["tolerance"] is not None]
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
-                     "levels": levels, "verdicts": verdicts,
+                     "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
                      "holds": False if False in judged else (None if None in judged else True),
                      "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})
     result = {"scene": s.as_dict(), "closed_form": None, "assumptions3d": rows, "errors": {"a_ref": a_ref(s)},
