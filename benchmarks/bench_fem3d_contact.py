@@ -42,7 +42,7 @@ def one(h, steps, model="3d", ring=None):
                           **({} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)}))
     if model != "3d":
         return {k: out[k] for k in ("dissipation", "dofs", "runtime_s")}
-    keys = ("contact_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
+    keys = ("contact_radius", "pressure_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
             "stick_axis_quantum", "traction_angle_max",
             "dissipation", "dofs", "vertices", "runtime_s", "peak_memory_bytes")
     return {k: out[k] for k in keys}
@@ -65,10 +65,14 @@ def main(argv=None):
     from validation.metrics import ladder_error
 
     W_md, c_cm = md_references()
+    from mdr import reference as ref
+    from mdr.materials import Materials
+
+    a_hz = ref.hertz(F0, R, Materials().E_star)["a"]
     rows = []
-    print("| h / a | DOFs | vertices | setup (s) | cycles (s) | peak memory (GB) | dW / MD | c_x / CM | c_y / CM "
-          "| max angle |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| h / a | DOFs | vertices | setup (s) | of which factorisation, condensation (s) | cycles (s) | per step (ms) "
+          "| peak memory (GB) | dW / MD | c_x / CM | c_y / CM | max angle | pressure radius / Hertz a |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for h in args.levels:
         ring = [] if args.ring is None else ["--ring", *map(str, args.ring)]
         res = subprocess.run([sys.executable, __file__, "--steps", str(args.steps), "--one", str(h), *ring],
@@ -76,10 +80,12 @@ def main(argv=None):
         r = json.loads(res.stdout.strip().splitlines()[-1])
         r["h"] = h
         rows.append(r)
-        print(f"| {h:g} | {r['dofs']} | {r['vertices']} | {r['runtime_s']['setup']:.1f} | "
-              f"{r['runtime_s']['cycles']:.1f} | {r['peak_memory_bytes'] / 1e9:.2f} | "
+        t = r["runtime_s"]
+        print(f"| {h:g} | {r['dofs']} | {r['vertices']} | {t['setup']:.1f} | {t['factorisation']:.1f}, "
+              f"{t['condensation']:.1f} | {t['cycles']:.1f} | {1e3 * t['per_step']:.0f} | "
+              f"{r['peak_memory_bytes'] / 1e9:.2f} | "
               f"{r['dissipation'] / W_md:.4f} | {r['stick_radius_x'] / c_cm:.4f} | {r['stick_radius_y'] / c_cm:.4f} | "
-              f"{r['traction_angle_max']:.3f} |", flush=True)
+              f"{r['traction_angle_max']:.3f} | {r['pressure_radius'] / a_hz:.4f} |", flush=True)
     if len(rows) >= 3:
         for key, scale in (("dissipation", W_md), ("traction_angle_max", 1.0), ("stick_radius_x", c_cm)):
             e = ladder_error([r["h"] for r in rows], [r[key] / scale for r in rows])

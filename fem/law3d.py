@@ -236,7 +236,8 @@ class FEContact3D:
         t1 = time.perf_counter()
         K, basis = stiffness3d(mesh, m.E2, m.nu2)
         self.mi = mi = mortar_interface(mesh)
-        D_blk, self.backend, fac_blk = mortar_flexibility(K, basis, mesh, mi, backend=backend)
+        parts = {"assembly": time.perf_counter() - t1}
+        D_blk, self.backend, fac_blk = mortar_flexibility(K, basis, mesh, mi, backend=backend, timings=parts)
         self.ndofs = int(K.shape[0])
         # the axis probes of the contact measure: as shallow as in the axisymmetric law, below the contact
         # disk (inside the bodies: the mesh is deeper than 2 contact_extent a_ref)
@@ -246,7 +247,7 @@ class FEContact3D:
             D_ind, R_ind = D_blk * (m.E2 / m.E1), R_blk * (m.E2 / m.E1)
         else:
             K1, _ = stiffness3d(mesh, m.E1, m.nu1)
-            D_ind, _, fac_ind = mortar_flexibility(K1, basis, mesh, mi, backend=backend)
+            D_ind, _, fac_ind = mortar_flexibility(K1, basis, mesh, mi, backend=backend, timings=parts)
             R_ind = probe_response(fac_ind, basis, mesh, mi, (0.0, 0.0, -zp))
             self.ndofs *= 2
         self.rf = RelativeFlexibility.from_bodies(D_blk, D_ind)
@@ -292,7 +293,10 @@ class FEContact3D:
             Dt = self.rf.Dt.copy()
             Dt[:mi.n, :mi.n] -= 2.0 * self.c_bulk * np.outer(mi.A, mi.A)
             self.rf = RelativeFlexibility(Dn=self.rf.Dn, Dt=Dt, K=self.rf.K)
-        self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
+        #: seconds: mesh (gmsh or the cache), setup (all after the mesh), of which assembly (stiffness,
+        #: mortar matrix; for a dissimilar pair the first body's), factorisation and condensation
+        #: (``fem.interface3d.mortar_flexibility``, both bodies)
+        self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1, **parts}
         self.last_run = None
 
     def _bulk_rows(self, L, R_blk, R_ind) -> dict:
@@ -713,8 +717,9 @@ class FEContact3D:
         """The keys a 3D run adds (``python -m fem contact --model 3d``): the FE's own contact radius
         and approach at F_N without tangential traction (for a dissimilar pair the run's coupled
         steps differ slightly: see ``pressure_center_x``),
-        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s``; ``tilt``, and at the
-        peak normal force ``F_peak`` (default F_N) without tangential traction
+        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s`` (setup, cycles, total,
+        and of the set-up the factorisation and the condensation: :attr:`timings`); ``tilt``, and
+        at the peak normal force ``F_peak`` (default F_N) without tangential traction
         ``contact_area_fraction`` (:meth:`contact_area` over that of the punch face, pi b^2 up to
         the faceting of the meshed rim, for the flat punch; over the aligned contact's for a
         sphere or truncated sphere, the same estimator) and ``contact_x_min``, ``contact_x_max``
@@ -730,7 +735,8 @@ class FEContact3D:
                "coupling": self.coupling, "dofs": self.ndofs, "vertices": self.n, "beta": self.beta,
                "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},
-               "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
+               "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0,
+                             **{k: self.timings[k] for k in ("factorisation", "condensation")}}}
         out.update(self.tilt_keys(F_N if F_peak is None else F_peak))
         run = self.last_run
         if run and run["q"]:
