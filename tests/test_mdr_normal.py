@@ -118,9 +118,13 @@ def test_truncated_sphere_with_vanishing_flat_is_the_sphere(b):
     np.testing.assert_allclose(d_t, d_s, rtol=1e-6 if b < 1e-10 else 1e-4)
 
 
-@pytest.mark.parametrize("prof", [Sphere(R), TruncatedSphere(R, 20e-6), TruncatedSphere(R, 20e-6, exact=True),
-                                  TruncatedSphere(R, 0.6e-3), FlatPunch(50e-6)], ids=lambda p: p.describe()["profile"])
-def test_pressure_radius_is_the_second_moment_of_the_pressure(prof):
+# the bound of each profile: 3x the measured difference (smooth edges 2e-10 .. 6.7e-8; the nearly flat
+# b = 0.6 mm and the punch, whose pressure is steep or singular at the edge, 3.6e-6 and 4.9e-6)
+@pytest.mark.parametrize("prof,bound", [(Sphere(R), 2e-7), (TruncatedSphere(R, 20e-6), 2e-7),
+                                        (TruncatedSphere(R, 20e-6, exact=True), 2e-7),
+                                        (TruncatedSphere(R, 0.6e-3), 1.2e-5), (FlatPunch(50e-6), 1.5e-5)],
+                         ids=["sphere", "b20um", "b20um-exact-cap", "b0.6mm", "flat"])
+def test_pressure_radius_is_the_second_moment_of_the_pressure(prof, bound):
     """pressure_radius (from the line load, int p r^2 dA = 4 E* int_0^a (d - g) x^2 dx) against the
     second moment of the Abel pressure p(r) integrated over the disk (a separate path: the pressure
     formula, summed by the trapezoidal rule on points clustered at the edge), and the closed forms:
@@ -132,7 +136,7 @@ def test_pressure_radius_is_the_second_moment_of_the_pressure(prof):
     p = pressure(prof, STEEL, d, r)
     trap = getattr(np, "trapezoid", None) or np.trapz
     moment = np.sqrt(2.5 * trap(p * r ** 3, r) / trap(p * r, r))
-    assert abs(rm / moment - 1) < 2e-5  # measured 2.5e-8 (smooth edges) and 5e-6 (the punch's singular edge)
+    assert abs(rm / moment - 1) < bound
     kind = prof.describe()["profile"]
     if kind == "sphere" or (kind == "truncated" and prof.b == 0):
         assert abs(rm / ref.hertz(F0, R, STEEL.E_star)["a"] - 1) < 1e-12

@@ -210,10 +210,13 @@ def test_mindlin_assumptions_in_3d(full):
     first = coupling["verdicts"]["dissipation_first_cycle"]
     assert 0.16 < first["effect"] < 0.64 and first["holds"] is False and coupling["holds"] is False
     # the 3D pressure against MDR's, by the pressure radius of the imposed runs (README: -0.04 +- 0.44,
-    # -0.10 +- 0.23, -0.04 +- 0.44 %): it holds on every variant
-    for row in rows.values():
+    # -0.10 +- 0.23, -0.04 +- 0.44 %; a/5 0.16-0.41 % off, the finer levels within 0.1 %): it holds on
+    # every variant
+    for name, row in rows.items():
         pr = row["pressure"]
-        assert pr["holds"] is True and abs(pr["difference"]) < 0.002 and pr["error"] < 0.009, pr
+        bound = 0.002 if "b = 20 um" in name else 0.001
+        assert pr["holds"] is True and abs(pr["difference"]) < bound and pr["error"] < 0.009, pr
+        assert all(abs(x) < 0.002 for x in pr["levels"][1:]) and 0.0008 < abs(pr["levels"][0]) < 0.008, pr
     # the 3D cycles settle geometrically (README): the direction effect on the sphere moves by
     # 0.06 % over cycles 2-4 at a/10, the last cycle changes by <= 0.18 % (pairs) and 0.58 %
     # (coupled pair), and the coupling's effect falls over cycles 2-4 (1.4, 0.4, 0.04 %)

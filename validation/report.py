@@ -174,7 +174,7 @@ def _assumptions3d_table(res):
              "MDR's, by its second-moment radius (pressure_radius, which needs no contact edge located between "
              "vertices): 3D / MDR - 1 +- its ladder's error bar.", "",
              "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
-             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D vs MDR |",
+             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def eff(r, q):
