@@ -263,8 +263,10 @@ def compare(args) -> int:
     """Run the selected scenes and write the report (the body of :func:`main`); returns the exit code."""
     jobs = check_choice(args.jobs, args.scheduler)
     if args.list:
+        w = max(len(s.name) for s in CATALOGUE.values()) + 2
+        print(f"{'scene':{w}s}{'quick ':6s}{'group':12s} title")
         for s in CATALOGUE.values():
-            print(f"{s.name:16s} {'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
+            print(f"{s.name:{w}s}{'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
         return 0
     scenes = select(args.scenes, quick=args.quick)
     out = Path(args.out)

@@ -140,6 +140,29 @@ def _scene_table(res):
     return lines
 
 
+def _time_step_lines(res):
+    """The time step's share of the dissipation error (``runner.time_step_error``), which the error
+    bars above leave out."""
+    ts = res.get("errors", {}).get("time_step")
+    if not ts:
+        return []
+    steps = ", ".join(str(k) for k in ts["steps"])
+    if ts.get("shift") is None:
+        how = f"no extrapolation ({ts['status']})"
+    else:
+        x = abs(ts["shift"])
+        size = f"{100 * x:.2g} %" if ts.get("shift_unit", "relative") == "relative" else f"{x:.2g} of 4 mu F0 u_A"
+        how = (f"the dissipation at {ts['steps'][0]} steps per cycle is {size} {'below' if ts['shift'] > 0 else 'above'} "
+               f"the extrapolated one ({ts['status']}, observed order {ts['order']:.2g})")
+    line = (f"Time step (MDR at the finest cells, {steps} steps per cycle): {how}. The error bars above refine "
+            f"space at the scene's step, which MDR and FE share, so this cancels in MDR - FE to leading order; "
+            f"against a closed form it does not.")
+    Wc = (res.get("closed_form") or {}).get("dissipation")
+    if ts.get("extrapolated") is not None and Wc:
+        line += f" MDR's extrapolated dissipation against the closed form: {_pct(ts['extrapolated'] / Wc - 1, 3)}."
+    return [line, ""]
+
+
 def _ladder_table(res):
     lines = ["| side | level | DOFs / cells | runtime (s) | dissipation error vs finest FE | vs closed form |",
              "|---|---|---|---|---|---|"]
@@ -390,6 +413,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
         ok, why = verdict(r)
         L += [f"MDR holds: **{_holds(ok).strip('*')}** ({why}).", ""]
         L += _scene_table(r) + [""]
+        L += _time_step_lines(r)
         L += ["Speed against error (ladders):", ""] + _ladder_table(r) + [""]
         files = r.get("files", {})
         for key in ("loops", "profiles", "fields", "speed_error"):
@@ -400,7 +424,16 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
         if "vtu" in files:
             L += [f"FE fields for ParaView: [{d}/{files['vtu']}]({d}/{files['vtu']})", ""]
     if hard_cases:
-        L += ["## Hard cases", "", *_hard_table(hard_cases), ""]
+        L += ["## Hard cases", "",
+              "Numerical stability, each case against an independent truth (closed forms, energy "
+              "conservation, refinement; the *truth* column names it). *status*: ok (the error within the "
+              "case's tolerance, 2-3x the error measured when it was set), flagged (the model itself warned or "
+              "reported the case doubtful, e.g. a deliberately soft penalty or coarse mesh, or the error is "
+              "above the tolerance: expected in the rows that test those warnings), error (an exception; the "
+              "note holds it). *iterations*: the mean active-set (Newton) iterations per step of the FE solver, "
+              "none for the explicit MDR law. *error*: relative unless the truth says otherwise; none when the "
+              "case produced no number (a detected non-convergence, in the note).", "",
+              *_hard_table(hard_cases), ""]
     path = out / "report.md"
     write_bytes_atomic(path, "\n".join(L).encode())
     payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "executor": executor,
