@@ -42,8 +42,8 @@ def one(h, steps, model="3d", ring=None):
                           **({} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)}))
     if model != "3d":
         return {k: out[k] for k in ("dissipation", "dofs", "runtime_s")}
-    keys = ("contact_radius", "pressure_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
-            "stick_axis_quantum", "traction_angle_max",
+    keys = ("contact_radius", "pressure_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x",
+            "stick_axis_y", "stick_axis_quantum", "traction_angle_max",
             "dissipation", "dofs", "vertices", "runtime_s", "peak_memory_bytes")
     return {k: out[k] for k in keys}
 

@@ -241,8 +241,8 @@ class FEContact:
     def result_keys(self, F_N, t0, t1, t2) -> dict:
         """The keys every FE run adds to its law-independent result (``python -m fem contact``,
         ``python -m mdr apparatus --law fem``, the validation runner; the one home of this
-        post-processing): ``contact_radius``, ``pressure_radius`` and ``indentation``, the FE's own at ``F_N``
-        (half-space comparable, ``fem.normal``), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
+        post-processing): ``contact_radius``, ``pressure_radius`` and ``indentation``, the FE's own
+        at ``F_N`` (half-space comparable, ``fem.normal``), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
         {setup, cycles, total} from the times t0 (start), t1 (law set up), t2 (runs done)."""
         nr = self.normal(F_N=F_N)
         return {"contact_radius": float(nr.contact_radius), "pressure_radius": float(nr.pressure_radius),

@@ -158,14 +158,21 @@ def normal_energy(profile: Profile, materials: Materials, d):
     """Elastic energy of the normal contact U = E* int_0^a (d - g)^2 dx = int_0^d F dd'."""
     d = float(nonnegative("d (approach)", d))
     a = float(contact_radius(profile, d))
+    return materials.E_star * _contact_integral(profile, a, lambda x: (d - profile.g(x)) ** 2)
+
+
+def _contact_integral(profile: Profile, a, f) -> float:
+    """int_0^a f(x) dx for an integrand built on g: 48-point Gauss-Legendre on each piece between the
+    kinks of g, with x = lo + (hi - lo) t^2, which absorbs the sqrt(x - b) behaviour of g just
+    above a kink."""
     edges = [0.0] + sorted(float(np.max(k)) for k in profile.kinks if float(np.max(k)) < a) + [a]
     total = 0.0
     t, w = np.polynomial.legendre.leggauss(48)
     t, w = 0.5 * (t + 1.0), 0.5 * w
     for lo, hi in zip(edges[:-1], edges[1:]):
         x = lo + (hi - lo) * t**2
-        total += np.sum(w * (d - profile.g(x)) ** 2 * 2.0 * (hi - lo) * t)
-    return materials.E_star * total
+        total += np.sum(w * f(x) * 2.0 * (hi - lo) * t)
+    return float(total)
 
 
 def moment_radius(force, second_moment):
@@ -183,17 +190,11 @@ def pressure_radius(profile: Profile, materials: Materials, d):
 
     The MDR line load E* (d - g(x)) is the pressure integrated across the contact (its Abel
     transform), so int p r^2 dA = 2 int q x^2 dx = 4 E* int_0^a (d - g(x)) x^2 dx exactly (the
-    same assumptions as :func:`force_from_approach`); Gauss-Legendre split at the kinks of g, with
-    the substitution of :func:`normal_energy`. Hertz: the contact radius; flat punch: sqrt(5/3) b."""
+    same assumptions as :func:`force_from_approach`; the quadrature of :func:`_contact_integral`).
+    Hertz: the contact radius; flat punch: sqrt(5/3) b."""
     d = float(nonnegative("d (approach)", d))
     if d == 0.0:
         return float("nan")
     a = float(contact_radius(profile, d))
-    edges = [0.0] + sorted(float(np.max(k)) for k in profile.kinks if 0.0 < float(np.max(k)) < a) + [a]
-    t, w = np.polynomial.legendre.leggauss(48)
-    t, w = 0.5 * (t + 1.0), 0.5 * w
-    M2 = 0.0
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        x = lo + (hi - lo) * t**2
-        M2 += np.sum(w * (d - profile.g(x)) * x**2 * 2.0 * (hi - lo) * t)
+    M2 = _contact_integral(profile, a, lambda x: (d - profile.g(x)) * x**2)
     return moment_radius(force_from_approach(profile, materials, d), 4.0 * materials.E_star * M2)

@@ -87,12 +87,18 @@ def _r_profile(a_max):
     return np.linspace(0.0, 1.2 * a_max, 241)
 
 
+def _mdr_law(s: Scene, n: int) -> MDRContact:
+    """The scene's MDR law with n cells."""
+    return MDRContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF,
+                      F_min=s.F0 - s.dF if s.dF < s.F0 else None, n=n)
+
+
 def run_mdr(s: Scene, n: int) -> dict:
     """One MDR run of the scene with n cells; result dict + profiles."""
     prof, mat = profile_of(s), materials_of(s)
 
     def once():
-        law = MDRContact(prof, mat, s.mu, F_max=s.F0 + s.dF, F_min=s.F0 - s.dF if s.dF < s.F0 else None, n=n)
+        law = _mdr_law(s, n)
         out, st = _drive(s, law)
         return law, out, st
 
@@ -110,10 +116,12 @@ def run_mdr(s: Scene, n: int) -> dict:
 TIME_STEP_FACTORS = (1, 2, 4)
 
 
-def time_step_error(s: Scene, n: int | None = None, h: float | None = None) -> dict:
+def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | None = None) -> dict:
     """The time step's share of the dissipation error, which the ladders (space at the scene's steps
     per cycle) leave out: MDR with ``n`` cells, or the FE model at mesh level ``h``, at 1, 2 and 4
-    times the scene's steps per cycle (``TIME_STEP_FACTORS``), through ``metrics.ladder_error``
+    times the scene's steps per cycle (``TIME_STEP_FACTORS``; ``first``, the side's result at the
+    scene's steps, e.g. its ladder's finest level, and one law for the others), through
+    ``metrics.ladder_error``
     (the loop integral is the trapezoidal rule, order 2 where the loop is smooth between the
     samples). Returns the ladder with ``shift``, extrapolated minus the value at the scene's steps
     as ``metrics.dissipation_error`` measures it (relative, or, for a loop that hardly dissipates,
@@ -121,13 +129,13 @@ def time_step_error(s: Scene, n: int | None = None, h: float | None = None) -> d
     dissipation (None where the ladder gives no extrapolation). The two models' shifts differ (the
     incremental laws discretise the load path differently), so they do not cancel in MDR - FE;
     the verdicts' error bars do not include them, the report states both. Costs two more runs of
-    the side at 2 and 4 times the steps."""
+    the side at 2 and 4 times the steps (and for the FE model one more set-up)."""
     from dataclasses import replace
 
     if (n is None) == (h is None):
         raise ValueError("give exactly one of n (MDR cells) and h (FE mesh level)")
-    run = (lambda sc: run_mdr(sc, n)) if n is not None else (lambda sc: run_fe(sc, h)[0])
-    runs = [run(replace(s, steps=k * s.steps)) for k in TIME_STEP_FACTORS]
+    law = _mdr_law(s, n) if n is not None else _fe_law(s, h)
+    runs = [first] + [_drive(replace(s, steps=k * s.steps), law)[0] for k in TIME_STEP_FACTORS[1:]]
     W = [r["dissipation"] for r in runs]
     lad = metrics.ladder_error([1.0 / (k * s.steps) for k in TIME_STEP_FACTORS], W)
     u_A = _u_amp(runs[0])
@@ -393,9 +401,9 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
     verdicts = scene_verdicts(s, fe_ladder, mdr_ladder)
     # the time step's share, each side at its finest level (the 3D model's runs cost too much to triple)
-    errors = {"a_ref": a_ref(s), "time_step": {"mdr": time_step_error(s, n=s.mdr_cells[-1]),
+    errors = {"a_ref": a_ref(s), "time_step": {"mdr": time_step_error(s, mdr, n=s.mdr_cells[-1]),
                                                "fem": None if s.fe_model == "3d" else
-                                               time_step_error(s, h=s.fe_levels[-1])}}
+                                               time_step_error(s, fe, h=s.fe_levels[-1])}}
     if closed is not None:
         errors["closed_form"] = closed_form_errors(s, mdr, fe, closed)
     result = {"scene": s.as_dict(), "closed_form": closed, "mdr": mdr, "fem": fe,
@@ -507,13 +515,14 @@ def assumption_variant(s: Scene, v: dict) -> Scene:
 
 def pressure_against_mdr(s: Scene, levels) -> dict:
     """The 3D pressure at F0 against MDR's (the frictionless normal contact of the imposed runs,
-    "off", of an assumptions scene; as MDR's, without tangential traction): ``pressure_radius`` (``mdr.normal.moment_radius``, an integral that
-    needs no contact edge located between vertices) of every level over MDR's, minus 1; the error
-    bar of its ladder (``metrics.ladder_error``); holds where |3D - MDR| <= error + the catalogue's
-    ``contact_radius`` tolerance (MDR's own error: round-off), None if not finite."""
+    "off", of an assumptions scene; as MDR's, without tangential traction): ``pressure_radius``
+    (``mdr.normal.moment_radius``, an integral that needs no contact edge located between
+    vertices) of every level over MDR's, minus 1; the error bar of its ladder
+    (``metrics.ladder_error``); holds where |3D - MDR| <= error + the catalogue's ``contact_radius``
+    tolerance (MDR's own error: round-off), None if not finite."""
     from mdr.normal import pressure_radius
 
-    prof, mat = make_profile(s.profile, s.R, s.b), materials_of(s)
+    prof, mat = profile_of(s), materials_of(s)
     rm = pressure_radius(prof, mat, float(approach_from_force(prof, mat, s.F0)))
     vals = [None if x["off"].get("pressure_radius") is None else x["off"]["pressure_radius"] / rm - 1
             for x in levels]
