@@ -17,17 +17,30 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 
 from .errors import ConvergenceError, InputError
-from .io import check_output_path, write_json
+from .io import check_output_dir, check_output_path, write_json
 
 #: the flags that name an output file, checked before the run
 OUTPUT_FLAGS = ("json", "vtu")
+#: the flags that name an output folder, checked before the run
+OUTPUT_DIR_FLAGS = ("out",)
+
+
+#: a negative number as an option value, exponents included (argparse's own pattern misses
+#: ``-6e-3``, so ``--R -6e-3`` would read as a missing value instead of reaching the range check)
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$|^-nan$", re.IGNORECASE)
 
 
 class OneLineParser(argparse.ArgumentParser):
-    """argparse parser whose errors are one line on stderr and exit code 2."""
+    """argparse parser whose errors are one line on stderr and exit code 2, and which reads a
+    negative number (``-6e-3``) as a value, not as an option."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
         sys.stderr.write(f"{self.prog}: error: {message}\n")
@@ -51,6 +64,10 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: boo
             path = getattr(args, flag, None)
             if path not in (None, "-"):
                 check_output_path(path, "--" + flag)
+        for flag in OUTPUT_DIR_FLAGS:
+            path = getattr(args, flag, None)
+            if path is not None:
+                check_output_dir(path, "--" + flag)
         result = args.func(args)
         if not write_result:
             return result or 0

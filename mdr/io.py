@@ -41,16 +41,41 @@ DIR_MODE = 0o777 & ~_umask()  # the mode mkdir() would give a new directory (mkd
 
 def check_output_path(path, name="output path") -> Path:
     """Raise InputError (naming ``name``) unless ``path`` can be written as a file: it must not
-    be a directory, and no parent may be an existing file. Call it before a costly run."""
+    be a directory, no parent may be an existing file, and its nearest existing folder must take
+    a new file (probed by creating and removing one: permissions, a read-only or immutable folder).
+    Call it before a costly run."""
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{name} {str(path)!r} is a directory; give a file name")
+    _check_folder(path, name)
+    return path
+
+
+def check_output_dir(path, name="output folder") -> Path:
+    """Raise InputError (naming ``name``) unless ``path`` is, or can be made, a folder that takes new
+    files (see :func:`check_output_path`). Call it before a costly run."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError(f"{name} {str(path)!r} is a file, not a folder")
+    _check_folder(path / ".probe", name)
+    return path
+
+
+def _check_folder(path: Path, name: str) -> None:
     for parent in path.parents:
         if parent.exists():
             if not parent.is_dir():
                 raise InputError(f"{name} {str(path)!r}: {str(parent)!r} is a file, not a directory")
-            break
-    return path
+            try:
+                fd, probe = tempfile.mkstemp(dir=parent, prefix=".write-probe.")
+                os.close(fd)
+                os.unlink(probe)
+            except OSError as e:
+                raise InputError(f"{name} {str(path if path.name != '.probe' else path.parent)!r} cannot be written: "
+                                 f"{str(parent)!r} takes no new file ({e.strerror or e})") from None
+            if path.exists() and not os.access(path, os.W_OK):
+                raise InputError(f"{name} {str(path)!r} cannot be written (no write permission)")
+            return
 
 
 def write_bytes_atomic(path, data: bytes) -> Path:
@@ -73,6 +98,38 @@ def write_bytes_atomic(path, data: bytes) -> Path:
             pass
         raise
     return path
+
+
+def write_files_atomic(files: dict) -> None:
+    """Write several files as one: each ``{path: bytes}`` goes to a temporary file beside its target
+    first, and only when all are written are they renamed into place (``os.replace``), so a failure
+    while writing leaves every previous file as it was."""
+    staged = []
+    try:
+        for path, data in files.items():
+            path = check_output_path(path)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            staged.append((tmp, path))
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.chmod(tmp, _MODE)
+        for tmp, path in staged:
+            os.replace(tmp, path)
+    except BaseException:
+        for tmp, _ in staged:
+            try:
+                os.unlink(tmp)
+            except FileNotFoundError:
+                pass
+        raise
+
+
+def json_bytes(obj) -> bytes:
+    """The bytes ``write_json`` writes for ``obj``."""
+    return (dumps_json(obj) + "\n").encode()
 
 
 def dumps_json(obj) -> str:

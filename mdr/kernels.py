@@ -148,14 +148,16 @@ def _stick_one(r, slack, j, a, p):
         w1 = math.copysign(abs(slack[j - 1]) ** p, slack[j - 1])
         w0 = math.copysign(abs(slack[j]) ** p, slack[j])
     r1, r0 = r[j - 1], r[j]
-    root = r0
+    root = np.inf
     w2 = -np.inf
     if j >= 2:
         w2 = slack[j - 2] if p == 1.0 else math.copysign(abs(slack[j - 2]) ** p, slack[j - 2])
     if j >= 2 and w2 > w1 and w1 > 0.0:
         root = r1 + w1 * (r1 - r[j - 2]) / (w2 - w1)
-    elif w1 > 0.0 and w0 < w1:
-        root = r1 + w1 * (r0 - r1) / (w1 - w0)
+    if w1 > 0.0 and w0 < w1:
+        root = min(root, r1 + w1 * (r0 - r1) / (w1 - w0))
+    if not math.isfinite(root):
+        root = r0
     return min(max(min(root, a), r1), r0, a)
 
 

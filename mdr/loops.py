@@ -9,7 +9,7 @@ The free variable is F_x under displacement control (max |F_x difference| <= tol
 and du under force control, where F_x repeats by construction (max |du difference| <=
 tol * the cycle's du amplitude, half its du range: a ratcheting loop drifts in du).
 Dissipation per cycle dW = |closed integral F_x d(du)| (trapezoidal rule on the
-samples); slip index delta = dW / (4 mu u_A F0) (Willert, Machines 11 (2023)
+samples; below ``ZERO_FRACTION`` of the loop's box it is round-off and exactly 0); slip index delta = dW / (4 mu u_A F0) (Willert, Machines 11 (2023)
 484, Eq. 4, after Varenberg, Etsion & Halperin, Tribol. Lett. 17 (2004) 569).
 """
 from __future__ import annotations
@@ -21,14 +21,29 @@ import numpy as np
 from .errors import InputError, positive_int
 
 
+#: a loop integral below this fraction of its loop's box (max |F_x| x the du range) is round-off,
+#: and is 0: the trapezoidal sum of ~1e3 terms of size F_x d(du) carries ~1e-13 of the box in
+#: round-off, which differs between CPUs (numpy's SIMD kernels), so a loop that closes exactly
+#: (full stick) must give 0 on every machine, not 1e-26 J on one and 0 on another
+ZERO_FRACTION = 1e-10
+
+
+def _trapezoid_area(du, Fx):
+    """|closed integral F_x d(du)| along the last axis, 0 below ``ZERO_FRACTION`` of the loop's box."""
+    W = np.abs(np.sum(0.5 * (Fx[..., 1:] + Fx[..., :-1]) * np.diff(du, axis=-1), axis=-1))
+    box = np.max(np.abs(Fx), axis=-1) * np.ptp(du, axis=-1)
+    return np.where(W <= ZERO_FRACTION * box, 0.0, W)
+
+
 def loop_integral(du, Fx):
-    """|closed integral F_x d(du)| over one closed loop (closes it if needed)."""
+    """|closed integral F_x d(du)| over one closed loop (closes it if needed); 0 below
+    ``ZERO_FRACTION`` of the loop's box (round-off)."""
     du = np.asarray(du, dtype=float)
     Fx = np.asarray(Fx, dtype=float)
     if du[..., 0].shape == () and (du[0] != du[-1] or Fx[0] != Fx[-1]):
         du = np.append(du, du[0])
         Fx = np.append(Fx, Fx[0])
-    return np.abs(np.sum(0.5 * (Fx[..., 1:] + Fx[..., :-1]) * np.diff(du, axis=-1), axis=-1))
+    return _trapezoid_area(du, Fx)
 
 
 @dataclass
@@ -67,7 +82,7 @@ def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3, *, driven: str
     idx = np.arange(cycles)[:, None] * steps + np.arange(steps + 1)[None, :]
     U = du[..., idx]
     F = Fx[..., idx]
-    W = np.abs(np.sum(0.5 * (F[..., 1:] + F[..., :-1]) * np.diff(U, axis=-1), axis=-1))
+    W = _trapezoid_area(U, F)
     scale = np.maximum(np.asarray(mu, dtype=float) * np.asarray(F0, dtype=float), 1e-300)
     scale = np.reshape(scale, np.shape(scale) + (1,)) if np.ndim(scale) else scale
     change = np.full(W.shape, np.inf)

@@ -17,8 +17,12 @@ slips (or is out of contact) and its *slack*, the distance to the slip limit
 classical stick zone |tau| < mu p (Cattaneo 1938; Mindlin 1949, J. Appl. Mech.).
 The first node ``j`` that slips at some instant brackets the edge
 in ``[r[j-1], r[j]]``. Inside the bracket, the edge is the zero of the slack of the
-last two sticking nodes, extrapolated outwards at the instant that puts it
-innermost. Near a stick edge the slack falls as ``(c - r)**onset``: ``onset = 1``
+last two sticking nodes, extrapolated outwards, or of the slack interpolated between the
+last sticking and the first slipping node, whichever is smaller, at the instant that puts
+it innermost. Taking the smaller zero (not one branch by a test on the slacks) keeps the
+estimate continuous in its inputs: where two slacks tie, the extrapolated zero runs off to
+infinity and the interpolated one takes over without a jump, so a perturbation at
+round-off level moves the stick radius at round-off level, on any CPU. Near a stick edge the slack falls as ``(c - r)**onset``: ``onset = 1``
 for the MDR springs (slack = mu E* (d - g(x)) / G* - |v|, smooth in x),
 ``onset = 1/2`` for a 3D traction (mu p - |tau| ~ sqrt(c - r), as in Cattaneo's
 solution), so ``slack**(1/onset)`` is extrapolated linearly: second-order accurate
@@ -78,7 +82,10 @@ def stick_radius(r, slack, slipping, a, onset=1.0):
         interp = r1 + w1 * (r0 - r1) / (w1 - w0)
     ext_ok = (j >= 2)[..., None] & (w2 > w1) & (w1 > 0) & np.isfinite(extrap)
     int_ok = (w1 > 0) & (w0 < w1) & np.isfinite(interp)
-    root = np.where(ext_ok, extrap, np.where(int_ok, interp, r0))
+    # the smaller of the two zeros: continuous where either branch opens (at a tie w2 = w1 the
+    # extrapolation runs off to infinity and the interpolation takes over smoothly)
+    root = np.minimum(np.where(ext_ok, extrap, np.inf), np.where(int_ok, interp, np.inf))
+    root = np.where(np.isfinite(root), root, r0)
     root = np.where(series(slipping, j), root, np.inf)      # only instants at which node j slips
     c = np.min(np.minimum(root, a), axis=-1)
     c = np.clip(c, node(rb, j - 1), node(rb, j))
@@ -121,10 +128,12 @@ def _one_instant(r, slack, slipping, a, p):
     w = lambda s: math.copysign(abs(s) ** p, s)  # noqa: E731
     w1, w0 = w(float(slack[j - 1])), w(float(slack[j]))
     r1, r0 = float(r[j - 1]), float(r[j])
-    root = r0
+    root = math.inf
     if j >= 2 and w(float(slack[j - 2])) > w1 > 0:
         w2, r2 = w(float(slack[j - 2])), float(r[j - 2])
         root = r1 + w1 * (r1 - r2) / (w2 - w1)
-    elif w1 > 0 and w0 < w1:
-        root = r1 + w1 * (r0 - r1) / (w1 - w0)
+    if w1 > 0 and w0 < w1:
+        root = min(root, r1 + w1 * (r0 - r1) / (w1 - w0))
+    if not math.isfinite(root):
+        root = r0
     return min(max(min(root, a), r1), r0, a)

@@ -3,9 +3,10 @@
 Truth: the step API of ``MDRContact`` (``step``/``prepare``/``force``/``commit``) and the
 Python step loop of ``run_apparatus``, run with the compiled loops switched off
 (``mdr.kernels.ENABLED = False``). The compiled loops do the same arithmetic cell by cell;
-only the order of the sums differs, so every history must agree to round-off (1e-12 of
-its scale), and the steps of the stick-radius estimator that sit on a tie of two slacks
-(equal to round-off, so either branch is right) stay within their bracket of one cell.
+only the order of the sums differs (and numpy's SIMD kernels, which differ between CPUs), so
+every history must agree to round-off (1e-12 of its scale) and the stick radius, continuous
+in the slacks, within 1e-9 of its scale. Nothing is compared bit for bit: another CPU rounds
+differently.
 Without numba (or with MDR_PURE_PYTHON=1) everything runs through the step API.
 """
 import os
@@ -27,6 +28,8 @@ pytestmark = pytest.mark.skipif(not kernels.enabled(), reason="compiled loops of
 
 ROOT = Path(__file__).resolve().parent.parent
 RTOL = 1e-12
+#: stick radii of two code paths (round-off in the slacks, through the estimator's slope)
+C_RTOL = 1e-9
 
 
 def both(fn, monkeypatch):
@@ -45,19 +48,7 @@ def close(fast, slow, rtol=RTOL, what=""):
     np.testing.assert_allclose(fast, slow, rtol=0, atol=rtol * scale, err_msg=what)
 
 
-def ties_only(law, fast, slow):
-    """Stick radii that differ beyond round-off lie where the estimator's slacks tie."""
-    diff = np.abs(fast.c - slow.c) > RTOL * np.max(slow.a)
-    for k in np.flatnonzero(diff):
-        j = int(np.argmax(slow.slipping[k]))
-        s = slow.slack[k]
-        assert j >= 2 and abs(s[j - 2] - s[j - 1]) <= 1e-9 * abs(s[j - 1]), k
-        nodes = law.stick_nodes
-        assert nodes[j - 1] <= fast.c[k] <= nodes[j] and nodes[j - 1] <= slow.c[k] <= nodes[j]
-    assert diff.mean() < 0.02
-
-
-def same_history(law, fast, slow, exact_c=True):
+def same_history(law, fast, slow):
     for f in ("u", "Fx", "FN", "d", "a", "work"):
         close(getattr(fast, f), getattr(slow, f), what=f)
     close(fast.state.ell, slow.state.ell, what="ell")
@@ -68,12 +59,10 @@ def same_history(law, fast, slow, exact_c=True):
     np.testing.assert_allclose(fast.state.d, slow.state.d, rtol=0, atol=RTOL * np.max(np.abs(slow.d)))
     if slow.slack is not None:
         close(fast.slack, slow.slack, what="slack")
-        if exact_c:
-            np.testing.assert_array_equal(fast.slipping, slow.slipping)
-    if exact_c:
-        close(fast.c, slow.c, what="c")
-    else:
-        ties_only(law, fast, slow)
+    # the stick radius is continuous in the slacks (mdr.stick): slacks equal to 1e-12 of their
+    # scale move it by that much over the estimator's slope, bounded by one cell over the
+    # slack's change across a cell; C_RTOL = 1e-9 of the contact radius leaves three decades
+    close(fast.c, slow.c, rtol=C_RTOL, what="c")
 
 
 # ---------------------------------------------------------------- displacement control
@@ -122,7 +111,7 @@ def test_force_control_equals_the_step_api(prof, fa, monkeypatch):
     fast, slow = both(lambda: law.run(Fx=fa * s, F_N=FN, record_from=0), monkeypatch)
     # the force is met to the Newton tolerance 1e-12 mu F_N in both
     assert np.max(np.abs(fast.Fx - fa * s)) <= 2e-12 * MU * np.max(FN)
-    same_history(law, fast, slow, exact_c=False)
+    same_history(law, fast, slow)
 
 
 def test_force_control_batch_and_its_friction_limit_error(monkeypatch):
@@ -131,7 +120,7 @@ def test_force_control_batch_and_its_friction_limit_error(monkeypatch):
     t, s = harmonic(2, 100)
     Fx = np.outer([0.02, 0.05, 0.08], s)
     fast, slow = both(lambda: law.run(Fx=Fx, F_N=F0, record_from=100), monkeypatch)
-    same_history(law, fast, slow, exact_c=False)
+    same_history(law, fast, slow)
     msgs = []
     for enabled in (True, False):
         monkeypatch.setattr(kernels, "ENABLED", enabled)
@@ -166,7 +155,9 @@ def test_apparatus_equals_the_python_step_loop(prof, app, monkeypatch):
     kw = dict(dF=0.1, alpha=0.3, ua=150e-9, cycles=3, steps=120, state_at=200)
     fast, slow = both(lambda: run_apparatus(law, app, MU, F0, **kw), monkeypatch)
     same_apparatus(fast, slow)
-    assert fast["evaluations_per_step"] == slow["evaluations_per_step"]
+    # an iteration count is a discrete diagnostic: round-off may stop a bracketing search one
+    # evaluation earlier or later, so it is compared as a count, not to the bit
+    assert abs(fast["evaluations_per_step"] - slow["evaluations_per_step"]) <= 0.05 * slow["evaluations_per_step"]
     for f in ("v", "ell"):
         close(getattr(fast["state_at"], f), getattr(slow["state_at"], f), what=f)
     np.testing.assert_allclose(fast["state_at"].u, slow["state_at"].u, rtol=0, atol=RTOL * np.max(np.abs(slow["du"])))
@@ -200,14 +191,18 @@ def test_apparatus_lift_off_error_is_the_same(monkeypatch):
 
 
 # ---------------------------------------------------------------- normal contact and grids
-def test_compiled_approach_equals_numpy_bit_for_bit(monkeypatch):
-    """The truncated sphere's approach from the force (a Newton iteration whose stopping rule
-    is shared by the batch) is the same iteration compiled: identical to the last bit."""
+def test_compiled_approach_equals_numpy_within_its_newton_tolerance(monkeypatch):
+    """The truncated sphere's approach from the force (a safeguarded Newton iteration on the
+    contact radius, stopped at |F(a) - F| <= 1e-14 F or a step <= 1e-14 a) is the same
+    iteration compiled. Each path stops within 1e-14 of the root in a (quadratic convergence
+    makes it far less), and d = g(a) doubles a relative error in a at most (d ~ a^2 for the
+    sphere, less beyond a flat face), so the two agree within 2 x 2 x 1e-14 = 4e-14."""
     b = np.geomspace(1e-7, 1e-3, 40)[:, None]
     prof = TruncatedSphere(np.full(b.shape, R), b)
     F = np.broadcast_to(np.concatenate([[0.0, 1e-9], np.linspace(0.1, 2.0, 30)]), (40, 32))
     fast, slow = both(lambda: approach_from_force(prof, STEEL, F), monkeypatch)
-    np.testing.assert_array_equal(fast, slow)
+    np.testing.assert_allclose(fast, slow, rtol=4e-14, atol=0)
+    assert np.all(fast[:, 0] == 0) and np.all(slow[:, 0] == 0)
 
 
 def test_a_batch_of_equal_grids_equals_the_single_grid():

@@ -269,9 +269,7 @@ def compare(args) -> int:
             print(f"{s.name:{w}s}{'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
         return 0
     scenes = select(args.scenes, quick=args.quick)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"out must be a directory, got the file {out}")
+    out = Path(args.out)  # --out and --json were checked writable before the run (mdr.cliutil.run_command)
     t0 = time.perf_counter()
     # progress goes to stderr when the JSON goes to stdout
     stream = sys.stderr if args.json == "-" else sys.stdout

@@ -9,11 +9,13 @@ not finite is undetermined, never "holds". The scene verdict is the conjunction.
 """
 from __future__ import annotations
 
+import math
 import os
 import platform
+import sys
 from pathlib import Path
 
-from mdr.io import write_bytes_atomic, write_json
+from mdr.io import json_bytes, write_files_atomic
 
 from . import figures
 from .runner import load_scene
@@ -28,20 +30,32 @@ LABELS = {"contact_radius": "contact radius", "stick_radius": "stick radius", "d
           "loop_Fx": "loop: largest F_x difference", "loop_du": "loop: largest du difference"}
 
 
+def _n(x, spec=".3g", k=1.0) -> str:
+    """``x * k`` formatted by ``spec``: the one number formatter of the report. Renders every value a
+    result can hold: None (not computed) as '-', NaN and +-inf as such, anything not a number as
+    its text, never raising."""
+    if x is None:
+        return "-"
+    try:
+        v = float(x) * k
+    except (TypeError, ValueError):
+        return str(x)
+    return format(v, spec) if math.isfinite(v) else str(v)
+
+
 def _pct(x, digits=2):
-    return "-" if x is None else f"{100 * x:+.{digits}f} %"
+    return "-" if x is None else _n(x, f"+.{digits}f", 100.0) + " %"
 
 
 def _num(x, fmt=".4g"):
-    return "-" if x is None else format(x, fmt)
+    return _n(x, fmt)
 
 
 def _g(x, k=1.0, digits=3):
     """A number with ``digits`` significant digits (0 stays 0; None is '-')."""
     if x is None:
         return "-"
-    x = float(x) * k
-    return "0" if x == 0 else f"{x:.{digits}g}"
+    return "0" if x == 0 else _n(x, f".{digits}g", k)
 
 
 def _holds(h) -> str:
@@ -99,7 +113,7 @@ def summary_cell(q, res) -> str:
         return "-"
     ref = _reference(q, res)
     k, unit = (100.0 / ref, " %") if ref else (UNITS.get(q, ("", 1.0))[1], f" {UNITS.get(q, ('', 1.0))[0]}".rstrip())
-    d = "-" if v["difference"] is None else ("0" if v["difference"] == 0 else f"{v['difference'] * k:+.2g}")
+    d = "0" if v.get("difference") == 0 else _n(v.get("difference"), "+.2g", k)
     return (f"{d} ({_g(v['fem_error'], k, 2)} + {_g(v['mdr_error'], k, 2)} + {_g(v['tolerance'], k, 2)}){unit}: "
             f"{_holds(v['holds'])}")
 
@@ -119,7 +133,8 @@ def _scene_table(res):
         if ld.get("error") is None:
             return f" ({ld.get('status')})"
         o = ld.get("order")
-        return f" ({ld['status']}{'' if o is None or ld['status'] != 'asymptotic' else f', p = {o:.2g}'})"
+        order = "" if o is None or ld.get("status") != "asymptotic" else ", p = " + _n(o, ".2g")
+        return f" ({ld.get('status')}{order})"
 
     for q, v in res.get("verdicts", {}).items():
         unit, k = UNITS.get(q, (v.get("unit", ""), 1.0))
@@ -153,9 +168,9 @@ def _time_step_lines(res):
         if t.get("shift") is None:
             return f"{name}: no extrapolation ({t['status']})"
         x = abs(t["shift"])
-        size = f"{100 * x:.2g} %" if t.get("shift_unit", "relative") == "relative" else f"{x:.2g} of 4 mu F0 u_A"
+        size = f"{_n(x, '.2g', 100)} %" if t.get("shift_unit", "relative") == "relative" else f"{_n(x, '.2g')} of 4 mu F0 u_A"
         return (f"{name}'s dissipation at the scene's step is {size} {'below' if t['shift'] > 0 else 'above'} its "
-                f"extrapolation ({t['status']}, observed order {t['order']:.2g})")
+                f"extrapolation ({t.get('status')}, observed order {_n(t.get('order'), '.2g')})")
 
     steps = ", ".join(str(k) for k in ts["mdr"]["steps"])
     line = (f"Time step (the finest levels at {steps} steps per cycle): {side('MDR', ts['mdr'])}; "
@@ -172,7 +187,7 @@ def _ladder_table(res):
     lines = ["| side | level | DOFs / cells | runtime (s) | dissipation error vs finest FE | vs closed form |",
              "|---|---|---|---|---|---|"]
     for r in res["speed_error"]:
-        lines.append(f"| {r['side'].upper()} | {r['level']} | {r['size']} | {r['runtime_s']:.3g} | "
+        lines.append(f"| {r['side'].upper()} | {r['level']} | {r['size']} | {_n(r.get('runtime_s'))} | "
                      f"{_pct(r['error_vs_fe'], 3)} | {_pct(r['error_vs_closed_form'], 3)} |")
     return lines
 
@@ -187,7 +202,7 @@ def _validity_table(res):
         lines.append(f"| {r['variant']} | {r['dofs']} | {_pct(r['contact_radius_vs_default'], 3)} | "
                      f"{_pct(r['stick_radius_vs_default'], 3)} | {_pct(r['dissipation_vs_default'], 3)} | "
                      f"{_pct(r['contact_radius_mdr_minus_fe'])} | {_pct(r['stick_radius_mdr_minus_fe'])} | "
-                     f"{_pct(r['dissipation_mdr_minus_fe'])} | {r['bulk_compliance']:.3g} |")
+                     f"{_pct(r['dissipation_mdr_minus_fe'])} | {_n(r.get('bulk_compliance'))} |")
     return lines
 
 
@@ -209,15 +224,15 @@ def _assumptions3d_table(res):
         x = r["verdicts"][q]
         if x["effect"] is None:
             return "undetermined"
-        err = "undetermined" if x["error"] is None else f"{100 * x['error']:.2g}"
-        return f"{100 * x['effect']:+.2g} +- {err} % ({x['status']})"
+        err = "undetermined" if x.get("error") is None else _n(x["error"], ".2g", 100)
+        return f"{_n(x['effect'], '+.2g', 100)} +- {err} % ({x.get('status')})"
 
     def pressure(r):
         x = r.get("pressure")
         if not x or x["difference"] is None:
             return "undetermined"
-        err = "undetermined" if x["error"] is None else f"{100 * x['error']:.2g}"
-        return f"{100 * x['difference']:+.2g} +- {err} % ({x['status']}): {_holds(x['holds'])}"
+        err = "undetermined" if x.get("error") is None else _n(x["error"], ".2g", 100)
+        return f"{_n(x['difference'], '+.2g', 100)} +- {err} % ({x.get('status')}): {_holds(x.get('holds'))}"
 
     for r in res["assumptions3d"]:
         failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
@@ -247,22 +262,22 @@ def _tilt_table(res):
 
     for r in res["tilt"]:
         below = r["holds_below"]
-        lines += [f"**{r['variant']}**: theta_c = {r['theta_c']:.3g} rad; dissipation unit {r['dissipation_unit']}; "
+        lines += [f"**{r['variant']}**: theta_c = {_n(r.get('theta_c'))} rad; dissipation unit {r['dissipation_unit']}; "
                   f"MDR (aligned) slip index {_num(r['mdr'].get('slip_index'), '.4f')}; the aligned answer holds on "
                   "the dissipation up to "
-                  + ("no swept tilt" if below is None else f"theta = {below:.3g} rad ({r['holds_below_ratio']:.3g} "
+                  + ("no swept tilt" if below is None else f"theta = {_n(below)} rad ({_n(r.get('holds_below_ratio'))} "
                      "theta_c)")
-                  + ("" if r["fails_at"] is None else f", not at {r['fails_at']:.3g} rad")
+                  + ("" if r["fails_at"] is None else f", not at {_n(r['fails_at'])} rad")
                   + f"; {len(r['points']) + 1} runs per level, "
-                  + ", ".join(f"h = {lv['h']:g}" + ("" if lv.get("band") is None else f" (band {lv['band']:g})")
-                              + f": {lv['vertices']} vertices, {lv['runtime_s']:.0f} s" for lv in r["levels"])
+                  + ", ".join(f"h = {_n(lv.get('h'), 'g')}" + ("" if lv.get("band") is None else f" (band {_n(lv['band'], 'g')})")
+                              + f": {lv.get('vertices')} vertices, {_n(lv.get('runtime_s'), '.0f')} s" for lv in r["levels"])
                   + ".", "",
                   "| theta (rad) | theta / theta_c | dissipation | vs MDR | slip index | vs MDR | contact area "
                   "| loop du | vs MDR | stationary | aligned holds? |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in r["points"]:
             a, m = p["aligned"], p["mdr"]
-            lines.append(f"| {p['tilt']:.3g} | {p['ratio']:.3g} | {eff(a['dissipation'])} | {eff(m['dissipation'])} | "
+            lines.append(f"| {_n(p.get('tilt'))} | {_n(p.get('ratio'))} | {eff(a['dissipation'])} | {eff(m['dissipation'])} | "
                          f"{eff(a['slip_index'])} | {eff(m['slip_index'])} | {eff(a['contact_area'])} | "
                          f"{eff(a['loop_du'])} | {eff(m['loop_du'])} | {'yes' if p['stationary'] else 'no'} | "
                          + (f"{_holds(p['holds'])} |" if p.get("resolved", True) else
@@ -280,11 +295,11 @@ def _curvature_table(res):
 
     def eff(r, q):
         e, err = r.get(f"{q}_effect"), r.get(f"{q}_effect_error")
-        return "-" if e is None else f"{100 * e:+.2g} +- {100 * (err or 0):.2g} %"
+        return "-" if e is None else f"{_n(e, '+.2g', 100)} +- {_n(err or 0, '.2g', 100)} %"
 
     for r in res["curvature"]:
         failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
-        lines.append(f"| {100 * r['a_over_R']:.2g} % | {r['nu']:g} | {r['F0']:.3g} | {r['dofs']} | "
+        lines.append(f"| {_n(r.get('a_over_R'), '.2g', 100)} % | {_n(r.get('nu'), 'g')} | {_n(r.get('F0'))} | {r.get('dofs')} | "
                      f"{eff(r, 'contact_radius')} | {eff(r, 'stick_radius')} | {eff(r, 'dissipation')} | "
                      f"{_holds(r['holds'])}{': ' + ', '.join(failed) if failed else ''} |")
     return lines
@@ -299,7 +314,7 @@ def _hard_table(rows):
     for r in rows:
         err = r.get("error")
         lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_num(r.get('iterations'), '.3g')} | "
-                     f"{'-' if err is None else f'{err:.2e}'} | {_g(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
+                     f"{_n(err, '.2e')} | {_g(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
                      f"{_num(r.get('time_s'), '.3g')} | "
                      f"{cell(r.get('note', ''))} |")
     return lines
@@ -310,7 +325,9 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     """Build report.md, results.json and the summary figures from the stored scenes.
 
     ``executor``: where this run's scenes ran (``mdr.executors.executor_for`` label); each
-    stored scene keeps the ``worker`` that computed it."""
+    stored scene keeps the ``worker`` that computed it. The report is rendered in full before any
+    file is replaced, and report.md, results.json and ``json_path`` are then renamed into place
+    together (``mdr.io.write_files_atomic``): a failure leaves the previous report intact."""
     out = Path(out)
     results = {}
     for n in names:
@@ -333,8 +350,29 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     if se:
         summary_figs["pareto"] = figures.save(figures.pareto_figure(se), out / "speed_error.png")
 
-    L = ["# MDR against FE: where the half-space model holds", ""]
     commit = git_commit()
+    text = render_report(results, names, status, summary_figs=summary_figs, hard_cases=hard_cases, quick=quick,
+                         executor=executor, commit=commit)
+    payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "executor": executor,
+               "status": status, "scenes": results,
+               "hard_cases": hard_cases}
+    path = out / "report.md"
+    files = {path: text.encode(), out / "results.json": json_bytes(payload)}
+    if json_path and str(json_path) != "-":
+        files[Path(json_path)] = files[out / "results.json"]
+    write_files_atomic(files)
+    if str(json_path) == "-":
+        sys.stdout.buffer.write(files[out / "results.json"])
+        sys.stdout.flush()
+    return path
+
+
+def render_report(results: dict, names, status: dict, *, summary_figs=None, hard_cases=None, quick=False,
+                  executor: str | None = None, commit: str | None = None) -> str:
+    """report.md's text from the scene results (plain dicts, as stored): no file, no solver. Renders
+    any value a result can hold (None, NaN, inf, 0, negative; a ladder of any status)."""
+    summary_figs = summary_figs or {}
+    L = ["# MDR against FE: where the half-space model holds", ""]
     L.append(f"Code {'commit `' + commit + '`, ' if commit else ''}sources `{code_version()}`, "
              f"{'quick ladders' if quick else 'full ladders'}, {os.cpu_count()} cores, "
              f"Python {platform.python_version()}"
@@ -374,7 +412,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
         L.append(f"| [{n}](#{n}) | {r['fem']['dofs']} | {summary_cell('contact_radius', r)} | "
                  f"{summary_cell('stick_radius', r)} | {summary_cell('dissipation', r)} | "
                  f"{_num(r['mdr'].get('slip_index'), '.3f')} / {_num(r['fem'].get('slip_index'), '.3f')} | "
-                 f"{mr:.2g} / {fr:.2g} | {text} |")
+                 f"{_n(mr, '.2g')} / {_n(fr, '.2g')} | {text} |")
     L.append("")
     for key, title in (("delta_b", "Slip index against b (geometry series)"),
                        ("delta_kx", "Slip index against k_x (apparatus)"),
@@ -439,13 +477,4 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
               "none for the explicit MDR law. *error*: relative unless the truth says otherwise; none when the "
               "case produced no number (a detected non-convergence, in the note).", "",
               *_hard_table(hard_cases), ""]
-    path = out / "report.md"
-    write_bytes_atomic(path, "\n".join(L).encode())
-    payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "executor": executor,
-               "status": status, "scenes": results,
-               "hard_cases": hard_cases}
-    write_json(out / "results.json", payload)
-    if json_path:
-        write_json(json_path, payload)
-    return path
-
+    return "\n".join(L)
