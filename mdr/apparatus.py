@@ -426,6 +426,7 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
         "slip_index": None if not np.isfinite(delta) else delta,
         "dissipation_per_cycle": cyc.dissipation.tolist(),
         "stationary": bool(cyc.last_is_stationary),
+        "cycle_change": cyc.last_change(),
         "evaluations_per_step": out["evaluations_per_step"],
         "runtime_s": time.perf_counter() - t0,
         "loop": {k: out[src][last].tolist() for k, src in

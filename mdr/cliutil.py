@@ -71,6 +71,7 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: boo
         result = args.func(args)
         if not write_result:
             return result or 0
+        _note_stationarity(where, result)
         if getattr(args, "json", None) is not None:
             write_json(args.json, result)
     except InputError as exc:
@@ -80,3 +81,17 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: boo
         sys.stderr.write(f"{where}: solver failed: {exc}\n")
         return 3
     return 0
+
+
+def _note_stationarity(where: str, result) -> None:
+    """One line on stderr where a result's last cycle is not stationary (its ``cycle_change``), naming
+    the flag that helps; the result itself carries the change (JSON keys ``stationary``,
+    ``cycle_change``)."""
+    if not isinstance(result, dict) or result.get("stationary") is not False:
+        return
+    ch = result.get("cycle_change") or {}
+    fmt = lambda x: "-" if x is None else f"{x:.2g}"  # noqa: E731
+    cycles = (result.get("inputs") or {}).get("cycles", "the")
+    sys.stderr.write(f"{where}: note: the last of {cycles} cycles is not stationary (loop change "
+                     f"{fmt(ch.get('loop'))}, dissipation change {fmt(ch.get('dissipation'))}); "
+                     "more --cycles settle it\n")

@@ -50,12 +50,22 @@ def loop_integral(du, Fx):
 class CycleAnalysis:
     dissipation: np.ndarray       # dW of every cycle (batch + (cycles,))
     loop_change: np.ndarray       # change of the free variable from cycle k-1 (analyse_cycles), cycle 0: inf
+    dissipation_change: np.ndarray  # |dW_k - dW_k-1| / dW_k (0 where dW_k is zero), cycle 0: inf
     stationary: np.ndarray        # bool (batch + (cycles,)): cycle k is stationary
     first_stationary: np.ndarray  # index of the first stationary cycle, -1 if none
 
     @property
     def last_is_stationary(self):
         return self.stationary[..., -1]
+
+    def last_change(self) -> dict:
+        """The last cycle's change from the one before (one scene): ``loop`` (the free variable's,
+        see ``analyse_cycles``) and ``dissipation`` (relative); None where there is no earlier cycle.
+        Only cycles after the first can be stationary: the first starts from rest."""
+        def last(x):
+            v = float(np.asarray(x)[..., -1])
+            return v if np.isfinite(v) else None
+        return {"loop": last(self.loop_change), "dissipation": last(self.dissipation_change)}
 
 
 #: what a history's drive prescribes: ``analyse_cycles(driven=...)``
@@ -98,7 +108,8 @@ def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3, *, driven: str
                                   dW_change[..., 1:])
     stat = (change <= tol) & (dW_change <= tol)
     first = np.where(np.any(stat, axis=-1), np.argmax(stat, axis=-1), -1)
-    return CycleAnalysis(dissipation=W, loop_change=change, stationary=stat, first_stationary=first)
+    return CycleAnalysis(dissipation=W, loop_change=change, dissipation_change=dW_change, stationary=stat,
+                         first_stationary=first)
 
 
 def slip_index(dW, mu, u_A, F0):

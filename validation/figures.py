@@ -127,7 +127,8 @@ def pareto_figure(rows_by_scene: dict):
         for side, color in (("mdr", C_MDR), ("fem", C_FE)):
             pts = [(r["runtime_s"], r["error_vs_closed_form"] if r["error_vs_closed_form"] is not None
                     else r["error_vs_fe"]) for r in rows if r["side"] == side]
-            pts = [(t, abs(e)) for t, e in pts if e is not None and e != 0]
+            pts = [(t, abs(e)) for t, e in pts if t is not None and e is not None and np.isfinite(e) and e != 0
+                   and np.isfinite(t) and t > 0]
             if not pts:
                 continue
             t, e = zip(*sorted(pts))
@@ -138,7 +139,10 @@ def pareto_figure(rows_by_scene: dict):
     ax.set_ylabel("|dissipation error|")
     ax.set_title("speed against error (closed form where one exists, else finest FE)", fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=6, ncol=2)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=6, ncol=2)
+    else:
+        ax.text(0.5, 0.5, "no finite, nonzero dissipation error to plot", transform=ax.transAxes, ha="center")
     fig.tight_layout()
     return fig
 
@@ -283,7 +287,7 @@ def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
     """Slip index against a scene parameter: ``points = {"mdr": [(x, delta)], "fem": [...]}``."""
     fig, ax = plt.subplots(figsize=(6, 4))
     for side, color, mk in (("mdr", C_MDR, "o-"), ("fem", C_FE, "s--")):
-        pts = sorted(p for p in points.get(side, []) if p[1] is not None)
+        pts = sorted(p for p in points.get(side, []) if _finite(p[0]) and _finite(p[1]))
         if pts:
             x, y = zip(*pts)
             ax.plot(x, y, mk, color=color, label=side.upper())
@@ -301,6 +305,17 @@ def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
     ax.set_xlabel(xlabel)
     ax.set_ylabel("slip index delta = dW / (4 mu F0 u_A)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend()
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend()
+    else:
+        ax.text(0.5, 0.5, "no finite slip index to plot", transform=ax.transAxes, ha="center")
     fig.tight_layout()
     return save(fig, path)
+
+
+def _finite(x) -> bool:
+    """A number that can be plotted (None, NaN and inf cannot)."""
+    try:
+        return x is not None and bool(np.isfinite(float(x)))
+    except (TypeError, ValueError):
+        return False

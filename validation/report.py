@@ -58,6 +58,17 @@ def _g(x, k=1.0, digits=3):
     return "0" if x == 0 else _n(x, f".{digits}g", k)
 
 
+def cycle_change(side: dict) -> str:
+    """The last cycle's change from the one before (``mdr.loops.CycleAnalysis.last_change``): the larger
+    of the loop's and the dissipation's, with '(not stationary)' above the stationarity tolerance."""
+    ch = side.get("cycle_change") or {}
+    vals = [v for v in (ch.get("loop"), ch.get("dissipation")) if v is not None]
+    if not vals:
+        return "-"
+    x = max(vals)
+    return _n(x, ".1g") + ("" if side.get("stationary", True) else " (not stationary)")
+
+
 def _holds(h) -> str:
     return {True: "yes", False: "**no**", None: "undetermined"}[h]
 
@@ -98,11 +109,11 @@ def verdict(res: dict) -> tuple[bool | None, str]:
 def _reference(q, res):
     """Scale that makes a scalar metric relative in the summary (None: shown absolute)."""
     v = res["verdicts"][q]
-    if q in ("contact_radius", "stick_radius"):
-        return float(res["fem"]["contact_radius"]) or None
-    if q == "dissipation":
-        return abs(v["fem"] or 0.0) or None
-    return None
+    x = res["fem"].get("contact_radius") if q in ("contact_radius", "stick_radius") else \
+        v.get("fem") if q == "dissipation" else None
+    if x is None or not math.isfinite(float(x)) or float(x) == 0.0:
+        return None
+    return abs(float(x))
 
 
 def summary_cell(q, res) -> str:
@@ -387,32 +398,35 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
              "|MDR - FE| <= FE error + MDR error + tolerance; a metric whose numbers are not finite is "
              "undetermined. The FE displacement is the half-space comparable one (`fem.law`, "
              "`displacement=\"contact\"`). Summary cells: MDR - FE (FE error + MDR error + tolerance), "
-             "radii in % of the FE contact radius, dissipation in % of the FE dissipation, slip index absolute.")
+             "radii in % of the FE contact radius, dissipation in % of the FE dissipation, slip index absolute. "
+             "*Last-cycle change*: how much the reported (last) cycle differs from the one before, the larger "
+             "of the loop's change (F_x in mu F0, or du in its amplitude) and the dissipation's (relative); "
+             "the cycle counts as stationary at or below 1e-3 (`mdr.loops.analyse_cycles`).")
     L.append("")
     L.append("## Summary")
     L.append("")
     L.append("| scene | FE DOFs | contact radius | stick radius | dissipation | slip index MDR / FE "
-             "| runtime MDR / FE (s) | MDR holds? |")
-    L.append("|---|---|---|---|---|---|---|---|")
+             "| last-cycle change MDR / FE | runtime MDR / FE (s) | MDR holds? |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
     for n in names:
         st = status.get(n, "stored")
         r = results.get(n)
         if r is None:
-            L.append(f"| {n} | | | | | | | failed: {st} |")
+            L.append(f"| {n} | | | | | | | | failed: {st} |")
             continue
         if "validity" in r or "curvature" in r or "assumptions3d" in r or "tilt" in r:
-            L.append(f"| [{n}](#{n}) | | | | | | | see its table |")
+            L.append(f"| [{n}](#{n}) | | | | | | | | see its table |")
             continue
         ok, why = verdict(r)
         text = {True: "yes", False: f"**no**: {why}", None: why}[ok]
         if st not in ("ok", "skipped", "stored"):
             text = f"this run failed ({st}); the row shows the previous result"
-        mr = r["mdr"]["runtime_s"]
-        fr = r["fem"]["runtime_s"]["total"]
+        mr = r["mdr"].get("runtime_s")
+        fr = (r["fem"].get("runtime_s") or {}).get("total")
         L.append(f"| [{n}](#{n}) | {r['fem']['dofs']} | {summary_cell('contact_radius', r)} | "
                  f"{summary_cell('stick_radius', r)} | {summary_cell('dissipation', r)} | "
                  f"{_num(r['mdr'].get('slip_index'), '.3f')} / {_num(r['fem'].get('slip_index'), '.3f')} | "
-                 f"{_n(mr, '.2g')} / {_n(fr, '.2g')} | {text} |")
+                 f"{cycle_change(r['mdr'])} / {cycle_change(r['fem'])} | {_n(mr, '.2g')} / {_n(fr, '.2g')} | {text} |")
     L.append("")
     for key, title in (("delta_b", "Slip index against b (geometry series)"),
                        ("delta_kx", "Slip index against k_x (apparatus)"),

@@ -280,7 +280,7 @@ def _catalogue() -> dict:
     curvature = tuple({"a_over_R": x, "nu": 0.29} for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2, 5e-2)) + \
         tuple({"a_over_R": x, "nu": nu} for nu in (0.1, 0.45) for x in (4.6e-3, 5e-2))
     sc.append(Scene("validity-curvature", "Half-space validity: curvature a/R of the sphere", "sphere", dF=0.0,
-                    cycles=2, steps=40, variants=curvature, group="validity",
+                    cycles=3, steps=40, variants=curvature, group="validity",
                     notes="The sphere (R = 6 mm) at constant F_N loaded to a/R = 0.05 .. 5 % (F0 = 4 E* a^3 / (3 R)), "
                           "force amplitude mu F0 / 2 (the closed-form case of sphere-md), both bodies of Poisson "
                           "ratio nu; every variant through the full FE and MDR ladders, so the curvature effect "

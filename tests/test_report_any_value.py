@@ -1,0 +1,125 @@
+"""No result crashes the report: every value a stored result can hold renders.
+
+Truth: a result is plain data (``validation.runner``), and another CPU, a coarse ladder or a
+contact that does not slip can put None, NaN, +-inf, 0, a negative number or any ladder status
+where a number usually stands (geom-flat's time-step ladder of exact zeros crashed the report
+on one CPU and not on another). The strategy takes real results of each scene family, run on
+tiny ladders, and replaces any subset of their numbers and statuses with such values; the
+report must render each of them (``validation.report.render_report``: text only, no files).
+"""
+from __future__ import annotations
+
+import copy
+import json
+from dataclasses import replace
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mdr.io import dumps_json
+from validation import report, runner
+from validation.scenes import CATALOGUE
+
+# the tiny ladders are coarse on purpose; the warning that says so is for a user, not this test
+pytestmark = pytest.mark.filterwarnings("ignore:coarse contact mesh:RuntimeWarning")
+
+#: what a number of a result may be instead (None: not computed)
+ODD_NUMBERS = (None, float("nan"), float("inf"), float("-inf"), 0.0, -0.0, -1.0, 1e-300, -2.5e7, 3)
+#: what a ladder's or a verdict's status may be
+ODD_STATUS = (None, "non-monotone", "asymptotic", "two levels", "one level", "no value", "converged",
+              "order 7.1 outside 0.5-4", "")
+
+
+def _tiny(name, **kw):
+    s = CATALOGUE[name]
+    return replace(s, fe_levels=kw.pop("fe_levels", (1 / 8, 1 / 12, 1 / 16)), mdr_cells=(25, 50, 100),
+                   steps=kw.pop("steps", 24), cycles=3, **kw)
+
+
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """Real results of the families the report renders differently: a force-driven partial-slip
+    contact, a sticking flat punch (zero dissipation on every level), an apparatus scene, the
+    block/cap validity table and the curvature table (tiny ladders: structure, not accuracy)."""
+    out = tmp_path_factory.mktemp("any-value")
+    scenes = [_tiny("sphere-md"), _tiny("geom-flat"), _tiny("app-kx2", steps=40),
+              _tiny("validity", fe_levels=(1 / 8,), variants=({"block": 5.0}, {"cap": 5.0})),
+              _tiny("validity-curvature", fe_levels=(1 / 6, 1 / 8, 1 / 10),
+                    variants=({"a_over_R": 4.6e-3, "nu": 0.29},))]
+    res = {}
+    for s in scenes:
+        r = runner.run_scene(s, out, fields=False)
+        res[s.name] = json.loads(dumps_json(r))  # as stored: JSON types, non-finite as null
+    return res
+
+
+def _slots(obj, path=()):
+    """Paths to every number (not bool) and every 'status' string of a result, skipping long
+    arrays (loops and profiles, read only by the figures). A None already there stays: it may
+    stand for a dict (no closed form), which no run turns into a number."""
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            if k == "status" and (v is None or isinstance(v, str)):
+                yield path + (k,), "status"
+            else:
+                yield from _slots(v, path + (k,))
+    elif isinstance(obj, list) and len(obj) <= 8:
+        for i, v in enumerate(obj):
+            yield from _slots(v, path + (i,))
+    elif isinstance(obj, (int, float)) and not isinstance(obj, bool):
+        yield path, "number"
+
+
+def _set(obj, path, value):
+    for k in path[:-1]:
+        obj = obj[k]
+    obj[path[-1]] = value
+
+
+def test_the_families_render_as_computed(results):
+    text = report.render_report(results, list(results), {n: "ok" for n in results})
+    for name in results:
+        assert f"## {name}" in text
+    # the sticking punch: zero dissipation on both sides, the time-step line rendered
+    flat = results["geom-flat"]
+    assert flat["mdr"]["dissipation"] == 0.0 and flat["fem"]["dissipation"] == 0.0
+    assert "Time step" in text
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
+                                                                   HealthCheck.too_slow])
+@given(data=st.data())
+def test_any_value_in_any_field_renders(results, data):
+    res = copy.deepcopy(results)
+    slots = [(n, p, kind) for n, r in res.items() for p, kind in _slots(r) if p[0] != "scene"]
+    chosen = data.draw(st.lists(st.sampled_from(slots), min_size=1, max_size=40, unique_by=lambda x: (x[0], x[1])))
+    for name, path, kind in chosen:
+        _set(res[name], path, data.draw(st.sampled_from(ODD_STATUS if kind == "status" else ODD_NUMBERS)))
+    status = {n: data.draw(st.sampled_from(["ok", "skipped", "stored", "RuntimeError: lost worker"])) for n in res}
+    text = report.render_report(res, list(res), status, hard_cases=[{"name": "x", "error": None, "tol": float("nan"),
+                                                                     "iterations": None, "time_s": float("inf")}])
+    assert text.startswith("# MDR against FE")
+
+
+@pytest.mark.parametrize("value", ODD_NUMBERS)
+def test_a_whole_result_of_one_odd_value_renders(results, value):
+    """Every number of every family at once the same odd value (all None, all NaN, all 0, ...)."""
+    res = copy.deepcopy(results)
+    for name, r in res.items():
+        for path, kind in list(_slots(r)):
+            if kind == "number" and path[0] != "scene":
+                _set(r, path, value)
+    report.render_report(res, list(res), {n: "ok" for n in res})
+
+
+def test_summary_figures_take_any_value(tmp_path):
+    """The summary figures skip what cannot be plotted (None, NaN, inf) and say so when nothing is left."""
+    from validation import figures
+
+    odd = [(1e-6, None), (2e-6, float("nan")), (float("inf"), 0.1), (5e-6, 0.2), (6e-6, float("-inf"))]
+    assert (tmp_path / figures.series_figure({"mdr": odd, "fem": odd[:3]}, "b", tmp_path / "s.png")).exists()
+    rows = [{"side": s, "runtime_s": t, "error_vs_closed_form": e, "error_vs_fe": None}
+            for s in ("mdr", "fem") for t, e in ((None, 0.1), (0.5, float("nan")), (0.0, 0.1), (1.0, None))]
+    figures.save(figures.pareto_figure({"x": rows}), tmp_path / "p.png")
+    assert (tmp_path / "p.png").stat().st_size > 0
