@@ -245,6 +245,36 @@ def test_report_renders_hard_cases_table(quick_report, tmp_path):
     assert json.loads((dst / "results.json").read_text())["hard_cases"] == [row]
 
 
+def test_force_reruns_the_hard_cases_and_no_hard_cases_keeps_the_last_table(quick_report, tmp_path, monkeypatch):
+    """The hard-cases table follows --force like the scenes do; --no-hard-cases keeps the last stored
+    table in the report, marked as not rerun (never drops it silently). The hard cases themselves are
+    replaced by a counter here (their physics: tests/test_hard_cases.py)."""
+    import shutil
+
+    from validation import hard_cases
+
+    _, out = quick_report
+    dst = tmp_path / "copy"
+    shutil.copytree(out, dst)
+    calls = []
+    monkeypatch.setattr(hard_cases, "hard_cases", lambda quick, log: calls.append(quick) or
+                        [{"name": f"case run {len(calls)}", "model": "mdr", "status": "ok", "error": 0.0, "tol": 1e-3}])
+    args = ["--quick", "--scenes", "sphere-md", "--out", str(dst), "--no-fields"]
+    assert compare.main(args) == 0 and len(calls) == 1
+    assert compare.main(args) == 0 and len(calls) == 1            # unchanged: read back
+    monkeypatch.setattr(runner, "run_scene", lambda *a, **k: pytest.fail("--no-hard-cases must not rerun a scene"))
+    assert compare.main(args + ["--no-hard-cases"]) == 0 and len(calls) == 1
+    text = (dst / "report.md").read_text()
+    assert "| case run 1 |" in text and "Not rerun by this run (--no-hard-cases)" in text
+    assert json.loads((dst / "results.json").read_text())["hard_cases_rerun"] is False
+    monkeypatch.undo()
+    monkeypatch.setattr(hard_cases, "hard_cases", lambda quick, log: calls.append(quick) or
+                        [{"name": f"case run {len(calls)}", "model": "mdr", "status": "ok", "error": 0.0, "tol": 1e-3}])
+    assert compare.main(args + ["--force"]) == 0 and len(calls) == 2  # --force: the hard cases again
+    text = (dst / "report.md").read_text()
+    assert "| case run 2 |" in text and "Not rerun" not in text
+
+
 def test_json_to_stdout_keeps_stdout_clean(quick_report, capsys):
     """--json - : stdout holds only the JSON (progress goes to stderr); the stored scene is reused."""
     _, out = quick_report

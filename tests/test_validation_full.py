@@ -13,6 +13,10 @@ Asserts the agreement the physics predicts, each against an independent truth:
 from __future__ import annotations
 
 import json
+import re
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -24,12 +28,49 @@ from validation.scenes import CATALOGUE
 pytestmark = pytest.mark.slow
 
 
+#: the README's command for the full catalogue, run as a user runs it (a fresh process, hard cases included)
+README_COMMAND = [sys.executable, "-m", "validation.compare", "--jobs", "2"]
+
+
 @pytest.fixture(scope="module")
-def full(tmp_path_factory):
+def full_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("full")
-    rc = compare.main(["--out", str(out), "--jobs", "2", "--no-hard-cases"])
+    proc = subprocess.run(README_COMMAND + ["--out", str(out)], capture_output=True, text=True,
+                          cwd=Path(__file__).resolve().parent.parent)
+    return proc, out
+
+
+@pytest.fixture(scope="module")
+def full(full_run):
+    proc, out = full_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
     data = json.loads((out / "results.json").read_text())
-    return rc, out, data["scenes"]
+    return proc.returncode, out, data["scenes"]
+
+
+def test_the_readme_command_writes_the_whole_report_without_warnings(full_run):
+    """``python -m validation.compare --jobs 2`` in a fresh process: exit 0, report.md and results.json
+    hold all 23 scenes and the hard cases, every figure the report links exists and is not blank, and
+    the run prints no warning (a user could act on none)."""
+    from matplotlib.image import imread
+
+    from validation.fields import image_is_blank
+
+    proc, out = full_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "Warning" not in proc.stdout + proc.stderr, [ln for ln in (proc.stdout + proc.stderr).splitlines()
+                                                        if "Warning" in ln][:5]
+    data = json.loads((out / "results.json").read_text())
+    assert set(data["scenes"]) == set(CATALOGUE) and len(CATALOGUE) == 23
+    assert data["hard_cases"] and data["hard_cases_rerun"] is True
+    report = (out / "report.md").read_text()
+    for name in CATALOGUE:
+        assert f"## {name}" in report
+    assert "## Hard cases" in report
+    figs = re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", report)
+    assert len(figs) >= 2 * len(CATALOGUE)
+    for f in figs:
+        assert not image_is_blank((imread(out / f) * 255).astype(np.uint8)), f  # PNG read as 0..1
 
 
 def _large_body_scenes(sc):

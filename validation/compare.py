@@ -246,9 +246,11 @@ def build_parser() -> argparse.ArgumentParser:
                         "needs the dist extra; excludes --jobs)")
     p.add_argument("--out", default="results", metavar="DIR", help="output directory (default ./results)")
     p.add_argument("--json", metavar="PATH", help="also write results.json to PATH ('-' = stdout)")
-    p.add_argument("--force", action="store_true", help="rerun scenes even if their stored results are current")
+    p.add_argument("--force", action="store_true",
+                   help="rerun scenes and hard cases even if their stored results are current")
     p.add_argument("--no-fields", action="store_true", help="skip the pyvista field plots")
-    p.add_argument("--no-hard-cases", action="store_true", help="skip the hard-cases table")
+    p.add_argument("--no-hard-cases", action="store_true",
+                   help="do not run the hard cases (the report keeps the last stored table, marked as not rerun)")
     p.add_argument("--list", action="store_true", help="list the scenes and exit")
     p.set_defaults(func=compare)
     return p
@@ -283,14 +285,19 @@ def compare(args) -> int:
             say(f"executor: {label}")
             status = run_all(scenes, out, executor=executor, jobs=jobs, force=args.force,
                              fields=not args.no_fields, log=say)
-        hard = None
-        if not args.no_hard_cases:
-            from .hard_cases import hard_cases_cached
+        from .hard_cases import hard_cases_cached, stored_hard_cases
 
-            hard = hard_cases_cached(out, quick=args.quick, log=say)
+        hard_note = None
+        if args.no_hard_cases:  # keep the last table, said to be not rerun
+            hard, code = stored_hard_cases(out, args.quick)
+            if hard is not None:
+                hard_note = (f"Not rerun by this run (--no-hard-cases): the table of the last run that computed it "
+                             f"(sources {code}{'' if code != code_version() else ', the same as this run'}).")
+        else:
+            hard = hard_cases_cached(out, quick=args.quick, log=say, force=args.force)
         say("writing the report and the summary figures")
         path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
-                                   quick=args.quick, executor=label)
+                                   quick=args.quick, executor=label, hard_cases_note=hard_note)
     failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
     say(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
           + (f"; FAILED: {', '.join(failed)}" if failed else ""))

@@ -722,26 +722,36 @@ if __name__ == "__main__":  # pragma: no cover
               f"{r['time_s']:6.2f}s  {r['note']}")
 
 
-def hard_cases_cached(out, quick: bool, log=print):
-    """Rows of :func:`hard_cases`, stored in ``out`` per code version (a rerun with unchanged
-    code reads them back); ``log`` reports each phase and case."""
-    import json
+def _hard_cases_path(out, quick: bool):
     from pathlib import Path
 
+    return Path(out) / ("hard_cases_quick.json" if quick else "hard_cases.json")
+
+
+def stored_hard_cases(out, quick: bool):
+    """The hard-cases table a previous run stored in ``out``: ``(rows, code version)``, or ``(None, None)``."""
+    import json
+
+    try:
+        stored = json.loads(_hard_cases_path(out, quick).read_text())
+        return stored["rows"], stored.get("code")
+    except (OSError, ValueError, KeyError, TypeError):
+        return None, None
+
+
+def hard_cases_cached(out, quick: bool, log=print, force: bool = False):
+    """Rows of :func:`hard_cases`, stored in ``out`` per code version (a rerun with unchanged
+    code reads them back, unless ``force``); ``log`` reports each phase and case."""
     from mdr.io import write_json
 
     from .scenes import code_version
 
-    out = Path(out)
-    path = out / ("hard_cases_quick.json" if quick else "hard_cases.json")
+    path = _hard_cases_path(out, quick)
     version = code_version()
-    try:
-        stored = json.loads(path.read_text())
-        if stored.get("code") == version:
-            log("[skip] hard cases: unchanged since the last run")
-            return stored["rows"]
-    except (OSError, ValueError, KeyError):
-        pass
+    rows, code = stored_hard_cases(out, quick)
+    if rows is not None and code == version and not force:
+        log("[skip] hard cases: unchanged since the last run (--force reruns)")
+        return rows
     log(f"hard cases ({'quick' if quick else 'full'}) ...")
     t0 = time.perf_counter()
     rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))

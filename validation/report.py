@@ -332,7 +332,7 @@ def _hard_table(rows):
 
 
 def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, quick=False,
-                 executor: str | None = None) -> Path:
+                 executor: str | None = None, hard_cases_note: str | None = None) -> Path:
     """Build report.md, results.json and the summary figures from the stored scenes.
 
     ``executor``: where this run's scenes ran (``mdr.executors.executor_for`` label); each
@@ -363,10 +363,10 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
 
     commit = git_commit()
     text = render_report(results, names, status, summary_figs=summary_figs, hard_cases=hard_cases, quick=quick,
-                         executor=executor, commit=commit)
+                         executor=executor, commit=commit, hard_cases_note=hard_cases_note)
     payload = {"code_version": code_version(), "git_commit": commit, "quick": quick, "executor": executor,
                "status": status, "scenes": results,
-               "hard_cases": hard_cases}
+               "hard_cases": hard_cases, "hard_cases_rerun": hard_cases_note is None}
     path = out / "report.md"
     files = {path: text.encode(), out / "results.json": json_bytes(payload)}
     if json_path and str(json_path) != "-":
@@ -379,7 +379,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
 
 
 def render_report(results: dict, names, status: dict, *, summary_figs=None, hard_cases=None, quick=False,
-                  executor: str | None = None, commit: str | None = None) -> str:
+                  executor: str | None = None, commit: str | None = None, hard_cases_note: str | None = None) -> str:
     """report.md's text from the scene results (plain dicts, as stored): no file, no solver. Renders
     any value a result can hold (None, NaN, inf, 0, negative; a ladder of any status)."""
     summary_figs = summary_figs or {}
@@ -490,5 +490,6 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
               "note holds it). *iterations*: the mean active-set (Newton) iterations per step of the FE solver, "
               "none for the explicit MDR law. *error*: relative unless the truth says otherwise; none when the "
               "case produced no number (a detected non-convergence, in the note).", "",
+              *([hard_cases_note, ""] if hard_cases_note else []),
               *_hard_table(hard_cases), ""]
     return "\n".join(L)
