@@ -87,7 +87,7 @@ def test_hard_cases_progress_goes_to_stderr_with_json_stdout(tmp_path, monkeypat
         log("[skip] sphere-md: unchanged since the last run (--force reruns)")
         return {s.name: "skipped" for s in scenes}
 
-    def fake_write_report(out, names, status, *, hard_cases=None, json_path=None, quick=False, executor=None):
+    def fake_write_report(out, names, status, *, hard_cases=None, json_path=None, quick=False, executor=None, **kw):
         if json_path == "-":
             sys.stdout.write(json.dumps({"status": status}) + "\n")
         return tmp_path / "report.md"
