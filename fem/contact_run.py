@@ -108,7 +108,6 @@ def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, stat
     out, st_at = res if state_at is not None else (res, None)
     t2 = time.perf_counter()
     out.update(law.result_keys(F0, t1 - t_setup, t1, t2, F_peak=F0 + abs(dF)))
-    out["dissipation_first_cycle"] = out["dissipation_per_cycle"][0]
     out["normal_ramp_steps"] = RAMP_STEPS
     out["runtime_s"]["per_step"] = (t2 - t1) / (RAMP_STEPS + cycles * steps)  # the mean, ramp included
     out["model"] = "3d"

@@ -21,7 +21,7 @@ import numpy as np
 from .errors import InputError, finite, nonnegative, positive, positive_int
 from .grid import DEFAULT_CELLS
 from .law import MDRContact
-from .loops import analyse_cycles, slip_index
+from .loops import analyse_cycles, loop_integral, slip_index
 from .materials import Materials
 from .normal import approach_from_force
 from .profiles import Profile
@@ -117,6 +117,11 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     u_amp = ua if ua is not None else 0.5 * float(np.ptp(H.u[last]))
     d0 = float(approach_from_force(profile, materials, F0))
     stationary = bool(cyc.last_is_stationary) or mu == 0
+    # the first closed loop after the normal loading, +Q -> -Q -> +Q (from the drive's first peak, a
+    # quarter cycle in); the open path from rest 0 -> +Q -> -Q -> 0 is cycle 0 (for identical bodies
+    # without coupling the first closed loop is already the stationary one, Masing's rule)
+    q = int(round(steps / 4))
+    first_loop = float(loop_integral(H.u[q:q + steps + 1], H.Fx[q:q + steps + 1])) if cycles >= 2 else None
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {
@@ -130,6 +135,8 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
         "displacement_amplitude": u_amp,
         "tangential_force_amplitude": 0.5 * float(np.ptp(H.Fx[last])),
         "dissipation_per_cycle": cyc.dissipation.tolist(),
+        "dissipation_first_cycle": first_loop,
+        "dissipation_open_path": float(cyc.dissipation[0]),
         "stationary": stationary,
         "cycle_change": cyc.last_change(),
         "first_stationary_cycle": int(cyc.first_stationary),

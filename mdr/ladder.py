@@ -11,13 +11,17 @@ import numpy as np
 GCI_SAFETY = 1.25
 #: observed orders outside this range are not taken as asymptotic
 ORDER_RANGE = (0.5, 4.0)
+#: the statuses whose error is an upper bound (``ladder_error``'s ``bounded``)
+BOUNDED = ("asymptotic", "converged")
 
 
 def ladder_error(sizes, values, *, floor=0.0) -> dict:
     """Error bar of the finest value of a refinement ladder (coarse to fine).
 
     ``sizes``: the resolution parameter of each level, decreasing (element size, or
-    1/cells); ``values``: the quantity at each level (None or non-finite: dropped).
+    1/cells); ``values``: the quantity at each level. A level without a finite value (None,
+    NaN, inf) makes the whole ladder undetermined (``non-finite level``, error None): a
+    failed level is not dropped, since the levels left could then vouch for a wrong answer.
     Over the three finest levels q0, q1, q2 (refinement ratios r10 = h0/h1, r21 =
     h1/h2) with e10 = q1 - q0, e21 = q2 - q1:
 
@@ -32,14 +36,22 @@ def ladder_error(sizes, values, *, floor=0.0) -> dict:
       ladder is not in its asymptotic range; error = the spread max - min of the
       three levels (never the last difference alone);
     - ``two levels``: error = |e21| (no order can be observed; flagged);
-    - ``one level`` / ``no value``: error None (undetermined).
+    - ``one level`` / ``no value`` / ``non-finite level``: error None (undetermined).
 
-    Returns {value, extrapolated, error, order, status, levels}.
+    ``bounded``: whether the error is an upper bound of the finest level's error for a stated
+    reason (``asymptotic``: Richardson with the GCI's safety factor; ``converged``: round-off),
+    as a verdict "holds" needs; a spread or a last difference is not.
+
+    Returns {value, extrapolated, error, order, status, levels, bounded}.
     """
-    pts = [(float(h), float(v)) for h, v in zip(sizes, values)
-           if v is not None and np.isfinite(float(v)) and h is not None]
+    pairs = list(zip(sizes, values))
+    finite = [v is not None and h is not None and np.isfinite(float(v)) for h, v in pairs]
+    pts = [(float(h), float(v)) for (h, v), ok in zip(pairs, finite) if ok]
     out = {"value": pts[-1][1] if pts else None, "extrapolated": None, "error": None, "order": None,
-           "status": "no value" if not pts else "one level", "levels": len(pts)}
+           "status": "no value" if not pts else "one level", "levels": len(pts), "bounded": False}
+    if pts and not all(finite):
+        out.update(status="non-finite level", value=pts[-1][1] if finite[-1] else None)
+        return out
     if len(pts) < 2:
         return out
     (h1, q1), (h2, q2) = pts[-2], pts[-1]
@@ -50,7 +62,7 @@ def ladder_error(sizes, values, *, floor=0.0) -> dict:
     h0, q0 = pts[-3]
     e10 = q1 - q0
     if abs(e21) <= floor and abs(e10) <= floor:
-        out.update(error=max(abs(e21), abs(e10)), extrapolated=q2, status="converged")
+        out.update(error=max(abs(e21), abs(e10)), extrapolated=q2, status="converged", bounded=True)
         return out
     spread = max(q0, q1, q2) - min(q0, q1, q2)
     if e21 == 0.0 or e10 == 0.0 or np.sign(e21) != np.sign(e10):
@@ -64,7 +76,8 @@ def ladder_error(sizes, values, *, floor=0.0) -> dict:
         out.update(error=float(spread), status=f"order {p:.2g} outside {ORDER_RANGE[0]:g}-{ORDER_RANGE[1]:g}")
         return out
     g = r21 ** p - 1.0
-    out.update(extrapolated=float(q2 + e21 / g), error=float(GCI_SAFETY * abs(e21) / g), status="asymptotic")
+    out.update(extrapolated=float(q2 + e21 / g), error=float(GCI_SAFETY * abs(e21) / g), status="asymptotic",
+               bounded=True)
     return out
 
 

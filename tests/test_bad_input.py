@@ -147,6 +147,59 @@ def test_output_path_that_is_a_directory_is_an_input_error(tmp_path, capsys):
     assert code == 2 and len(lines) == 1 and "--vtu" in lines[0] and not (tmp_path / "o.json").exists()
 
 
+@pytest.fixture
+def unwritable(tmp_path):
+    """A folder no file can be created in: mode 0555, and, where that does not stop the user (root),
+    the immutable flag (chattr +i); skipped where neither works."""
+    d = tmp_path / "ro"
+    d.mkdir()
+    d.chmod(0o555)
+    flagged = False
+    if os.access(d, os.W_OK):
+        flagged = subprocess.run(["chattr", "+i", str(d)], capture_output=True).returncode == 0
+        if not flagged:
+            d.chmod(0o755)
+            pytest.skip("no way to make a folder unwritable here (root without chattr)")
+    yield d
+    if flagged:
+        subprocess.run(["chattr", "-i", str(d)], capture_output=True)
+    d.chmod(0o755)
+
+
+@pytest.mark.parametrize("main,argv", [
+    (mdr_main, ["normal", *SPH, "--F", "0.5", "--json", "{ro}/x.json"]),
+    (mdr_main, ["study", "fig9", "--out", "{ro}/study"]),
+    (fem_main, ["normal", *SPH, "--F", "0.5", "--vtu", "{ro}/f.vtu", "--json", "{ok}/ok.json"]),
+], ids=["mdr normal --json", "mdr study --out", "fem normal --vtu"])
+def test_an_unwritable_output_is_rejected_before_any_work(main, argv, unwritable, tmp_path, capsys):
+    argv = [a.format(ro=unwritable, ok=tmp_path) for a in argv]
+    code, lines, _ = run_cli(main, argv, tmp_path, capsys)
+    assert code == 2 and len(lines) == 1 and "cannot be written" in lines[0], lines
+    assert not (tmp_path / "ok.json").exists() and list(unwritable.iterdir()) == []
+
+
+def test_compare_with_an_unwritable_output_changes_no_file(unwritable, tmp_path):
+    """--out or --json in a folder that takes no file: exit 2 and one line before any scene runs;
+    a previous report beside it is left as it was."""
+    good = tmp_path / "results"
+    good.mkdir()
+    (good / "report.md").write_text("previous report")
+    for extra in (["--out", str(unwritable / "res")], ["--out", str(good), "--json", str(unwritable / "r.json")]):
+        p = subprocess.run([sys.executable, "-m", "validation.compare", "--quick", *extra], capture_output=True,
+                           text=True, timeout=300)
+        lines = p.stderr.strip().splitlines()
+        assert p.returncode == 2 and len(lines) == 1 and "cannot be written" in lines[0], p.stderr
+        assert p.stdout == ""
+    assert [f.name for f in good.iterdir()] == ["report.md"] and (good / "report.md").read_text() == "previous report"
+    assert list(unwritable.iterdir()) == []
+
+
+def test_negative_numbers_reach_the_range_check(tmp_path, capsys):
+    """``--R -6e-3`` is a value (argparse alone takes it for an option): the range check names R."""
+    code, lines, _ = run_cli(mdr_main, ["normal", "--profile", "sphere", "--R", "-6e-3", "--F", "0.5"], tmp_path, capsys)
+    assert code == 2 and len(lines) == 1 and "R must be > 0" in lines[0], lines
+
+
 def test_mdr_apparatus_loading_bad_input(tmp_path, capsys):
     for extra, word in ((["--cycles", "0", "--steps", "40"], "cycles"), (["--cycles", "2", "--steps", "0"], "steps"),
                         (["--cycles", "2", "--steps", "42"], "steps"), (["--alpha", "nan"], "alpha")):

@@ -672,26 +672,39 @@ def test_spence_normal_loading_locks_in_outward_traction(law_alu):
     assert qn.max() > 1e-3 * p.max()  # and not negligible
 
 
-def test_dissimilar_cycle(law_alu):
-    """Tangential cycles after the frictional normal loading: dissipation >= 0, the first cycle
-    dissipates less than the stationary one (the locked-in traction of the normal loading is
-    shaken out; measured 0.80 against 0.897 nJ at a/4) and the cycles settle geometrically, and
-    the pressure centre sits off the axis at the first peak of F_x (measured -0.21 um): the
-    coupling MDR and Mindlin neglect."""
+def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
+    """Tangential cycles after the frictional normal loading, the coupled pair against the same mesh
+    with the coupling off (``variant(coupling=False)``: identical discretisation, so the difference is
+    the coupling's alone). Uncoupled, the first closed loop +Q -> -Q -> +Q is the stationary one
+    (Masing's rule) and the pressure centre stays on the axis; coupled, the traction the normal loading
+    locked in (Spence 1975) raises the first closed loop above the uncoupled one (half-space codes at
+    mu = 0.2: 1.12-1.14; here mu = 0.5, a/4) and moves the pressure centre off the axis at the first
+    peak of F_x. Every coupled assertion fails with the coupling off."""
     from mdr.drive import run_contact
     from mdr.profiles import Sphere
 
-    st = law_alu.rest_state()
-    for f in np.linspace(0.05, 1.0, 8) * F:
-        _, st = law_alu.step(st, Fx=0.0, F_N=f)
-    out = run_contact(Sphere(R), ALU, 0.5, F, fa=0.25 * F, cycles=6, steps=16, law=law_alu, state0=st)
-    keys = law_alu.result_keys(F, 0.0, 1.0, 2.0)
-    W = np.asarray(out["dissipation_per_cycle"])
-    assert np.all(W > 0) and out["stationary"]
-    assert W[0] < 0.95 * W[-1]
+    def run(law):
+        st = law.rest_state()
+        for f in np.linspace(0.05, 1.0, 8) * F:
+            _, st = law.step(st, Fx=0.0, F_N=f)
+        out = run_contact(Sphere(R), ALU, 0.5, F, fa=0.25 * F, cycles=6, steps=16, law=law, state0=st)
+        return out, law.result_keys(F, 0.0, 1.0, 2.0)
+
+    coupled, keys = run(law_alu)
+    uncoupled, keys0 = run(law_alu.variant(coupling=False))
+    W, W0 = (np.asarray(o["dissipation_per_cycle"]) for o in (coupled, uncoupled))
+    assert np.all(W > 0) and coupled["stationary"] and uncoupled["stationary"]
+    # uncoupled: the first closed loop is stationary already (Masing), to the solver's tolerance
+    assert abs(uncoupled["dissipation_first_cycle"] / W0[-1] - 1) < 0.01
+    # coupled minus uncoupled on one mesh
+    effect = coupled["dissipation_first_cycle"] / uncoupled["dissipation_first_cycle"] - 1
+    assert 0.035 < effect < 0.14, effect  # measured +6.9 % (a/4, mu = 0.5)
+    # the pressure centre moved by the coupling: measured -1.19e-2 A_H (coupled -7.7e-3, uncoupled
+    # +4.2e-3 A_H, the unstructured mesh's own offset); converged half-space codes: about -1.1e-2 a
+    shift = (keys["pressure_center_x"] - keys0["pressure_center_x"]) / A_H
+    assert -0.024 < shift < -0.006, shift
     dW = np.abs(np.diff(W[1:]))
-    assert np.all(dW[1:] < dW[:-1])  # settles monotonically
-    assert abs(keys["pressure_center_x"]) > 3e-3 * A_H  # measured 7.7e-3 A_H
+    assert np.all(dW[1:] < dW[:-1])  # the coupled cycles settle monotonically
 
 
 def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
@@ -714,7 +727,7 @@ def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
         assert k in r, k
     assert r["model"] == "3d" and r["displacement"] == "contact" and r["traction"] == "free"
     assert r["normal_ramp_steps"] == 20 and r["bulk_compliance"] > 0
-    assert 0.10 < r["beta"] < 0.12 and r["dissipation_first_cycle"] < r["dissipation"]
+    assert 0.10 < r["beta"] < 0.12 and r["dissipation_first_cycle"] > 0 and r["dissipation_open_path"] > 0
 
 
 def test_force_control_fallback_agrees_with_newton(model, hertz):

@@ -87,24 +87,33 @@ def test_every_scene_ran(full):
 
 
 def test_every_verdict_is_its_stated_inequality(full):
+    """Each grade is its inequality: within the sum for holds, consistent within its spread and below
+    resolution; beyond it for fails; "holds" only on bounded error bars (asymptotic or converged
+    ladders, the time step's included)."""
     _, _, sc = full
     for name, r in _large_body_scenes(sc).items():
         for q, v in r["verdicts"].items():
-            if v["holds"] is None:
+            if v["grade"] == "undetermined":
+                assert v["holds"] is None, (name, q)
                 continue
-            assert v["holds"] == (abs(v["difference"]) <= v["fem_error"] + v["mdr_error"] + v["tolerance"]), (name, q)
+            within = abs(v["difference"]) <= v["fem_error"] + v["mdr_error"] + v["tolerance"]
+            assert within == (v["grade"] != "fails"), (name, q)
+            assert (v["grade"] == "holds") == (v["holds"] is True) and (v["grade"] != "holds" or v["bounded"])
         assert r["holds"] == metrics.conjunction(r["verdicts"]), name
 
 
 def test_mdr_holds_for_every_large_body_scene(full):
-    """Large bodies, small a/R: every metric of every directly driven and apparatus scene
-    agrees within the error bars plus the tolerance, and no verdict is undetermined. The
-    one exception the README names: the truncated sphere b = 0.6 mm driven directly
-    (a/R = 10 %), whose displacement loop departs (the cap's compliance in shear)."""
+    """Large bodies, small a/R: no metric of a directly driven or apparatus scene fails or is
+    undetermined; each agrees within the error bars plus the tolerance, graded "holds" where both
+    ladders are bounded and "consistent within its spread" where one is not (README). The one
+    exception the README names: the truncated sphere b = 0.6 mm driven directly (a/R = 10 %),
+    whose displacement loop departs (the cap's compliance in shear)."""
     _, _, sc = full
-    bad = {n: [q for q, v in r["verdicts"].items() if v["holds"] is not True]
+    bad = {n: [q for q, v in r["verdicts"].items() if v["grade"] in ("fails", "undetermined")]
            for n, r in _large_body_scenes(sc).items()}
     assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
+    grades = [v["grade"] for r in _large_body_scenes(sc).values() for v in r["verdicts"].values()]
+    assert grades.count("holds") >= 0.25 * len(grades)  # README: the graded counts of the catalogue
     du = sc["geom-b600um"]["verdicts"]["loop_du"]
     # README: the FE contact is 3.6 % of u_A more compliant, beyond 0.35 % + 1 %
     assert 0.018 < du["difference"] < 0.072
@@ -153,14 +162,15 @@ def test_half_space_breaks_for_a_small_block(full):
     _, _, sc = full
     rows = {r["variant"]: r for r in sc["validity"]["validity"]}
     big = abs(rows["default (200 a)"]["contact_radius_mdr_minus_fe"])
-    small = abs(rows["block 3 a"]["contact_radius_mdr_minus_fe"])
+    small = abs(rows["block 3 a (cap 200 a)"]["contact_radius_mdr_minus_fe"])
     assert big < 0.005
     assert small > 3 * big and small > 0.002
     # a block of 30 contact radii is already a half-space for the contact radius
-    assert abs(rows["block 30 a"]["contact_radius_vs_default"]) < 0.002
+    assert abs(rows["block 30 a (cap 200 a)"]["contact_radius_vs_default"]) < 0.002
     # the size effect on the dissipation (mesh error cancelled) falls as the body grows
     for kind in ("block", "cap"):
-        eff = [abs(rows[f"{kind} {s} a"]["dissipation_vs_default"]) for s in (3, 5, 10, 30)]
+        other = "cap" if kind == "block" else "block"
+        eff = [abs(rows[f"{kind} {s} a ({other} 200 a)"]["dissipation_vs_default"]) for s in (3, 5, 10, 30)]
         assert all(x > y for x, y in zip(eff, eff[1:])), (kind, eff)
         assert eff[-1] < 0.001
 
@@ -195,12 +205,12 @@ def test_tolerances_hold_for_bodies_of_ten_radii(full):
     contact radius) once both bodies are 10 contact radii large (and a/R <= 1.5 %, above)."""
     _, _, sc = full
     rows = {r["variant"]: r for r in sc["validity"]["validity"]}
-    for kind in ("block", "cap"):
-        for size in (10, 30):
-            r = rows[f"{kind} {size} a"]
-            assert abs(r["dissipation_vs_default"]) < 0.005 and abs(r["contact_radius_vs_default"]) < 0.002
+    for label in ("block 10 a (cap 200 a)", "block 30 a (cap 200 a)", "cap 10 a (block 200 a)",
+                  "cap 30 a (block 200 a)", "block 10 a, cap 10 a"):
+        r = rows[label]
+        assert abs(r["dissipation_vs_default"]) < 0.005 and abs(r["contact_radius_vs_default"]) < 0.002, label
     # and not below: a block of 3 contact radii (README: -2.4 % dissipation)
-    assert -0.048 < rows["block 3 a"]["dissipation_vs_default"] < -0.012
+    assert -0.048 < rows["block 3 a (cap 200 a)"]["dissipation_vs_default"] < -0.012
 
 
 def _pct(r, q):

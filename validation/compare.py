@@ -166,9 +166,10 @@ def _summary(res) -> str:
     v = res.get("verdicts")
     if not v:
         return f"{res.get('runtime_s', 0):.1f} s"
-    h = res.get("holds")
+    from .metrics import scene_grade
+
     failed = [q for q, x in v.items() if x["holds"] is False]
-    return (f"{res['runtime_s']:.1f} s, MDR holds: " + {True: "yes", None: "undetermined"}.get(h, "no")
+    return (f"{res['runtime_s']:.1f} s, MDR: {scene_grade(v)}"
             + (f" ({', '.join(failed)} beyond error bars + tolerance)" if failed else ""))
 
 

@@ -154,15 +154,19 @@ def validity_figure(result: dict, out_dir) -> dict:
     within that error, so this is the error a half-space model makes for the small body)."""
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     rows = result["validity"]
-    for kind, mk in (("block", "o"), ("cap", "s")):
-        sel = sorted([r for r in rows if f"{kind} " in r["variant"]], key=lambda r: r[f"{kind}_over_a"])
+    big = max(max(r["block_over_a"], r["cap_over_a"]) for r in rows)  # the default bodies' size
+    kinds = {"block": lambda r: r["block_over_a"] < big <= r["cap_over_a"],
+             "cap": lambda r: r["cap_over_a"] < big <= r["block_over_a"],
+             "both": lambda r: max(r["block_over_a"], r["cap_over_a"]) < big}
+    for (kind, pick), mk, ls in zip(kinds.items(), ("o", "s", "^"), ("-", "--", ":")):
+        sel = sorted([r for r in rows if pick(r)], key=lambda r: min(r["block_over_a"], r["cap_over_a"]))
         if not sel:
             continue
-        x = [r[f"{kind}_over_a"] for r in sel]
+        x = [min(r["block_over_a"], r["cap_over_a"]) for r in sel]
         for q, c in (("contact_radius", "tab:blue"), ("stick_radius", "tab:green"), ("dissipation", "tab:red")):
             y = [max(abs(r[f"{q}_vs_default"] or 0.0), 1e-7) * 100 for r in sel]
-            ax.semilogy(x, y, marker=mk, color=c, ls="-" if kind == "block" else "--",
-                        label=f"{q.replace('_', ' ')}, {kind} shrunk")
+            ax.semilogy(x, y, marker=mk, color=c, ls=ls,
+                        label=f"{q.replace('_', ' ')}, {'block and cap' if kind == 'both' else kind + ' alone'} shrunk")
     ax.set_xscale("log")
     ax.set_xlabel("block or cap size / contact radius")
     ax.set_ylabel("|FE(size) - FE(200 a)| (%)")

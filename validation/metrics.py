@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 # the error bar of a refinement ladder lives in mdr.ladder (python -m mdr study --law uses it too)
-from mdr.ladder import GCI_SAFETY, ORDER_RANGE, ladder_error  # noqa: F401
+from mdr.ladder import BOUNDED, GCI_SAFETY, ORDER_RANGE, ladder_error  # noqa: F401
 from mdr.loops import loop_integral
 
 _trapz = getattr(np, "trapezoid", None) or np.trapz  # numpy < 2 has only trapz
@@ -102,32 +102,69 @@ def _finite(*xs):
     return all(x is not None and np.isfinite(float(x)) for x in xs)
 
 
-def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=True, unit="") -> dict:
-    """One metric's verdict: ``holds`` is |MDR - FE| <= FE error + MDR error + tolerance.
+#: the grades of a verdict, from the strongest claim to none; a scene takes its weakest metric's
+#: (``conjunction``)
+GRADES = ("holds", "below resolution", "consistent within its spread", "undetermined", "fails")
+
+
+def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=True, unit="",
+            extra: dict | None = None, floor: float | None = None) -> dict:
+    """One metric's verdict: |MDR - FE| against FE error + MDR error + tolerance, graded.
 
     ``mdr``, ``fem``: the finest values (for a distance metric ``signed=False``: ``mdr`` is
     the distance between the finest results and ``fem`` None); ``fem_ladder`` and
-    ``mdr_ladder``: ``ladder_error`` dicts of each side (the error bars); ``tolerance``:
-    absolute, in the metric's unit. Any non-finite input makes ``holds`` None
-    (undetermined), never True.
+    ``mdr_ladder``: ``ladder_error`` dicts of each side (the error bars); ``extra``: further
+    error bars ``{"fem" | "mdr": {name: ladder dict}}`` in the metric's unit added to that side's
+    (the time step's); ``tolerance``: absolute, in the metric's unit; ``floor``: the resolution
+    floor the tolerance was raised to, if any (then the tolerance is the floor's, not physics').
+
+    ``grade`` (``GRADES``): ``undetermined`` where any number or error bar is not finite or
+    missing; ``fails`` where |MDR - FE| exceeds the sum; otherwise ``holds`` only if every error bar
+    is an upper bound (``bounded``: an asymptotic or converged ladder), else ``consistent within
+    its spread`` (a non-monotone ladder's spread is no bound: an error injected into one level
+    can hide in it); ``below resolution`` where it is within the sum only thanks to the floor.
+    ``holds`` is True, False or None: True only for the grade ``holds``.
     """
     diff = (None if not _finite(mdr, fem) else float(mdr) - float(fem)) if signed else \
         (None if not _finite(mdr) else float(mdr))
-    fe_err, mdr_err = fem_ladder.get("error"), mdr_ladder.get("error")
-    holds = None
+    parts = {"fem": {"mesh": fem_ladder}, "mdr": {"grid": mdr_ladder}}
+    for side, bars in (extra or {}).items():
+        parts[side].update({k: v for k, v in bars.items() if v is not None})
+    errs = {side: [b.get("error") for b in bars.values()] for side, bars in parts.items()}
+    fe_err = float(sum(errs["fem"])) if _finite(*errs["fem"]) else None
+    mdr_err = float(sum(errs["mdr"])) if _finite(*errs["mdr"]) else None
+    bounded = all(b.get("bounded", b.get("status") in BOUNDED) for bars in parts.values() for b in bars.values())
+    holds, grade = None, "undetermined"
     if _finite(diff, fe_err, mdr_err, tolerance):
-        holds = bool(abs(diff) <= fe_err + mdr_err + tolerance)
+        within = abs(diff) <= fe_err + mdr_err + tolerance
+        if not within:
+            holds, grade = False, "fails"
+        elif floor is not None and floor >= tolerance and abs(diff) > fe_err + mdr_err:
+            grade = "below resolution"
+        elif bounded:
+            holds, grade = True, "holds"
+        else:
+            grade = "consistent within its spread"
     return {"mdr": None if mdr is None or not signed else float(mdr), "fem": None if fem is None else float(fem),
             "difference": diff, "fem_error": fe_err, "mdr_error": mdr_err,
-            "tolerance": None if tolerance is None else float(tolerance), "holds": holds, "unit": unit,
-            "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder}
+            "tolerance": None if tolerance is None else float(tolerance), "floor": floor, "holds": holds,
+            "grade": grade, "bounded": bounded, "unit": unit, "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder,
+            "error_parts": {side: {k: b.get("error") for k, b in bars.items()} for side, bars in parts.items()}}
 
 
 def conjunction(verdicts: dict):
-    """Scene verdict: False if any metric fails, None (undetermined) if any is undetermined, else True."""
+    """Scene verdict: False if any metric fails, None if any is not graded ``holds``, else True
+    (``scene_grade`` says which weaker grade)."""
     hs = [v["holds"] for v in verdicts.values()]
     if any(h is False for h in hs):
         return False
     if not hs or any(h is None for h in hs):
         return None
     return True
+
+
+def scene_grade(verdicts: dict) -> str:
+    """The weakest grade of a scene's metrics (``GRADES`` order); ``undetermined`` without metrics."""
+    grades = [v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
+              for v in verdicts.values()]
+    return max(grades, key=GRADES.index) if grades else "undetermined"

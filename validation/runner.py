@@ -127,9 +127,11 @@ def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | N
     as ``metrics.dissipation_error`` measures it (relative, or, for a loop that hardly dissipates,
     in units of 4 mu F0 u_A: ``shift_unit``), the error the scene's step puts into that side's
     dissipation (None where the ladder gives no extrapolation). The two models' shifts differ (the
-    incremental laws discretise the load path differently), so they do not cancel in MDR - FE;
-    the verdicts' error bars do not include them, the report states both. Costs two more runs of
-    the side at 2 and 4 times the steps (and for the FE model one more set-up)."""
+    incremental laws discretise the load path differently), so they do not cancel in MDR - FE:
+    ``error_at_scene_step`` (GCI_SAFETY x |extrapolated - value at the scene's step| where the
+    ladder is asymptotic, else its spread) joins each side's error bar on the dissipation and the
+    slip index (``scene_verdicts``). Costs two more runs of the side at 2 and 4 times the steps (and for the
+    FE model one more set-up)."""
     from dataclasses import replace
 
     if (n is None) == (h is None):
@@ -142,8 +144,15 @@ def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | N
     shift = None if lad["extrapolated"] is None else \
         metrics.dissipation_error(lad["extrapolated"], W[0], s.mu, s.F0, u_A)
     small = abs(W[0]) < 0.01 * 4.0 * s.mu * s.F0 * u_A
+    # the ladder's own error is that of its finest level (4x the steps); the scene's step is the
+    # coarsest: its error is the distance to the extrapolation (with the GCI's safety factor) where
+    # the ladder is asymptotic, else the spread, which bounds nothing
+    if lad["extrapolated"] is not None and lad["bounded"]:
+        at_step = metrics.GCI_SAFETY * abs(lad["extrapolated"] - float(W[0]))
+    else:
+        at_step = lad["error"]
     return {**lad, "steps": [k * s.steps for k in TIME_STEP_FACTORS], "dissipation": W, "shift": shift,
-            "shift_unit": "4 mu F0 u_A" if small else "relative"}
+            "shift_unit": "4 mu F0 u_A" if small else "relative", "error_at_scene_step": at_step}
 
 
 def _fe_law(s: Scene, h, **mesh_kw):
@@ -282,7 +291,7 @@ def _distances(s: Scene, mdr: dict, fe: dict) -> dict:
     return out
 
 
-def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list) -> dict:
+def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict | None = None) -> dict:
     """Per metric: MDR, FE, difference, each side's error bar (``metrics.ladder_error`` over
     its ladder), the scene's tolerance and ``holds`` (``metrics.verdict``).
 
@@ -292,7 +301,9 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list) -> dict:
     ladders of the distance between one side's levels and the other side's finest level.
     Tolerances (``Scene.tolerances``) are absolute in the verdict: radii relative to the FE
     contact radius (so a stick radius of 0 compares in absolute terms), dissipation relative
-    to the FE dissipation with a floor of ``DISSIPATION_FLOOR`` x 4 mu F0 u_A.
+    to the FE dissipation with a floor of ``DISSIPATION_FLOOR`` x 4 mu F0 u_A (a verdict within the
+    floor only is graded "below resolution"). ``time_step``: each side's ``time_step_error`` (or
+    None), whose error bar joins that side's on the dissipation and the slip index.
     """
     from .scenes import DISSIPATION_FLOOR
 
@@ -304,18 +315,34 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list) -> dict:
     scale_W = 4.0 * s.mu * s.F0 * _u_amp(fe)
     V = {}
 
-    def scalar(q, scale, tolerance, unit):
+    def scalar(q, scale, tolerance, unit, extra=None, floor=None):
         fv = [_zero(x.get(q), scale) for x in fe_ladder]
         mv = [_zero(x.get(q), scale) for x in mdr_ladder]
         fl = metrics.ladder_error(fe_h, fv, floor=ZERO * scale)
         ml = metrics.ladder_error(md_h, mv, floor=ZERO * scale)
-        V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit)
+        V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
+
+    def step_bars(unit_scale):
+        """Each side's time-step error bar in the unit of a metric (J divided by ``unit_scale``)."""
+        out = {}
+        for side, ts in (time_step or {}).items():
+            if ts is not None:
+                err = ts.get("error_at_scene_step")
+                out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
+                                           "error": None if err is None else float(err) / unit_scale}}
+        return out
 
     scalar("contact_radius", a, tol["contact_radius"] * a, "m")
     scalar("stick_radius", a, tol["stick_radius"] * a, "m")
     dW = abs(float(fe["dissipation"]))
-    scalar("dissipation", scale_W, max(tol["dissipation"] * dW, DISSIPATION_FLOOR * scale_W), "J")
-    scalar("slip_index", 1.0, tol["slip_index"], "")
+    floor_W = DISSIPATION_FLOOR * scale_W
+    scalar("dissipation", scale_W, max(tol["dissipation"] * dW, floor_W), "J", extra=step_bars(1.0), floor=floor_W)
+    # the slip index is dW / (4 mu u_A F0) (u_A the drive's amplitude): its tolerance is relative, the
+    # dissipation's, with the same floor; its time-step bar is the dissipation's over that scale
+    si = fe.get("slip_index")
+    si_scale = float(fe["dissipation"]) / float(si) if si and fe.get("dissipation") else scale_W
+    scalar("slip_index", 1.0, max(tol["slip_index"] * abs(float(si or 0.0)), DISSIPATION_FLOOR), "",
+           extra=step_bars(si_scale) if si_scale > 0 else None, floor=DISSIPATION_FLOOR)
     d_fe = [_distances(s, mdr, x) for x in fe_ladder]
     d_md = [_distances(s, x, fe) for x in mdr_ladder]
     for q, dist in d_fe[-1].items():
@@ -399,11 +426,12 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             f"{res['runtime_s']['setup']:.2f} s, cycles {res['runtime_s']['cycles']:.2f} s")
     closed = closed_forms(s)
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
-    verdicts = scene_verdicts(s, fe_ladder, mdr_ladder)
-    # the time step's share, each side at its finest level (the 3D model's runs cost too much to triple)
-    errors = {"a_ref": a_ref(s), "time_step": {"mdr": time_step_error(s, mdr, n=s.mdr_cells[-1]),
-                                               "fem": None if s.fe_model == "3d" else
-                                               time_step_error(s, fe, h=s.fe_levels[-1])}}
+    # the time step's share, each side at its finest level (the 3D model's runs cost too much to triple),
+    # inside the dissipation's and the slip index's error bars
+    time_step = {"mdr": time_step_error(s, mdr, n=s.mdr_cells[-1]),
+                 "fem": None if s.fe_model == "3d" else time_step_error(s, fe, h=s.fe_levels[-1])}
+    verdicts = scene_verdicts(s, fe_ladder, mdr_ladder, time_step)
+    errors = {"a_ref": a_ref(s), "time_step": time_step}
     if closed is not None:
         errors["closed_form"] = closed_form_errors(s, mdr, fe, closed)
     result = {"scene": s.as_dict(), "closed_form": closed, "mdr": mdr, "fem": fe,
@@ -774,6 +802,20 @@ def _pct_or(x):
     return "undetermined" if x is None else f"{100 * x:+.3f} %"
 
 
+#: the bodies' size of the default FE model, in contact radii (meshes.axisym: block 200 a_ref, the cap as high)
+VALIDITY_DEFAULT_SIZE = 200.0
+
+
+def validity_label(v: dict) -> str:
+    """A validity variant's label, saying which body is shrunk: 'block 3 a (cap 200 a)', 'cap 3 a
+    (block 200 a)' or 'block 3 a, cap 3 a'."""
+    if "block" in v and "cap" in v:
+        return f"block {v['block']:g} a, cap {v['cap']:g} a"
+    (kind, x), = v.items()
+    other = "cap" if kind == "block" else "block"
+    return f"{kind} {x:g} a ({other} {VALIDITY_DEFAULT_SIZE:g} a)"
+
+
 def _run_validity(s: Scene, out_dir, log) -> dict:
     """Half-space validity: FE with the block or the cap shrunk (multiples of a_ref), one mesh level."""
     t0 = time.perf_counter()
@@ -784,17 +826,16 @@ def _run_validity(s: Scene, out_dir, log) -> dict:
     base, _ = run_fe(s, h)
     rows = []
     for v in ({},) + tuple(s.variants):
-        kw = {}
-        if "block" in v:
-            kw["block_size"] = v["block"] * a
-        if "cap" in v:
-            kw["indenter_height"] = v["cap"] * a
-        size = min(v.get("block", 200.0), v.get("cap", 200.0))
+        # each body at its own size: the default cap is as high as the block, so a block-only variant
+        # keeps the cap at the default 200 a explicitly (else shrinking the block shrinks the cap)
+        block, cap = v.get("block", VALIDITY_DEFAULT_SIZE), v.get("cap", VALIDITY_DEFAULT_SIZE)
+        kw = {"block_size": block * a, "indenter_height": cap * a} if v else {}
+        size = min(block, cap)
         if size < 25:
             kw["probe_depth"] = 0.5 * (1.25 + 0.8 * size) * a
         res = base if not v else run_fe(s, h, **kw)[0]
-        row = {"variant": "default (200 a)" if not v else ", ".join(f"{k} {x:g} a" for k, x in v.items()),
-               "block_over_a": v.get("block", 200.0), "cap_over_a": v.get("cap", 200.0), "dofs": res["dofs"]}
+        row = {"variant": "default (200 a)" if not v else validity_label(v),
+               "block_over_a": block, "cap_over_a": cap, "dofs": res["dofs"]}
         for q in ("contact_radius", "stick_radius", "dissipation"):
             row[q] = res[q]
             row[f"{q}_mdr_minus_fe"] = metrics.rel(mdr[q], res[q])

@@ -1,0 +1,97 @@
+"""A verdict an injected error cannot pass (fast suite).
+
+Truth: a "holds" is evidence only if a wrong answer would not get it. The scene's real ladders
+(geom-b20um on the quick ladders: MDR 100/400/1600 cells, FE a/20, a/40, a/80, each side's time
+step at 1, 2 and 4 times the scene's steps) are graded by ``runner.scene_verdicts``; then an
+error is injected into one level of one side and the grading is repeated:
+
+- +10 % or +2 % on any one level of a metric graded "holds" takes its "holds" away (the ladder
+  leaves its asymptotic range, so its error is a spread, which bounds nothing, or the
+  difference exceeds the bars and the verdict fails);
+- a NaN on any level, coarse or fine, makes the metric undetermined (the levels left must not
+  vouch for the answer);
+- the time step's error bar is part of the dissipation's: without it the bars are smaller.
+"""
+from __future__ import annotations
+
+import copy
+import pytest
+
+from validation import metrics, runner
+from validation.scenes import CATALOGUE
+
+SCALARS = ("contact_radius", "stick_radius", "dissipation", "slip_index")
+
+
+@pytest.fixture(scope="module")
+def ladders():
+    s = CATALOGUE["geom-b20um"].quick_version()
+    mdr = [runner.run_mdr(s, n) for n in s.mdr_cells]
+    fe = [runner.run_fe(s, h)[0] for h in s.fe_levels]
+    ts = {"mdr": runner.time_step_error(s, mdr[-1], n=s.mdr_cells[-1]),
+          "fem": runner.time_step_error(s, fe[-1], h=s.fe_levels[-1])}
+    return s, mdr, fe, ts
+
+
+def _grades(s, mdr, fe, ts):
+    return {q: v["grade"] for q, v in runner.scene_verdicts(s, fe, mdr, ts).items()}
+
+
+def test_the_real_ladders_give_graded_verdicts(ladders):
+    s, mdr, fe, ts = ladders
+    V = runner.scene_verdicts(s, fe, mdr, ts)
+    grades = {q: v["grade"] for q, v in V.items()}
+    assert set(grades.values()) <= set(metrics.GRADES)
+    assert grades["contact_radius"] == "holds"  # both ladders bounded (asymptotic FE, converged MDR)
+    for q, v in V.items():  # "holds" only on bounded ladders, and always its inequality
+        if v["grade"] == "holds":
+            assert v["bounded"] and abs(v["difference"]) <= v["fem_error"] + v["mdr_error"] + v["tolerance"], q
+        if v["grade"] == "consistent within its spread":
+            assert not v["bounded"], q
+    # the time step is inside the dissipation's error bars, on both sides
+    d = V["dissipation"]
+    for side in ("mdr", "fem"):
+        assert d["error_parts"][side]["time step"] > 0
+        assert d[f"{side}_error"] == pytest.approx(sum(d["error_parts"][side].values()), rel=1e-12)
+    without = runner.scene_verdicts(s, fe, mdr, None)["dissipation"]
+    assert without["fem_error"] < d["fem_error"] and without["mdr_error"] < d["mdr_error"]
+
+
+@pytest.mark.parametrize("factor", [1.10, 1.02])
+@pytest.mark.parametrize("side", ["fem", "mdr"])
+def test_an_error_injected_into_one_level_takes_the_holds_away(ladders, side, factor):
+    s, mdr, fe, ts = ladders
+    base = _grades(s, mdr, fe, ts)
+    held = [q for q in SCALARS if base[q] == "holds"]
+    assert held  # the real ladders give at least one "holds" to break
+    n = len(mdr if side == "mdr" else fe)
+    for q in held:
+        for k in range(n):
+            lad = copy.deepcopy(mdr if side == "mdr" else fe)
+            lad[k][q] = factor * lad[k][q] if lad[k][q] else 1e-3 * factor * lad[k]["contact_radius"]
+            g = _grades(s, lad if side == "mdr" else mdr, lad if side == "fem" else fe, ts)[q]
+            assert g != "holds", (q, side, k, factor)
+
+
+@pytest.mark.parametrize("side", ["fem", "mdr"])
+def test_a_nan_on_any_level_makes_the_verdict_undetermined(ladders, side):
+    s, mdr, fe, ts = ladders
+    n = len(mdr if side == "mdr" else fe)
+    for q in SCALARS:
+        for k in range(n):
+            lad = copy.deepcopy(mdr if side == "mdr" else fe)
+            lad[k][q] = float("nan")
+            g = _grades(s, lad if side == "mdr" else mdr, lad if side == "fem" else fe, ts)[q]
+            assert g == "undetermined", (q, side, k)
+
+
+def test_a_floor_that_decides_is_below_resolution():
+    """Within the tolerance only because the tolerance was raised to the resolution floor: no "holds"."""
+    bar = {"error": 0.0, "status": "converged", "bounded": True}
+    v = metrics.verdict(1.0, 1.004, bar, bar, 0.005, floor=0.005)
+    assert v["grade"] == "below resolution" and v["holds"] is None
+    assert metrics.verdict(1.0, 1.004, bar, bar, 0.005)["grade"] == "holds"
+    spread = {"error": 0.01, "status": "non-monotone", "bounded": False}
+    assert metrics.verdict(1.0, 1.004, spread, bar, 0.0)["grade"] == "consistent within its spread"
+    assert metrics.verdict(1.0, 1.1, spread, bar, 0.0)["grade"] == "fails"
+    assert metrics.scene_grade({"a": v, "b": metrics.verdict(1.0, 1.0, bar, bar, 0.0)}) == "below resolution"
