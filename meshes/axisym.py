@@ -65,7 +65,7 @@ BODIES = ("indenter", "block")
 #: bump when the geometry or the stored format changes (part of the cache key)
 MESH_FORMAT_VERSION = 1
 
-_GMSH_LOCK = threading.Lock()
+GMSH_LOCK = threading.Lock()
 
 
 #: element size in the contact zone / a_ref: the default (a/80) and the allowed range, for every
@@ -323,7 +323,7 @@ def generate_meshio(params: AxisymMeshParams):
         raise RuntimeError(f"gmsh could not load a system library ({exc}); install the Debian package "
                            "that provides it (e.g. libglu1-mesa, libxrender1, libxcursor1, libxft2, "
                            "libxinerama1)") from exc
-    with _GMSH_LOCK, tempfile.TemporaryDirectory() as tmp:
+    with GMSH_LOCK, tempfile.TemporaryDirectory() as tmp:
         gmsh.initialize(argv=["fretting"], readConfigFiles=False, interruptible=False)
         try:
             gmsh.option.setNumber("General.Terminal", 0)

@@ -59,7 +59,7 @@ import numpy as np
 from mdr.errors import InputError
 from mdr.io import write_bytes_atomic
 
-from .axisym import _GMSH_LOCK, ContactZoneParams
+from .axisym import GMSH_LOCK, ContactZoneParams
 from .cache import CacheError, _digest, _gmsh_version, cached_artifact
 
 SHAPES = ("cylinder", "box")
@@ -265,7 +265,7 @@ def _generate(p: Half3DMeshParams):
     except OSError as exc:  # pragma: no cover - depends on the machine image
         raise RuntimeError(f"gmsh could not load a system library ({exc})") from exc
     L, H, rc = p.size, p.height, p.r_contact
-    with _GMSH_LOCK:
+    with GMSH_LOCK:
         gmsh.initialize(argv=["fretting"], readConfigFiles=False, interruptible=False)
         try:
             gmsh.option.setNumber("General.Terminal", 0)

@@ -319,7 +319,8 @@ def test_assumptions_3d_scene(tmp_path):
     direction, coupling = res["assumptions3d"]
     for q, x in coupling["verdicts"].items():
         assert x["effect"] is not None and abs(x["effect"]) < 1e-8, (q, x)
-    assert coupling["holds"] is True
+    # two levels bound nothing: at best consistent within their spread, never "holds"
+    assert coupling["grade"] == "consistent within its spread" and coupling["holds"] is None
     assert 0.02 < direction["traction_angle_max"] < 0.3
     d = direction["verdicts"]["dissipation"]
     assert 0 < abs(d["effect"]) < 0.03 and d["error"] is not None and d["status"] == "two levels"
@@ -332,10 +333,11 @@ def test_assumptions_3d_scene(tmp_path):
     # 0.5 % on both coarse levels (measured -0.27 %, +0.11 %), and judged with its ladder's error bar
     pr = direction["pressure"]
     assert abs(pr["mdr"] / ref.hertz(s.F0, s.R, runner.materials_of(s).E_star)["a"] - 1) < 1e-12
-    assert all(abs(x) < 5e-3 for x in pr["levels"]) and pr["error"] is not None and pr["holds"] is True
+    assert all(abs(x) < 5e-3 for x in pr["levels"]) and pr["error"] is not None
+    assert pr["grade"] == "consistent within its spread"
     text = "\n".join(report._assumptions3d_table(res))
     assert "| t3a[direction: sphere]" in text and "| t3a[coupling: sphere]" in text
-    assert text.count("(two levels): yes |") == 2
+    assert text.count("(two levels): consistent within its spread |") == 2
     with pytest.raises(Exception, match="relax in direction, coupling"):
         Scene("t3b", "x", "sphere", fe_model="3d", variants=({"relax": "tilt"},))
     with pytest.raises(Exception, match="need fe_model='3d'"):
@@ -360,7 +362,9 @@ def test_tilt_scene_tiny(tmp_path):
     (row,) = res["tilt"]
     assert row["theta_c"] == pytest.approx(thc, rel=1e-12)
     at02, at05 = row["points"]
-    assert at02["aligned"]["dissipation"]["holds"] is True and at05["aligned"]["dissipation"]["holds"] is False
+    # two mesh levels bound nothing: at 0.2 theta_c the aligned answer is consistent within their spread
+    assert at02["aligned"]["dissipation"]["grade"] == "consistent within its spread"
+    assert at05["aligned"]["dissipation"]["holds"] is False
     assert row["holds_below"] == pytest.approx(0.2 * thc, rel=1e-12)
     assert row["fails_at"] == pytest.approx(0.5 * thc, rel=1e-12)
     assert at05["aligned"]["dissipation"]["effect"] > 10 * at05["aligned"]["dissipation"]["tolerance"]
@@ -403,8 +407,9 @@ def test_tilt_family_in_the_catalogue():
 
 @pytest.mark.slow
 def test_tilt_family(tmp_path):
-    """The catalogue's tilt family (the README numbers): the aligned answer holds on the dissipation
-    (catalogue tolerance: 0.5 %, or 1e-4 of 4 mu F0 u_A where the aligned face sticks) up to 0.3
+    """The catalogue's tilt family (the README numbers): the aligned answer is not contradicted on the
+    dissipation (graded consistent within the two levels' spread; catalogue tolerance: 0.5 %, or 1e-4
+    of 4 mu F0 u_A where the aligned face sticks) up to 0.3
     theta_c and fails from 0.5 theta_c on for the flat punch b = 100 um (3.4e-5, 5.7e-5 rad) and the
     truncated sphere b = 0.6 mm (9.5e-7, 1.6e-6 rad); the truncated sphere b = 20 um, mostly spherical,
     holds at 8.6e-5 rad and loses dissipation from 2.9e-4 rad on (measured -6.4 +- 1.9 %, -27 +- 9 % at

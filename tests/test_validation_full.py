@@ -112,8 +112,12 @@ def test_mdr_holds_for_every_large_body_scene(full):
     bad = {n: [q for q, v in r["verdicts"].items() if v["grade"] in ("fails", "undetermined")]
            for n, r in _large_body_scenes(sc).items()}
     assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
+    # README: 64 of the 141 verdicts hold, 72 consistent within a spread, 4 below resolution, 1 fails
     grades = [v["grade"] for r in _large_body_scenes(sc).values() for v in r["verdicts"].values()]
-    assert grades.count("holds") >= 0.25 * len(grades)  # README: the graded counts of the catalogue
+    assert len(grades) == 141 and grades.count("fails") == 1 and grades.count("undetermined") == 0
+    assert 32 <= grades.count("holds") <= 100 and 2 <= grades.count("below resolution") <= 10
+    for name in ("geom-flat", "flat-md", "exp-fig6", "exp-fig7"):  # README: graded "holds" throughout
+        assert sc[name]["holds"] is True, name
     du = sc["geom-b600um"]["verdicts"]["loop_du"]
     # README: the FE contact is 3.6 % of u_A more compliant, beyond 0.35 % + 1 %
     assert 0.018 < du["difference"] < 0.072
@@ -183,8 +187,8 @@ def test_half_space_breaks_with_curvature(full):
     _, _, sc = full
     rows = sc["validity-curvature"]["curvature"]
     by = {(r["a_over_R"], r["nu"]): r for r in rows}
-    for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2):
-        assert by[(x, 0.29)]["holds"] is True, (x, by[(x, 0.29)]["verdicts"])
+    for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2):  # no metric fails (graded holds, consistent or below resolution)
+        assert by[(x, 0.29)]["holds"] is not False and by[(x, 0.29)]["grade"] != "undetermined", (x, by[(x, 0.29)])
     for nu in (0.1, 0.29, 0.45):
         big = by[(5e-2, nu)]
         assert big["holds"] is False and big["verdicts"]["dissipation"]["holds"] is False, nu
@@ -238,7 +242,8 @@ def test_readme_catalogue_table(full):
     for name in ("exp-fig4", "exp-fig5", "exp-fig6", "exp-fig7", "app-kx1", "app-kx2", "app-kx10", "app-kx20"):
         r = sc[name]
         assert abs(_pct(r, "contact_radius")[0]) < 0.15, name
-        assert 0 < _pct(r, "dissipation")[0] < 0.65 and _pct(r, "dissipation")[1] < 0.075, name
+        # the FE error bar includes the time step's (measured up to 0.082 % at 120 steps per cycle)
+        assert 0 < _pct(r, "dissipation")[0] < 0.65 and _pct(r, "dissipation")[1] < 0.2, name
         assert abs(r["mdr"]["slip_index"] - r["fem"]["slip_index"]) < 0.0025, name
 
 
@@ -248,25 +253,28 @@ def test_mindlin_assumptions_in_3d(full):
     dissipation by 0.47 +- 0.13 % (a half-space boundary-element solution without Mindlin's
     approximation: -0.2 +- 0.4 %), within the tolerance: the assumption holds; the largest
     traction angle is 0.12 (half-space: ~0.1). The coupling of steel on aluminium (beta = +0.11)
-    leaves the stationary cycle within its error (+0.04 +- 1.5 %) but raises the first cycle's
-    dissipation by 32 +- 3.4 %: there MDR's uncoupled answer does not hold. The 3D pressure at F0
+    leaves the stationary cycle within its error (+0.04 +- 1.5 %) but raises the first closed loop
+    after the normal loading by 36 +- 5 %: there MDR's uncoupled answer does not hold. The 3D pressure at F0
     with the assumptions imposed holds MDR's (pressure radius within 0.1 %). Bounds 2x."""
     _, _, sc = full
     rows = {r["variant"].split("[", 1)[1].rstrip("]"): r for r in sc["assumptions-3d"]["assumptions3d"]}
     sphere, coupling = rows["direction: sphere"], rows["coupling: E2 = 70 GPa, nu2 = 0.33"]
     d = sphere["verdicts"]["dissipation"]
-    assert -0.0094 < d["effect"] < -0.0019 and d["error"] < 0.0026 and d["holds"] is True
-    assert 0.06 < sphere["traction_angle_max"] < 0.25 and sphere["holds"] is True
-    assert coupling["verdicts"]["dissipation"]["holds"] is True
+    not_failed = ("holds", "consistent within its spread")
+    assert -0.0094 < d["effect"] < -0.0019 and d["error"] < 0.0026 and d["grade"] in not_failed
+    assert 0.06 < sphere["traction_angle_max"] < 0.25 and sphere["grade"] in not_failed
+    assert coupling["verdicts"]["dissipation"]["grade"] in not_failed
+    # the first closed loop after the normal loading, coupled against uncoupled on each mesh (README:
+    # +36 +- 5 %; Table 2's varying normal force; at constant F_N half-space codes give +12-14 %)
     first = coupling["verdicts"]["dissipation_first_cycle"]
-    assert 0.16 < first["effect"] < 0.64 and first["holds"] is False and coupling["holds"] is False
+    assert 0.18 < first["effect"] < 0.72 and first["holds"] is False and coupling["holds"] is False
     # the 3D pressure against MDR's, by the pressure radius of the imposed runs (README: -0.04 +- 0.44,
     # -0.10 +- 0.23, -0.04 +- 0.44 %; a/5 0.16-0.41 % off, the finer levels within 0.1 %): it holds on
     # every variant
     for name, row in rows.items():
         pr = row["pressure"]
         bound = 0.002 if "b = 20 um" in name else 0.001
-        assert pr["holds"] is True and abs(pr["difference"]) < bound and pr["error"] < 0.009, pr
+        assert pr["grade"] in not_failed and abs(pr["difference"]) < bound and pr["error"] < 0.009, pr
         assert all(abs(x) < 0.002 for x in pr["levels"][1:]) and 0.0008 < abs(pr["levels"][0]) < 0.008, pr
     # the 3D cycles settle geometrically (README): the direction effect on the sphere moves by
     # 0.06 % over cycles 2-4 at a/10, the last cycle changes by <= 0.18 % (pairs) and 0.58 %

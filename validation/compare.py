@@ -252,6 +252,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-fields", action="store_true", help="skip the pyvista field plots")
     p.add_argument("--no-hard-cases", action="store_true",
                    help="do not run the hard cases (the report keeps the last stored table, marked as not rerun)")
+    p.add_argument("--witness", action="store_true",
+                   help="also run an independent FE code, CalculiX, on the same finite bodies (five block/cap "
+                        "sizes, normal contact; about 6 minutes; needs apt-get install calculix-ccx) and add its "
+                        "agreement and run time beside the project's to the report")
     p.add_argument("--list", action="store_true", help="list the scenes and exit")
     p.set_defaults(func=compare)
     return p
@@ -272,6 +276,13 @@ def compare(args) -> int:
             print(f"{s.name:{w}s}{'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
         return 0
     scenes = select(args.scenes, quick=args.quick)
+    if args.witness:
+        from .calculix import MissingDependency, require_ccx
+
+        try:
+            require_ccx()
+        except MissingDependency as exc:
+            raise InputError(f"--witness: {exc}") from None
     out = Path(args.out)  # --out and --json were checked writable before the run (mdr.cliutil.run_command)
     t0 = time.perf_counter()
     # progress goes to stderr when the JSON goes to stdout
@@ -296,9 +307,14 @@ def compare(args) -> int:
                              f"(sources {code}{'' if code != code_version() else ', the same as this run'}).")
         else:
             hard = hard_cases_cached(out, quick=args.quick, log=say, force=args.force)
+        witness = None
+        if args.witness:
+            from .calculix import witness_cached
+
+            witness = witness_cached(out, log=say, force=args.force)
         say("writing the report and the summary figures")
         path = report.write_report(out, [s.name for s in scenes], status, hard_cases=hard, json_path=args.json,
-                                   quick=args.quick, executor=label, hard_cases_note=hard_note)
+                                   quick=args.quick, executor=label, hard_cases_note=hard_note, witness=witness)
     failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
     say(f"report: {path} ({time.perf_counter() - t0:.0f} s)"
           + (f"; FAILED: {', '.join(failed)}" if failed else ""))

@@ -107,6 +107,33 @@ def _finite(*xs):
 GRADES = ("holds", "below resolution", "consistent within its spread", "undetermined", "fails")
 
 
+def grade(difference, error, tolerance, *, bounded: bool, floor: float | None = None) -> tuple:
+    """The verdict rule, once for every family: ``(holds, grade)`` of |difference| against
+    ``error`` (all error bars summed) + ``tolerance``. ``undetermined`` (None) where a number is
+    missing or not finite; ``fails`` (False) beyond the sum; within it ``holds`` (True) only when
+    ``bounded`` (every error bar an upper bound), ``below resolution`` (None) when only the
+    resolution ``floor`` the tolerance was raised to lets it pass, else ``consistent within its
+    spread`` (None)."""
+    if not _finite(difference, error, tolerance):
+        return None, "undetermined"
+    if abs(difference) > error + tolerance:
+        return False, "fails"
+    if floor is not None and floor >= tolerance and abs(difference) > error:
+        return None, "below resolution"
+    return (True, "holds") if bounded else (None, "consistent within its spread")
+
+
+def effect_verdict(effect, ladder: dict, tolerance, *, error=None, bounded=None) -> dict:
+    """The graded verdict of an effect measured by its own ladder (a 3D effect, a tilt, the 3D pressure
+    against MDR's): |effect| <= its error + tolerance (``grade``); ``error`` overrides the ladder's
+    (e.g. raised to an estimator's resolution), ``bounded`` its boundedness."""
+    err = ladder.get("error") if error is None else error
+    b = ladder.get("bounded", False) if bounded is None else bounded
+    holds, g = (None, "undetermined") if tolerance is None else grade(effect, err, tolerance, bounded=b)
+    return {"effect": effect, "error": err, "status": ladder.get("status"), "tolerance": tolerance,
+            "holds": holds, "grade": g, "bounded": b}
+
+
 def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=True, unit="",
             extra: dict | None = None, floor: float | None = None) -> dict:
     """One metric's verdict: |MDR - FE| against FE error + MDR error + tolerance, graded.
@@ -134,21 +161,12 @@ def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=T
     fe_err = float(sum(errs["fem"])) if _finite(*errs["fem"]) else None
     mdr_err = float(sum(errs["mdr"])) if _finite(*errs["mdr"]) else None
     bounded = all(b.get("bounded", b.get("status") in BOUNDED) for bars in parts.values() for b in bars.values())
-    holds, grade = None, "undetermined"
-    if _finite(diff, fe_err, mdr_err, tolerance):
-        within = abs(diff) <= fe_err + mdr_err + tolerance
-        if not within:
-            holds, grade = False, "fails"
-        elif floor is not None and floor >= tolerance and abs(diff) > fe_err + mdr_err:
-            grade = "below resolution"
-        elif bounded:
-            holds, grade = True, "holds"
-        else:
-            grade = "consistent within its spread"
+    holds, g = grade(diff, None if not _finite(fe_err, mdr_err) else fe_err + mdr_err, tolerance,
+                     bounded=bounded, floor=floor)
     return {"mdr": None if mdr is None or not signed else float(mdr), "fem": None if fem is None else float(fem),
             "difference": diff, "fem_error": fe_err, "mdr_error": mdr_err,
             "tolerance": None if tolerance is None else float(tolerance), "floor": floor, "holds": holds,
-            "grade": grade, "bounded": bounded, "unit": unit, "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder,
+            "grade": g, "bounded": bounded, "unit": unit, "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder,
             "error_parts": {side: {k: b.get("error") for k, b in bars.items()} for side, bars in parts.items()}}
 
 
@@ -161,6 +179,13 @@ def conjunction(verdicts: dict):
     if not hs or any(h is None for h in hs):
         return None
     return True
+
+
+def family_holds(verdicts) -> bool | None:
+    """``holds`` of several judged verdicts (those with a tolerance): False if any fails, None if any
+    is not graded ``holds``, else True."""
+    judged = [x["holds"] for x in verdicts if x.get("tolerance") is not None]
+    return False if False in judged else (None if None in judged or not judged else True)
 
 
 def scene_grade(verdicts: dict) -> str:

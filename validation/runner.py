@@ -487,7 +487,7 @@ def _run_curvature(s: Scene, out_dir, log) -> dict:
         fe_ladder = [run_fe(sv, h)[0] for h in sv.fe_levels]
         ver = scene_verdicts(sv, fe_ladder, mdr_ladder)
         row = {"a_over_R": float(v["a_over_R"]), "nu": sv.nu1, "F0": sv.F0, "dofs": fe_ladder[-1]["dofs"],
-               "holds": metrics.conjunction(ver), "verdicts": ver,
+               "holds": metrics.conjunction(ver), "grade": metrics.scene_grade(ver), "verdicts": ver,
                "runtime_s": sum(x["runtime_s"]["total"] for x in fe_ladder)}
         for q in ("contact_radius", "stick_radius", "dissipation"):
             x = ver[q]
@@ -501,7 +501,7 @@ def _run_curvature(s: Scene, out_dir, log) -> dict:
         d = ver["dissipation"]
         log(f"  a/R = {row['a_over_R']:.2%}, nu = {row['nu']:g}: dissipation MDR - FE "
             f"{d['difference'] / abs(d['fem']):+.3%} (error bars {(d['fem_error'] + d['mdr_error']) / abs(d['fem']):.3%}, "
-            f"tolerance {d['tolerance'] / abs(d['fem']):.2%}): {'holds' if row['holds'] else 'does not hold'}")
+            f"tolerance {d['tolerance'] / abs(d['fem']):.2%}): {row['grade']}")
     result = {"scene": s.as_dict(), "closed_form": None, "curvature": rows, "errors": {"a_ref": a_ref(s)},
               "files": {}, "runtime_s": time.perf_counter() - t0}
     if out_dir is not None:
@@ -546,8 +546,8 @@ def pressure_against_mdr(s: Scene, levels) -> dict:
     "off", of an assumptions scene; as MDR's, without tangential traction): ``pressure_radius``
     (``mdr.normal.moment_radius``, an integral that needs no contact edge located between
     vertices) of every level over MDR's, minus 1; the error bar of its ladder
-    (``metrics.ladder_error``); holds where |3D - MDR| <= error + the catalogue's ``contact_radius``
-    tolerance (MDR's own error: round-off), None if not finite."""
+    (``metrics.ladder_error``), graded by ``metrics.effect_verdict`` against the catalogue's
+    ``contact_radius`` tolerance (MDR's own error: round-off)."""
     from mdr.normal import pressure_radius
 
     prof, mat = profile_of(s), materials_of(s)
@@ -555,11 +555,8 @@ def pressure_against_mdr(s: Scene, levels) -> dict:
     vals = [None if x["off"].get("pressure_radius") is None else x["off"]["pressure_radius"] / rm - 1
             for x in levels]
     lad = metrics.ladder_error([x["h"] for x in levels], vals)
-    tol = s.tolerances()["contact_radius"]
-    e, err = lad["value"], lad["error"]
-    holds = None if e is None or err is None or not np.isfinite(err) else bool(abs(e) <= err + tol)
-    return {"mdr": rm, "difference": e, "error": err, "status": lad["status"], "tolerance": tol, "holds": holds,
-            "levels": vals, "ladder": lad}
+    v = metrics.effect_verdict(lad["value"], lad, s.tolerances()["contact_radius"])
+    return {"mdr": rm, "difference": v.pop("effect"), **v, "levels": vals, "ladder": lad}
 
 
 def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
@@ -570,7 +567,7 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
     the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
     effect far below the 3D model's own error; the error is at least the estimator's resolution
     (``EFFECTS_3D``). The verdict of a metric: |effect| <= its error + the catalogue's tolerance
-    (the assumption holds), None if either is not finite."""
+    (the assumption holds), graded by ``metrics.effect_verdict`` (a spread bounds nothing)."""
     from fem.contact_run import drive_3d
 
     t0 = time.perf_counter()
@@ -611,18 +608,15 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
                  "element": fine["h"] * a_ref(sv) / fine["off"]["contact_radius"], None: 0.0}
         for q, (tkey, kind, res) in EFFECTS_3D.items():
             lad = metrics.ladder_error([x["h"] for x in levels], [x["effects"][q] for x in levels])
-            e, err = lad["value"], lad["error"]
+            err = lad["error"]
             if err is not None:
                 err = max(err, floor[res])
-            t = None if tkey is None else tol[tkey]
-            holds = None if (tkey is None or e is None or err is None or not np.isfinite(err)) else \
-                bool(abs(e) <= err + t)
-            verdicts[q] = {"effect": e, "error": err, "status": lad["status"], "tolerance": t, "holds": holds,
+            verdicts[q] = {**metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err),
                            "kind": kind, "resolution": floor[res], "ladder": lad}
-        judged = [x["holds"] for x in verdicts.values() if x["tolerance"] is not None]
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
                      "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
-                     "holds": False if False in judged else (None if None in judged else True),
+                     "holds": metrics.family_holds(verdicts.values()),
+                     "grade": metrics.scene_grade({q: x for q, x in verdicts.items() if x["tolerance"] is not None}),
                      "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})
     result = {"scene": s.as_dict(), "closed_form": None, "assumptions3d": rows, "errors": {"a_ref": a_ref(s)},
               "files": {}, "runtime_s": time.perf_counter() - t0}
@@ -684,7 +678,8 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
     "the aligned answer holds" is |effect| <= error + tolerance. Against MDR: the same metrics
     of the finest level, error bar the 3D ladder of the tilted value plus MDR's. A tilted contact of
     fewer than ``TILT_MIN_VERTICES`` vertices resolves nothing: its verdicts are None. ``holds_below``:
-    the largest tilt up to which every swept tilt holds on the dissipation."""
+    the largest tilt up to which no swept tilt contradicts the aligned answer on the dissipation
+    (graded holds or consistent within its spread: the two levels bound nothing)."""
     import warnings
 
     from fem.contact_run import drive_3d
@@ -751,31 +746,29 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
                 t3 = _tilt_tolerance(q, tol, rel3, fine0["dissipation"], 4.0 * sv.mu * sv.F0 *
                                      float(fine0["displacement_amplitude"]))
                 lad = metrics.ladder_error(hs, [e[q] for e in vs3])
-                e, err = lad["value"], lad["error"]
-                ok = resolved and e is not None and err is not None and np.isfinite(err)
-                pt["aligned"][q] = {"effect": e, "error": err, "status": lad["status"], "tolerance": t3,
-                                    "holds": None if (t3 is None or not ok) else bool(abs(e) <= err + t3)}
+                pt["aligned"][q] = metrics.effect_verdict(lad["value"], lad, t3 if resolved else None)
                 if q == "contact_area":
                     continue
                 tm = _tilt_tolerance(q, tol, relm, mdr["dissipation"], 4.0 * sv.mu * sv.F0 *
                                      float(mdr["displacement_amplitude"]))
                 lf = metrics.ladder_error(hs, [e[q] for e in vsm])
                 lm = metrics.ladder_error(md_h, mdr_side[q])
-                em = lf["value"]
                 errm = None if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
-                pt["mdr"][q] = {"effect": em, "error": errm, "status": lf["status"], "tolerance": tm,
-                                "holds": None if (not resolved or em is None or errm is None or not np.isfinite(errm))
-                                else bool(abs(em) <= errm + tm)}
-            judged = [x["holds"] for x in pt["aligned"].values() if x["tolerance"] is not None]
-            pt["holds"] = False if False in judged else (None if None in judged else True)
+                pt["mdr"][q] = metrics.effect_verdict(lf["value"], lf, tm if resolved else None, error=errm,
+                                                      bounded=lf["bounded"] and lm["bounded"])
+            pt["holds"] = metrics.family_holds(pt["aligned"].values())
+            pt["grade"] = metrics.scene_grade({q: x for q, x in pt["aligned"].items() if x["tolerance"] is not None}) \
+                if resolved else "undetermined"
             points.append(pt)
             a = pt["aligned"]
             log(f"  {sv.name} theta = {th:.3g} rad ({th / thc:.3g} theta_c): dissipation "
                 f"{_pct_or(a['dissipation']['effect'])} +- {_pct_or(a['dissipation']['error'])}, contact area "
-                f"{_pct_or(a['contact_area']['effect'])}: {'holds' if pt['holds'] else 'does not hold'}")
+                f"{_pct_or(a['contact_area']['effect'])}: {pt['grade']}")
+        # the largest tilt up to which the aligned answer is not contradicted on the dissipation (graded
+        # holds or consistent within its spread: a two-level ladder bounds nothing, so no tilt "holds")
         below = None
         for pt in points:
-            if pt["aligned"]["dissipation"]["holds"] is not True:
+            if pt["aligned"]["dissipation"]["grade"] not in ("holds", "consistent within its spread"):
                 break
             below = pt["tilt"]
         rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc, "banded": "band" in v,
