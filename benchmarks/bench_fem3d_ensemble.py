@@ -16,7 +16,8 @@ ensemble mean and its standard error, and the ladder of the means
 Each member runs the sphere twice on its mesh (``FEContact3D.variant``): the tangential traction
 of free direction and along x (Mindlin's assumption, as MDR), so the paired difference measures
 what the direction costs, against the half-space boundary-element solution without Mindlin's
-approximation (dissipation -0.2 +- 0.4 %, stick radius -0.32 %). The stick zone is read three ways:
+approximation (an independent boundary-element ladder: dissipation -0.43 +- 0.01 %, the stick zone
+unchanged within 0.02 %). The stick zone is read three ways:
 the stick set's axes (``stick_axis_x/y``: one vertex at a time; over an ensemble the mean of a
 quantised estimator is dithered), the ray radii, and the ellipse fitted to the slack
 (``stick_fit_x/y``: continuous in the solution; on the runs along x it is compared with

@@ -298,18 +298,26 @@ def _build_gmsh_model(p: AxisymMeshParams):
         tag = gmsh.model.addPhysicalGroup(2, [s])
         gmsh.model.setPhysicalName(2, tag, body)
 
-    fm = gmsh.model.mesh.field
-    dist = fm.add("Distance")
-    fm.setNumbers(dist, "CurvesList", [c for c, _ in contact_curves])
-    fm.setNumber(dist, "Sampling", int(4 * rc / hmin) + 20)
-    size = fm.add("MathEval")
-    fm.setString(size, "F", f"min({p.h_max!r}, {hmin!r} + {p.growth!r} * F{dist})")
-    fm.setAsBackgroundMesh(size)
+    contact_size_field(gmsh, [c for c, _ in contact_curves], p, hmin, rc)
     for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),
                      ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 5),
                      ("Mesh.SecondOrderLinear", 1), ("Mesh.ElementOrder", 2),
                      ("Mesh.Binary", 0), ("Mesh.MshFileVersion", 4.1)):
         gmsh.option.setNumber(opt, val)
+
+
+def contact_size_field(gmsh, curves, p: AxisymMeshParams, h_min: float, r_contact: float) -> None:
+    """The element size of the bodies' meshes (the module docstring's grading law), as gmsh's background
+    field: min(h_max, h_min + growth * distance to the contact ``curves``), the distance sampled finely
+    enough along the contact zone of radius ``r_contact`` to see ``h_min``. One home for every mesher
+    of these bodies (also the CalculiX witness's, ``validation.calculix``)."""
+    fm = gmsh.model.mesh.field
+    dist = fm.add("Distance")
+    fm.setNumbers(dist, "CurvesList", list(curves))
+    fm.setNumber(dist, "Sampling", int(4 * r_contact / h_min) + 20)
+    size = fm.add("MathEval")
+    fm.setString(size, "F", f"min({p.h_max!r}, {h_min!r} + {p.growth!r} * F{dist})")
+    fm.setAsBackgroundMesh(size)
 
 
 def generate_meshio(params: AxisymMeshParams):

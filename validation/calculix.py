@@ -87,6 +87,7 @@ import numpy as np
 from fem.bulk import boussinesq_axis
 from fem.run import mesh_params, run_normal
 from meshes import AxisymMeshParams
+from meshes.axisym import GMSH_LOCK, contact_size_field  # gmsh's state is global: one mesher at a time
 from mdr.errors import ConvergenceError, InputError, positive
 from mdr.materials import Materials
 from mdr.reference import hertz
@@ -209,8 +210,6 @@ def build_quad_mesh(p) -> QuadMesh:
     recombined quadrilaterals (Blossom) with midside nodes on the exact geometry."""
     import gmsh
 
-    from meshes.axisym import GMSH_LOCK  # gmsh's state is global: one mesher at a time, as meshes does
-
     if p.profile != "sphere":
         raise InputError(f"the CalculiX witness models the sphere only, got profile {p.profile!r}")
     with GMSH_LOCK:
@@ -253,13 +252,7 @@ def _gmsh_quad_mesh(gmsh, p) -> QuadMesh:
         for c in (i_contact, b_contact):
             g.mesh.setTransfiniteCurve(c, ncont)
         g.synchronize()
-        fm = gmsh.model.mesh.field
-        dist = fm.add("Distance")
-        fm.setNumbers(dist, "CurvesList", [i_contact, b_contact])
-        fm.setNumber(dist, "Sampling", int(4 * rc / hmin) + 20)
-        size = fm.add("MathEval")
-        fm.setString(size, "F", f"min({p.h_max!r}, {hmin!r} + {p.growth!r} * F{dist})")
-        fm.setAsBackgroundMesh(size)
+        contact_size_field(gmsh, [i_contact, b_contact], p, hmin, rc)
         for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),
                          ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 8),
                          ("Mesh.RecombineAll", 1), ("Mesh.RecombinationAlgorithm", 1),
