@@ -241,6 +241,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quick", action="store_true",
                    help="representative subset on coarser ladders (under 2 minutes on 2 cores)")
     p.add_argument("--scenes", metavar="NAME,...", help="comma-separated scene names (see --list)")
+    p.add_argument("--scene-file", metavar="PATH",
+                   help="run your own scenes from a TOML file of [[scene]] tables instead of the catalogue "
+                        "(fields of validation.scenes.Scene, SI units; example: docs/examples/scenes.toml)")
     p.add_argument("--jobs", type=int, default=1, metavar="N", help="scenes in parallel processes (default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the scenes on the workers of a running Dask scheduler (e.g. tcp://host:8786; "
@@ -269,13 +272,19 @@ def main(argv=None) -> int:
 def compare(args) -> int:
     """Run the selected scenes and write the report (the body of :func:`main`); returns the exit code."""
     jobs = check_choice(args.jobs, args.scheduler)
+    catalogue = None
+    if args.scene_file:
+        from .scene_file import load_scene_file
+
+        catalogue = load_scene_file(args.scene_file)
     if args.list:
-        w = max(len(s.name) for s in CATALOGUE.values()) + 2
+        shown = catalogue or CATALOGUE
+        w = max(len(s.name) for s in shown.values()) + 2
         print(f"{'scene':{w}s}{'quick ':6s}{'group':12s} title")
-        for s in CATALOGUE.values():
+        for s in shown.values():
             print(f"{s.name:{w}s}{'quick ' if s.quick else '      '}{s.group:12s} {s.title}")
         return 0
-    scenes = select(args.scenes, quick=args.quick)
+    scenes = select(args.scenes, quick=args.quick, catalogue=catalogue)
     if args.witness:
         from .calculix import MissingDependency, require_ccx
 

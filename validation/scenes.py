@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
@@ -170,6 +171,7 @@ class Scene:
     notes: str = ""
 
     def __post_init__(self):
+        self._check_numbers()
         if self.profile not in PROFILES:
             raise InputError(f"profile must be one of {', '.join(PROFILES)}; got {self.profile!r}")
         if self.fe_model not in FE_MODELS:
@@ -199,6 +201,41 @@ class Scene:
         if unknown:
             raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
                              f"valid: {', '.join(TOLERANCES)}")
+
+    def _check_numbers(self):
+        """Every number in its valid range, the error naming the scene, the field and the range (a scene
+        from a user's file, ``validation.scene_file``, is checked here, once, before any work)."""
+        def check(field_, ok, rng):
+            v = getattr(self, field_)
+            try:
+                good = ok(v)
+            except (TypeError, ValueError):
+                good = False
+            if not good:
+                raise InputError(f"scene {self.name}: {field_} must be {rng}, got {v!r}")
+
+        fin = math.isfinite
+        check("R", lambda v: fin(v) and v > 0, "> 0 (m)")
+        check("b", lambda v: fin(v) and v >= 0 and (self.profile != "truncated" or v < self.R)
+              and (self.profile != "flat" or v > 0), "in [0, R) (m; > 0 for a flat punch)")
+        check("mu", lambda v: fin(v) and v >= 0, ">= 0")
+        check("mu2", lambda v: fin(v) and v >= 0, ">= 0")
+        check("F0", lambda v: fin(v) and v > 0, "> 0 (N)")
+        check("dF", lambda v: fin(v) and 0 <= v < self.F0, "in [0, F0) (N)")
+        check("alpha", lambda v: fin(v), "finite (rad)")
+        check("amplitude", lambda v: fin(v) and v > 0, "> 0 (N for drive 'force', m otherwise)")
+        check("cycles", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
+              "an integer >= 2 (the last cycle is compared with the one before)")
+        check("steps", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 8,
+              "an integer >= 8 (steps per cycle)")
+        for e in ("E1", "E2"):
+            check(e, lambda v: fin(v) and v > 0, "> 0 (Pa)")
+        for n in ("nu1", "nu2"):
+            check(n, lambda v: fin(v) and -1 < v < 0.5, "in (-1, 0.5)")
+        check("fe_levels", lambda v: len(v) >= 1 and all(fin(x) and 0 < x <= 0.5 for x in v)
+              and all(a > b for a, b in zip(v, v[1:])), "a decreasing list of element sizes / a in (0, 0.5]")
+        check("mdr_cells", lambda v: len(v) >= 1 and all(isinstance(x, int) and x >= 4 for x in v)
+              and all(a < b for a, b in zip(v, v[1:])), "an increasing list of integers >= 4 (MDR cells)")
 
     def tolerances(self) -> dict:
         """The tolerance of every metric (``TOLERANCES`` with this scene's overrides)."""
@@ -351,19 +388,23 @@ def _catalogue() -> dict:
 CATALOGUE = _catalogue()
 
 
-def select(names=None, quick: bool = False) -> list[Scene]:
-    """Scenes by name (comma list or iterable; None: all, or the quick subset), quick ladders if asked."""
+def select(names=None, quick: bool = False, catalogue: dict | None = None) -> list[Scene]:
+    """Scenes by name (comma list or iterable; None: all, or the quick subset), quick ladders if asked;
+    from ``catalogue`` (default ``CATALOGUE``; a user's file: ``validation.scene_file``, whose scenes
+    all run under ``--quick``)."""
+    own = catalogue is not None
+    catalogue = CATALOGUE if catalogue is None else catalogue
     if names is None:
-        chosen = [s for s in CATALOGUE.values() if s.quick or not quick]
+        chosen = [s for s in catalogue.values() if s.quick or not quick or own]
     else:
         if isinstance(names, str):
             names = [n.strip() for n in names.split(",") if n.strip()]
-        unknown = [n for n in names if n not in CATALOGUE]
+        unknown = [n for n in names if n not in catalogue]
         if unknown:
-            raise InputError(f"unknown scene name(s) {', '.join(unknown)}; valid scenes: {', '.join(CATALOGUE)}")
+            raise InputError(f"unknown scene name(s) {', '.join(unknown)}; valid scenes: {', '.join(catalogue)}")
         if not names:
             raise InputError("scenes must name at least one scene")
-        chosen = [CATALOGUE[n] for n in dict.fromkeys(names)]
+        chosen = [catalogue[n] for n in dict.fromkeys(names)]
     return [s.quick_version() for s in chosen] if quick else chosen
 
 

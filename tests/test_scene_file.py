@@ -1,0 +1,78 @@
+"""Scenes a user writes (``python -m validation.compare --scene-file``, ``validation.scene_file``).
+
+The example file of the docs runs through the comparison as a user would run it, and its results
+are held against closed forms (Hertz for the sphere on aluminium, with the pair's E*); every kind
+of bad file is one line naming the field and its range, exit 2, before any work.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from mdr import Materials, reference as ref
+from mdr.errors import InputError
+from validation import compare
+from validation.scene_file import load_scene_file
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "docs" / "examples" / "scenes.toml"
+
+
+def test_the_example_file_runs_and_its_sphere_is_hertz(tmp_path):
+    scenes = load_scene_file(EXAMPLE)
+    assert list(scenes) == ["alu-sphere", "apparatus-b15um"]
+    rc = compare.main(["--scene-file", str(EXAMPLE), "--out", str(tmp_path), "--no-hard-cases", "--no-fields"])
+    assert rc == 0
+    data = json.loads((tmp_path / "results.json").read_text())
+    assert set(data["scenes"]) == set(scenes)
+    s = scenes["alu-sphere"]
+    r = data["scenes"]["alu-sphere"]
+    E_star = Materials(s.E1, s.nu1, s.E2, s.nu2).E_star
+    a = ref.hertz(s.F0, s.R, E_star)["a"]
+    assert r["mdr"]["contact_radius"] == pytest.approx(a, rel=1e-9)  # MDR is exact for the sphere
+    assert r["fem"]["contact_radius"] == pytest.approx(a, rel=5e-3)   # the FE at a/80 (measured within 0.1 %)
+    for name in scenes:  # no metric fails: the half-space holds for these large bodies
+        assert data["scenes"][name]["holds"] is not False, (name, data["scenes"][name]["verdicts"])
+    assert "## alu-sphere" in (tmp_path / "report.md").read_text()
+
+
+@pytest.mark.parametrize("text,word", [
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nradius = 1e-3\n', "unknown field(s) radius"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nR = -6e-3\n', "R must be > 0"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nF0 = "half a newton"\n', "F0 must be a number"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ndF = 0.6\n', "dF must be in [0, F0)"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ncycles = 1\n', "cycles must be an integer >= 2"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfe_levels = [0.0125, 0.05]\n', "fe_levels must be"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "cone"\n', "profile must be one of"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "truncated"\nb = 0.01\n', "b must be in [0, R)"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ndrive = "apparatus"\n', "kx must be > 0"),
+    ('[[scene]]\ntitle = "t"\nprofile = "sphere"\n', "missing field(s) name"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\n[[scene]]\nname = "x"\ntitle = "u"\nprofile = "sphere"\n',
+     "used twice"),
+    ('[scene]\nname = "x"\n', "one or more [[scene]] tables"),
+    ('[[scene]\nname = "x"\n', "not valid TOML"),
+])
+def test_a_bad_file_is_one_line_naming_the_field(text, word, tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    with pytest.raises(InputError, match=None) as err:
+        load_scene_file(f)
+    assert word in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+def test_the_command_refuses_a_bad_file_before_any_work(tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nmu = -0.2\n')
+    out = tmp_path / "out"
+    p = subprocess.run([sys.executable, "-m", "validation.compare", "--scene-file", str(f), "--out", str(out)],
+                       capture_output=True, text=True, timeout=300, cwd=ROOT)
+    lines = p.stderr.strip().splitlines()
+    assert p.returncode == 2 and len(lines) == 1 and "mu must be >= 0" in lines[0] and "bad.toml" in lines[0], p.stderr
+    assert not out.exists()
+    p = subprocess.run([sys.executable, "-m", "validation.compare", "--scene-file", str(tmp_path / "missing.toml")],
+                       capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert p.returncode == 2 and "cannot be read" in p.stderr
