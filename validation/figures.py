@@ -15,6 +15,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from mdr.io import write_bytes_atomic  # noqa: E402
+from mdr.reference import flat_punch_pressure  # noqa: E402
 
 C_MDR, C_FE, C_CF = "tab:blue", "tab:red", "k"
 #: smallest y span of a slip-index plot (the slip index lies in [0, 1])
@@ -83,16 +84,34 @@ def scene_figures(result: dict, out_dir) -> dict:
         pc = cf["profiles"]
         a1.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["pressure"]) / 1e6, ":", color=C_CF, label="closed form")
         a2.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["traction"]) / 1e6, ":", color=C_CF, label="closed form")
-    pmax = np.nanmax(np.abs(pm["pressure"])) / 1e6
-    a1.set_ylim(0, 1.6 * pmax)
+    elif s["profile"] == "flat":  # Boussinesq's rigid flat punch (1885): the pressure's closed form at F0
+        rr = np.linspace(0.0, 0.999, 400) * s["b"]
+        a1.plot(rr * 1e6, flat_punch_pressure(rr, s["F0"], s["b"]) / 1e6, ":", color=C_CF,
+                label="closed form (Boussinesq)")
+    # the axes end a little above the profiles' largest value inside r <= 0.99 a: a flat edge's
+    # singular pressure and traction would otherwise flatten the whole profile into the axis
+    a_c = float(result["fem"].get("contact_radius") or result["mdr"].get("contact_radius") or 0.0)
+
+    def top(r, v):
+        r, v = np.asarray(r, float), np.abs(np.asarray(v, float))
+        inside = np.isfinite(v) & (r <= 0.99 * a_c) if a_c > 0 else np.isfinite(v)
+        return 1.15 * float(np.max(v[inside])) / 1e6 if np.any(inside) and np.max(v[inside]) > 0 else None
+
+    pt = top(pm["r"], pm["pressure"])
+    if pt:
+        a1.set_ylim(0, pt)
+    if pm.get("traction") is not None:
+        tt = top(pm["r"], pm["traction"])
+        if tt:
+            a2.set_ylim(-0.1 * tt, tt)
     a1.set_xlabel("r (um)")
     a1.set_ylabel("p (MPa) at F_N = F0")
     a2.set_xlabel("r (um)")
     a2.set_ylabel("tau (MPa) at the peak of the last cycle")
-    if pm.get("traction") is not None:
-        tmax = np.nanmax(np.abs(pm["traction"])) / 1e6
-        if np.isfinite(tmax) and tmax > 0:
-            a2.set_ylim(-0.1 * tmax, 1.6 * tmax)
+    if s["profile"] != "sphere":
+        why = "the punch's edge is singular" if s["profile"] == "flat" else "the kink at r = b is log-singular"
+        a1.text(0.02, 0.95, f"axes end at 1.15x the largest value inside 0.99 a ({why})",
+                transform=a1.transAxes, fontsize=7, va="top")
     for a in (a1, a2):
         a.grid(alpha=0.3)
         a.legend(fontsize=8)
