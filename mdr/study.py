@@ -383,8 +383,9 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
                                 label=f"k_x = {kx / 1e6:g} N/um")
             ax.semilogx([r["b"] * 1e6 for r in sel], [r["delta_flat"] for r in sel], lw=0.8, color=line.get_color())
         ax.set_xlabel("flat-face radius b (um)")
-        ax.set_ylabel("slip index delta")
-        ax.set_title("truncated sphere (thick) and flat punch of radius b (thin)")
+        ax.set_ylabel("slip index delta = dW / (4 mu1 u_A F0)")
+        ax.set_title("Fig. 8: truncated sphere R = 6 mm (thick) and flat punch of radius b (thin)\n"
+                     "F0 = 0.5 N, dF = 0.1 N, u_A = 150 nm, mu1 = 0.2, mu2 = 0.1", fontsize=9)
         ax.legend()
         fig.tight_layout()
         files["fig8.png"] = _png(fig)
@@ -397,7 +398,9 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
             ax.semilogx([r["kx"] / 1e6 for r in sel], [r["delta_truncated"] for r in sel], label=f"b = {b * 1e6:g} um")
         ax.axvline(0.2 * 0.5 / 150e-9 / 1e6, color="k", ls=":", label="mu1 F0 / u_A")
         ax.set_xlabel("apparatus stiffness k_x (N/um)")
-        ax.set_ylabel("slip index delta")
+        ax.set_ylabel("slip index delta = dW / (4 mu1 u_A F0)")
+        ax.set_title("Fig. 9: truncated spheres R = 6 mm in the apparatus\n"
+                     "F0 = 0.5 N, dF = 0.1 N, u_A = 150 nm, mu1 = 0.2, mu2 = 0.1", fontsize=9)
         ax.legend()
         fig.tight_layout()
         files["fig9.png"] = _png(fig)

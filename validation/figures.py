@@ -45,7 +45,8 @@ def scene_figures(result: dict, out_dir) -> dict:
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     _loop_axes(a1, a2, result["mdr"], f"MDR (n={result['mdr']['cells']})", C_MDR)
     _loop_axes(a1, a2, result["fem"], f"FE (a/{1 / result['fem']['h_contact']:.0f})", C_FE, "--")
-    a1.set_xlabel("du (nm)")
+    a1.set_xlabel("du = u2 - u1 (nm): block minus indenter, as the paper measures it" if s.get("drive") == "apparatus"
+                  else "du (nm): the contact's tangential displacement, without the bodies' bulk compliance")
     a1.set_ylabel("F_x (N)")
     fn = np.concatenate([np.asarray(result[k]["loop"]["FN"], float) for k in ("mdr", "fem")])
     fn_span = float(np.ptp(fn)) if fn.size else 0.0
@@ -84,7 +85,7 @@ def scene_figures(result: dict, out_dir) -> dict:
         pc = cf["profiles"]
         a1.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["pressure"]) / 1e6, ":", color=C_CF, label="closed form")
         a2.plot(np.asarray(pc["r"]) * 1e6, np.asarray(pc["traction"]) / 1e6, ":", color=C_CF, label="closed form")
-    elif s["profile"] == "flat":  # Boussinesq's rigid flat punch (1885): the pressure's closed form at F0
+    elif s.get("profile") == "flat":  # Boussinesq's rigid flat punch (1885): the pressure's closed form at F0
         rr = np.linspace(0.0, 0.999, 400) * s["b"]
         a1.plot(rr * 1e6, flat_punch_pressure(rr, s["F0"], s["b"]) / 1e6, ":", color=C_CF,
                 label="closed form (Boussinesq)")
@@ -108,8 +109,8 @@ def scene_figures(result: dict, out_dir) -> dict:
     a1.set_ylabel("p (MPa) at F_N = F0")
     a2.set_xlabel("r (um)")
     a2.set_ylabel("tau (MPa) at the peak of the last cycle")
-    if s["profile"] != "sphere":
-        why = "the punch's edge is singular" if s["profile"] == "flat" else "the kink at r = b is log-singular"
+    if s.get("profile", "sphere") != "sphere":
+        why = "the punch's edge is singular" if s.get("profile") == "flat" else "the kink at r = b is log-singular"
         a1.text(0.02, 0.95, f"axes end at 1.15x the largest value inside 0.99 a ({why})",
                 transform=a1.transAxes, fontsize=7, va="top")
     for a in (a1, a2):
