@@ -173,6 +173,17 @@ def _summary(res) -> str:
             + (f" ({', '.join(failed)} beyond error bars + tolerance)" if failed else ""))
 
 
+def expected_cost(scene, out) -> float:
+    """A scene's expected run time (s), to schedule the longest first: its last stored run's, else a
+    rough count of its runs (3D levels cost about ten axisymmetric ones; each variant runs the ladder
+    or a pair of runs again)."""
+    old = load_scene(out, scene.name)
+    if old is not None and isinstance(old.get("runtime_s"), (int, float)):
+        return float(old["runtime_s"])
+    per_level = 10.0 if scene.fe_model == "3d" else 1.0
+    return per_level * len(scene.fe_levels) * max(1, len(scene.variants)) * scene.cycles * scene.steps / 600.0
+
+
 def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int = 1, force: bool = False,
             fields: bool = True, log=print, detail=True) -> dict:
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
@@ -196,6 +207,9 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
             log(f"[skip] {s.name}: unchanged since the last run (--force reruns)")
         else:
             todo.append((s, fp))
+    # longest first: a long scene started last would run on alone while the other workers idle (the 3D
+    # scenes take several times an axisymmetric one); the report keeps the catalogue's order
+    todo.sort(key=lambda sf: -expected_cost(sf[0], out))
     n = len(todo)
     t0 = time.perf_counter()
     own = None
