@@ -76,7 +76,7 @@ class Heartbeat:
             with self._lock:
                 now = time.monotonic()
                 if now - self._last >= self.interval:
-                    self._log(f"  ... still working ({now - self._t0:.0f} s in; last: {self._msg[:90]})")
+                    self._log(f"  ... still working ({now - self._t0:.0f} s since the start; last: {self._msg[:90]})")
                     self._last = now
 
     def __enter__(self):

@@ -156,7 +156,7 @@ def pareto_figure(rows_by_scene: dict):
                       label=f"{name} {side.upper()}")
     _plain_log_ticks(ax)
     ax.set_xlabel("runtime (s)")
-    ax.set_ylabel("|dissipation error|")
+    ax.set_ylabel("|relative dissipation error|")
     ax.set_title("speed against error (closed form where one exists, else finest FE)", fontsize=9)
     ax.grid(alpha=0.3, which="both")
     if ax.get_legend_handles_labels()[0]:
@@ -310,11 +310,13 @@ def tilt_figure(result: dict, out_dir) -> dict:
 def series_figure(points: dict, xlabel: str, path, logx=True) -> str:
     """Slip index against a scene parameter: ``points = {"mdr": [(x, delta)], "fem": [...]}``."""
     fig, ax = plt.subplots(figsize=(6, 4))
-    for side, color, mk in (("mdr", C_MDR, "o-"), ("fem", C_FE, "s--")):
+    # MDR as large open circles, FE as small filled squares: where the two agree both stay visible
+    for side, color, mk, kw in (("mdr", C_MDR, "o-", {"ms": 9, "mfc": "none", "mew": 1.5}),
+                                ("fem", C_FE, "s--", {"ms": 4})):
         pts = sorted(p for p in points.get(side, []) if _finite(p[0]) and _finite(p[1]))
         if pts:
             x, y = zip(*pts)
-            ax.plot(x, y, mk, color=color, label=side.upper())
+            ax.plot(x, y, mk, color=color, label=side.upper(), **kw)
     if logx:
         ax.set_xscale("log")
     # a y axis at least MIN_DELTA_SPAN tall: two nearly equal slip indices (quick mode: one

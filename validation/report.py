@@ -22,6 +22,8 @@ from .metrics import scene_grade
 from .runner import load_scene
 from .scenes import TOLERANCE_ORIGINS, TOLERANCES, code_version
 
+#: the report's summary figures (key: file name in the output folder)
+SUMMARY_FIGURES = {"delta_b": "delta_vs_b.png", "delta_kx": "delta_vs_kx.png", "pareto": "speed_error.png"}
 #: display units of the scalar metrics: (unit shown, factor from SI)
 UNITS = {"contact_radius": ("um", 1e6), "stick_radius": ("um", 1e6), "dissipation": ("pJ", 1e12),
          "slip_index": ("", 1.0)}
@@ -77,7 +79,7 @@ def _holds(h) -> str:
 def _grade(v: dict) -> str:
     """A metric's grade (``validation.metrics.GRADES``) as the report shows it."""
     g = v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
-    return {"holds": "yes", "fails": "**no**"}.get(g, g)
+    return {"holds": "**holds**", "fails": "**fails**"}.get(g, g)
 
 
 def git_commit() -> str | None:
@@ -208,9 +210,12 @@ def _time_step_lines(res):
         if t.get("shift") is None:
             return f"{name}: no extrapolation ({t['status']})"
         x = abs(t["shift"])
+        order = "" if t.get("order") is None else f", observed order {_n(t.get('order'), '.2g')}"
+        if x == 0:
+            return f"{name}'s dissipation does not change with the step ({t.get('status')}{order})"
         size = f"{_n(x, '.2g', 100)} %" if t.get("shift_unit", "relative") == "relative" else f"{_n(x, '.2g')} of 4 mu F0 u_A"
         return (f"{name}'s dissipation at the scene's step is {size} {'below' if t['shift'] > 0 else 'above'} its "
-                f"extrapolation ({t.get('status')}, observed order {_n(t.get('order'), '.2g')})")
+                f"extrapolation ({t.get('status')}{order})")
 
     steps = ", ".join(str(k) for k in (ts.get("mdr") or {}).get("steps") or [])
     line = (f"Time step (the finest levels at {steps} steps per cycle): {side('MDR', ts.get('mdr'))}; "
@@ -418,16 +423,16 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     if geo:
         pts = {side: [(max(r["scene"]["b"], 1e-6), r[side].get("slip_index")) for r in geo] for side in ("mdr", "fem")}
         summary_figs["delta_b"] = figures.series_figure(pts, "b (m; the sphere plotted at 1 um)",
-                                                        out / "delta_vs_b.png")
+                                                        out / SUMMARY_FIGURES["delta_b"])
     app = [r for r in results.values() if r["scene"]["group"] == "apparatus"]
     if app:
         pts = {side: [(r["scene"]["kx"] / 1e6, r[side].get("slip_index")) for r in app] for side in ("mdr", "fem")}
-        summary_figs["delta_kx"] = figures.series_figure(pts, "k_x (N/um)", out / "delta_vs_kx.png")
+        summary_figs["delta_kx"] = figures.series_figure(pts, "k_x (N/um)", out / SUMMARY_FIGURES["delta_kx"])
     # scenes that dissipate (slip index >= 0.01): a near-zero reference makes any error look tiny
     se = {n: r["speed_error"] for n, r in results.items()
           if "speed_error" in r and (r["fem"].get("slip_index") or 0.0) >= 0.01}
     if se:
-        summary_figs["pareto"] = figures.save(figures.pareto_figure(se), out / "speed_error.png")
+        summary_figs["pareto"] = figures.save(figures.pareto_figure(se), out / SUMMARY_FIGURES["pareto"])
 
     commit = git_commit()
     text = render_report(results, names, status, summary_figs=summary_figs, hard_cases=hard_cases, quick=quick,
@@ -440,6 +445,10 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     if json_path and str(json_path) != "-":
         files[Path(json_path)] = files[out / "results.json"]
     write_files_atomic(files)
+    # a summary figure of an earlier run that this report does not show would be left unreferenced
+    for key, fname in SUMMARY_FIGURES.items():
+        if key not in summary_figs and (out / fname).exists():
+            (out / fname).unlink()
     if str(json_path) == "-":
         sys.stdout.buffer.write(files[out / "results.json"])
         sys.stdout.flush()
@@ -484,7 +493,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
     L.append("## Summary")
     L.append("")
     L.append("| scene | FE DOFs | contact radius | stick radius | dissipation | slip index MDR / FE "
-             "| last-cycle change MDR / FE | runtime MDR / FE (s) | MDR holds? |")
+             "| last-cycle change MDR / FE | runtime MDR / FE (s) | grade |")
     L.append("|---|---|---|---|---|---|---|---|---|")
     for n in names:
         st = status.get(n, "stored")
@@ -568,8 +577,9 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
               "case's tolerance, 2-3x the error measured when it was set), flagged (the model itself warned or "
               "reported the case doubtful, e.g. a deliberately soft penalty or coarse mesh, or the error is "
               "above the tolerance: expected in the rows that test those warnings), error (an exception; the "
-              "note holds it). *iterations*: the mean active-set (Newton) iterations per step of the FE solver, "
-              "none for the explicit MDR law. *error*: relative unless the truth says otherwise; none when the "
+              "note holds it). *iterations*: the mean active-set (Newton) iterations per step of the FE solver; "
+              "for an MDR row in the apparatus the mean evaluations per step of its equilibrium search (the "
+              "MDR law itself is explicit). *error*: relative unless the truth says otherwise; none when the "
               "case produced no number (a detected non-convergence, in the note).", "",
               *([hard_cases_note, ""] if hard_cases_note else []),
               *_hard_table(hard_cases), ""]
