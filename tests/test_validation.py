@@ -512,4 +512,5 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     step = abs(d[1] - d[0])
     assert 0.5 < abs(d[0] - d_md) / step < 2
     assert abs(d[1] - d_md) <= metrics.ladder_error((0.3, 0.2), d)["error"]
-    assert res["verdicts"]["slip_index"]["holds"] is True
+    # two FE levels bound nothing: MDR is consistent with the 3D model within its spread, no more
+    assert res["verdicts"]["slip_index"]["grade"] == "consistent within its spread"
