@@ -116,7 +116,7 @@ def run_mdr(s: Scene, n: int) -> dict:
 TIME_STEP_FACTORS = (1, 2, 4)
 
 
-def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | None = None) -> dict:
+def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | None = None, law=None) -> dict:
     """The time step's share of the dissipation error, which the ladders (space at the scene's steps
     per cycle) leave out: MDR with ``n`` cells, or the FE model at mesh level ``h``, at 1, 2 and 4
     times the scene's steps per cycle (``TIME_STEP_FACTORS``; ``first``, the side's result at the
@@ -131,12 +131,14 @@ def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | N
     ``error_at_scene_step`` (GCI_SAFETY x |extrapolated - value at the scene's step| where the
     ladder is asymptotic, else its spread) joins each side's error bar on the dissipation and the
     slip index (``scene_verdicts``). Costs two more runs of the side at 2 and 4 times the steps (and for the
-    FE model one more set-up)."""
+    FE model one more set-up, unless ``law``, the law that computed ``first``, is given: a law's runs
+    start from rest, so one law serves every run)."""
     from dataclasses import replace
 
     if (n is None) == (h is None):
         raise ValueError("give exactly one of n (MDR cells) and h (FE mesh level)")
-    law = _mdr_law(s, n) if n is not None else _fe_law(s, h)
+    if law is None:
+        law = _mdr_law(s, n) if n is not None else _fe_law(s, h)
     runs = [first] + [_drive(replace(s, steps=k * s.steps), law)[0] for k in TIME_STEP_FACTORS[1:]]
     W = [r["dissipation"] for r in runs]
     lad = metrics.ladder_error([1.0 / (k * s.steps) for k in TIME_STEP_FACTORS], W)
@@ -169,13 +171,20 @@ def _fe_law(s: Scene, h, **mesh_kw):
                      displacement="contact", **mesh_kw)
 
 
-def run_fe(s: Scene, h, vtu_path=None, **mesh_kw) -> tuple[dict, dict]:
+def run_fe(s: Scene, h, vtu_path=None, keep_law=False, **mesh_kw) -> tuple:
     """One FE run at mesh level h (element size / a_ref); result dict + profiles, and the
-    field data for plots (pair radii, pressure, traction and slip flags at the peak)."""
-    from fem.output import write_fretting_vtu, write_vtu
-
+    field data for plots (pair radii, pressure, traction and slip flags at the peak); with
+    ``keep_law`` also the law (its runs start from rest: it serves further runs, e.g. the time step's)."""
     t0 = time.perf_counter()
     law = _fe_law(s, h, **mesh_kw)
+    out, field = _run_fe(s, h, law, t0, vtu_path)
+    return (out, field, law) if keep_law else (out, field)
+
+
+def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
+    """``run_fe`` with its law built (set-up timed from ``t0``)."""
+    from fem.output import write_fretting_vtu, write_vtu
+
     t1 = time.perf_counter()
     out, st = _drive(s, law)
     t2 = time.perf_counter()
@@ -418,7 +427,7 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     for i, h in enumerate(s.fe_levels):
         last = i == len(s.fe_levels) - 1
         vtu = out_dir / "fields.vtu" if (last and out_dir is not None and s.fe_model == "axisym") else None
-        res, fld = run_fe(s, h, vtu_path=vtu)
+        res, fld, law = run_fe(s, h, vtu_path=vtu, keep_law=True)  # the finest law serves the time step too
         fe_ladder.append(res)
         if last:
             field = fld
@@ -429,7 +438,7 @@ def run_scene(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     # the time step's share, each side at its finest level (the 3D model's runs cost too much to triple),
     # inside the dissipation's and the slip index's error bars
     time_step = {"mdr": time_step_error(s, mdr, n=s.mdr_cells[-1]),
-                 "fem": None if s.fe_model == "3d" else time_step_error(s, fe, h=s.fe_levels[-1])}
+                 "fem": None if s.fe_model == "3d" else time_step_error(s, fe, h=s.fe_levels[-1], law=law)}
     verdicts = scene_verdicts(s, fe_ladder, mdr_ladder, time_step)
     errors = {"a_ref": a_ref(s), "time_step": time_step}
     if closed is not None:
