@@ -76,3 +76,21 @@ def test_the_command_refuses_a_bad_file_before_any_work(tmp_path):
     p = subprocess.run([sys.executable, "-m", "validation.compare", "--scene-file", str(tmp_path / "missing.toml")],
                        capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert p.returncode == 2 and "cannot be read" in p.stderr
+
+
+def test_every_catalogue_scene_and_variant_passes_the_checks():
+    """The range checks a user's scene meets hold for every built-in scene and every scene a family
+    derives from its variants (a banded tilt row refines its band at one size: levels (0.3, 0.3))."""
+    from validation import runner
+    from validation.scenes import CATALOGUE
+
+    derive = {"tilts": runner.tilt_variant, "a_over_R": runner.curvature_variant, "relax": runner.assumption_variant}
+    n = 0
+    for s in CATALOGUE.values():
+        for v in s.variants:
+            for key, make in derive.items():
+                if key in v:
+                    make(s, v)._check_numbers()
+                    n += 1
+        s.quick_version()._check_numbers()
+    assert n >= 10

@@ -232,8 +232,9 @@ class Scene:
             check(e, lambda v: fin(v) and v > 0, "> 0 (Pa)")
         for n in ("nu1", "nu2"):
             check(n, lambda v: fin(v) and -1 < v < 0.5, "in (-1, 0.5)")
+        # non-increasing: a banded tilt row refines its band at one coarse size (0.3, 0.3)
         check("fe_levels", lambda v: len(v) >= 1 and all(fin(x) and 0 < x <= 0.5 for x in v)
-              and all(a > b for a, b in zip(v, v[1:])), "a decreasing list of element sizes / a in (0, 0.5]")
+              and all(a >= b for a, b in zip(v, v[1:])), "a non-increasing list of element sizes / a in (0, 0.5]")
         check("mdr_cells", lambda v: len(v) >= 1 and all(isinstance(x, int) and x >= 4 for x in v)
               and all(a < b for a, b in zip(v, v[1:])), "an increasing list of integers >= 4 (MDR cells)")
 
