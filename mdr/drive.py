@@ -118,10 +118,11 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     d0 = float(approach_from_force(profile, materials, F0))
     stationary = bool(cyc.last_is_stationary) or mu == 0
     # the first closed loop after the normal loading, +Q -> -Q -> +Q (from the drive's first peak, a
-    # quarter cycle in); the open path from rest 0 -> +Q -> -Q -> 0 is cycle 0 (for identical bodies
-    # without coupling the first closed loop is already the stationary one, Masing's rule)
-    q = int(round(steps / 4))
-    first_loop = float(loop_integral(H.u[q:q + steps + 1], H.Fx[q:q + steps + 1])) if cycles >= 2 else None
+    # quarter cycle in; check_loading makes steps a multiple of 4 and cycles >= 2); the open path from
+    # rest 0 -> +Q -> -Q -> 0 is cycle 0 (without coupling, at a constant normal force, the first closed
+    # loop is already the stationary one: Masing's rule)
+    q = steps // 4
+    first_loop = float(loop_integral(H.u[q:q + steps + 1], H.Fx[q:q + steps + 1]))
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {

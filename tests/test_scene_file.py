@@ -54,6 +54,10 @@ def test_the_example_file_runs_and_its_sphere_is_hertz(tmp_path):
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\n[[scene]]\nname = "x"\ntitle = "u"\nprofile = "sphere"\n',
      "used twice"),
     ('[scene]\nname = "x"\n', "one or more [[scene]] tables"),
+    ('[[scene]]\nname = ".."\ntitle = "t"\nprofile = "sphere"\n', "name must be letters"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nsteps = 10\n', "steps must be a multiple of 4"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\namplitude = 0.09\n', "below the friction limit"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nvariants = [{block = -3.0}]\n', "validity variant"),
     ('[[scene]\nname = "x"\n', "not valid TOML"),
 ])
 def test_a_bad_file_is_one_line_naming_the_field(text, word, tmp_path):

@@ -88,9 +88,17 @@ def test_a_nan_on_any_level_makes_the_verdict_undetermined(ladders, side):
 def test_a_floor_that_decides_is_below_resolution():
     """Within the tolerance only because the tolerance was raised to the resolution floor: no "holds"."""
     bar = {"error": 0.0, "status": "converged", "bounded": True}
-    v = metrics.verdict(1.0, 1.004, bar, bar, 0.005, floor=0.005)
-    assert v["grade"] == "below resolution" and v["holds"] is None
-    assert metrics.verdict(1.0, 1.004, bar, bar, 0.005)["grade"] == "holds"
+    v = metrics.verdict(1.0, 1.004, bar, bar, 0.001, floor=0.005)  # the physics' 0.001 alone would fail
+    assert v["grade"] == "below resolution" and v["holds"] is None and v["tolerance"] == 0.005
+    assert metrics.verdict(1.0, 1.004, bar, bar, 0.001)["grade"] == "fails"
+    # a floor above a tolerance that passes by itself decides nothing: holds (slip index 0.019: 0.5 % of
+    # it is 0.95e-4, under the 1e-4 floor)
+    assert metrics.verdict(1.0, 1.004, bar, bar, 0.005, floor=0.006)["grade"] == "holds"
+    # a time-step bar that was not computed bounds nothing
+    unbounded = metrics.verdict(1.0, 1.0, bar, bar, 0.01, extra={"fem": {"time step": {"error": 0.0, "bounded": False}}})
+    assert unbounded["grade"] == "consistent within its spread"
+    assert metrics.verdict(1.0, 1.0, bar, bar, 0.01, extra={"fem": {"time step": None}})["grade"] == "undetermined"
+    assert metrics.effect_verdict(0.001, {"error": 0.01, "bounded": True}, 0.01, error=None)["grade"] == "undetermined"
     spread = {"error": 0.01, "status": "non-monotone", "bounded": False}
     assert metrics.verdict(1.0, 1.004, spread, bar, 0.0)["grade"] == "consistent within its spread"
     assert metrics.verdict(1.0, 1.1, spread, bar, 0.0)["grade"] == "fails"

@@ -109,25 +109,32 @@ GRADES = ("holds", "below resolution", "consistent within its spread", "undeterm
 
 def grade(difference, error, tolerance, *, bounded: bool, floor: float | None = None) -> tuple:
     """The verdict rule, once for every family: ``(holds, grade)`` of |difference| against
-    ``error`` (all error bars summed) + ``tolerance``. ``undetermined`` (None) where a number is
-    missing or not finite; ``fails`` (False) beyond the sum; within it ``holds`` (True) only when
-    ``bounded`` (every error bar an upper bound), ``below resolution`` (None) when only the
-    resolution ``floor`` the tolerance was raised to lets it pass, else ``consistent within its
-    spread`` (None)."""
+    ``error`` (all error bars summed) + the tolerance, the physics' ``tolerance`` raised to the
+    resolution ``floor`` where one is given. ``undetermined`` (None) where a number is missing or not
+    finite; ``fails`` (False) beyond the sum; within it ``consistent within its spread`` (None) unless
+    ``bounded`` (every error bar an upper bound); ``below resolution`` (None) where the physics'
+    tolerance alone would fail and only the floor lets it pass; else ``holds`` (True)."""
     if not _finite(difference, error, tolerance):
         return None, "undetermined"
-    if abs(difference) > error + tolerance:
+    allowed = tolerance if floor is None else max(tolerance, floor)
+    if abs(difference) > error + allowed:
         return False, "fails"
-    if floor is not None and floor >= tolerance and abs(difference) > error:
+    if not bounded:
+        return None, "consistent within its spread"
+    if abs(difference) > error + tolerance:
         return None, "below resolution"
-    return (True, "holds") if bounded else (None, "consistent within its spread")
+    return True, "holds"
 
 
-def effect_verdict(effect, ladder: dict, tolerance, *, error=None, bounded=None) -> dict:
+_LADDERS = object()  # effect_verdict's default: the error of the effect's own ladder
+
+
+def effect_verdict(effect, ladder: dict, tolerance, *, error=_LADDERS, bounded=None) -> dict:
     """The graded verdict of an effect measured by its own ladder (a 3D effect, a tilt, the 3D pressure
     against MDR's): |effect| <= its error + tolerance (``grade``); ``error`` overrides the ladder's
-    (e.g. raised to an estimator's resolution), ``bounded`` its boundedness."""
-    err = ladder.get("error") if error is None else error
+    (e.g. raised to an estimator's resolution; None: unknown, so undetermined), ``bounded`` its
+    boundedness."""
+    err = ladder.get("error") if error is _LADDERS else error
     b = ladder.get("bounded", False) if bounded is None else bounded
     holds, g = (None, "undetermined") if tolerance is None else grade(effect, err, tolerance, bounded=b)
     return {"effect": effect, "error": err, "status": ladder.get("status"), "tolerance": tolerance,
@@ -142,8 +149,9 @@ def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=T
     the distance between the finest results and ``fem`` None); ``fem_ladder`` and
     ``mdr_ladder``: ``ladder_error`` dicts of each side (the error bars); ``extra``: further
     error bars ``{"fem" | "mdr": {name: ladder dict}}`` in the metric's unit added to that side's
-    (the time step's); ``tolerance``: absolute, in the metric's unit; ``floor``: the resolution
-    floor the tolerance was raised to, if any (then the tolerance is the floor's, not physics').
+    (the time step's); ``tolerance``: the physics' tolerance, absolute, in the metric's unit; ``floor``:
+    the resolution floor it is raised to, if any (the verdict's ``tolerance`` is the larger of the
+    two, ``tolerance_physics`` the first).
 
     ``grade`` (``GRADES``): ``undetermined`` where any number or error bar is not finite or
     missing; ``fails`` where |MDR - FE| exceeds the sum; otherwise ``holds`` only if every error bar
@@ -155,17 +163,19 @@ def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=T
     diff = (None if not _finite(mdr, fem) else float(mdr) - float(fem)) if signed else \
         (None if not _finite(mdr) else float(mdr))
     parts = {"fem": {"mesh": fem_ladder}, "mdr": {"grid": mdr_ladder}}
-    for side, bars in (extra or {}).items():
-        parts[side].update({k: v for k, v in bars.items() if v is not None})
+    for side, bars in (extra or {}).items():  # a bar given as None is unknown: undetermined, never dropped
+        parts[side].update({k: ({"error": None, "bounded": False} if v is None else v) for k, v in bars.items()})
     errs = {side: [b.get("error") for b in bars.values()] for side, bars in parts.items()}
     fe_err = float(sum(errs["fem"])) if _finite(*errs["fem"]) else None
     mdr_err = float(sum(errs["mdr"])) if _finite(*errs["mdr"]) else None
     bounded = all(b.get("bounded", b.get("status") in BOUNDED) for bars in parts.values() for b in bars.values())
     holds, g = grade(diff, None if not _finite(fe_err, mdr_err) else fe_err + mdr_err, tolerance,
                      bounded=bounded, floor=floor)
+    allowed = None if tolerance is None else float(tolerance if floor is None else max(tolerance, floor))
     return {"mdr": None if mdr is None or not signed else float(mdr), "fem": None if fem is None else float(fem),
             "difference": diff, "fem_error": fe_err, "mdr_error": mdr_err,
-            "tolerance": None if tolerance is None else float(tolerance), "floor": floor, "holds": holds,
+            "tolerance": allowed, "tolerance_physics": None if tolerance is None else float(tolerance),
+            "floor": floor, "holds": holds,
             "grade": g, "bounded": bounded, "unit": unit, "fem_ladder": fem_ladder, "mdr_ladder": mdr_ladder,
             "error_parts": {side: {k: b.get("error") for k, b in bars.items()} for side, bars in parts.items()}}
 

@@ -332,26 +332,31 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
         V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
 
     def step_bars(unit_scale):
-        """Each side's time-step error bar in the unit of a metric (J divided by ``unit_scale``)."""
+        """Each side's time-step error bar in the unit of a metric (J divided by ``unit_scale``); a side
+        whose time step was not computed (the 3D model's, or a family that runs none) gets a bar of 0
+        that bounds nothing, so its verdict can be no stronger than "consistent"."""
         out = {}
-        for side, ts in (time_step or {}).items():
-            if ts is not None:
-                err = ts.get("error_at_scene_step")
-                out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
-                                           "error": None if err is None else float(err) / unit_scale}}
+        for side in ("mdr", "fem"):
+            ts = (time_step or {}).get(side)
+            if ts is None:
+                out[side] = {"time step": {"status": "not computed", "bounded": False, "error": 0.0}}
+                continue
+            err = ts.get("error_at_scene_step")
+            out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
+                                       "error": None if err is None else float(err) / unit_scale}}
         return out
 
     scalar("contact_radius", a, tol["contact_radius"] * a, "m")
     scalar("stick_radius", a, tol["stick_radius"] * a, "m")
     dW = abs(float(fe["dissipation"]))
     floor_W = DISSIPATION_FLOOR * scale_W
-    scalar("dissipation", scale_W, max(tol["dissipation"] * dW, floor_W), "J", extra=step_bars(1.0), floor=floor_W)
+    scalar("dissipation", scale_W, tol["dissipation"] * dW, "J", extra=step_bars(1.0), floor=floor_W)
     # the slip index is dW / (4 mu u_A F0) (u_A the drive's amplitude): its tolerance is relative, the
     # dissipation's, with the same floor; its time-step bar is the dissipation's over that scale
     si = fe.get("slip_index")
     si_scale = float(fe["dissipation"]) / float(si) if si and fe.get("dissipation") else scale_W
-    scalar("slip_index", 1.0, max(tol["slip_index"] * abs(float(si or 0.0)), DISSIPATION_FLOOR), "",
-           extra=step_bars(si_scale) if si_scale > 0 else None, floor=DISSIPATION_FLOOR)
+    scalar("slip_index", 1.0, tol["slip_index"] * abs(float(si or 0.0)), "",
+           extra=step_bars(si_scale if si_scale > 0 else 1.0), floor=DISSIPATION_FLOOR)
     d_fe = [_distances(s, mdr, x) for x in fe_ladder]
     d_md = [_distances(s, x, fe) for x in mdr_ladder]
     for q, dist in d_fe[-1].items():
@@ -669,9 +674,14 @@ def _tilt_effects(run, ref, relative, mu, F0) -> dict:
             "loop_du": metrics.loop_distance(run["loop"], ref["loop"], mu, F0)["du"]}
 
 
-def _tilt_tolerance(q, tol, relative, W0, scale):
+def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
+    """The tolerance of a tilt effect: the catalogue's, the dissipation's relative to the reference or in
+    units of 4 mu F0 u_A with its floor, the slip index's relative to the reference's ``si0`` with the
+    same floor (as in ``scene_verdicts``)."""
     from .scenes import DISSIPATION_FLOOR
 
+    if q == "slip_index":
+        return max(tol["slip_index"] * abs(float(si0 or 0.0)), DISSIPATION_FLOOR)
     if q != "dissipation":
         return None if TILT_METRICS[q] is None else tol[TILT_METRICS[q]]
     return tol["dissipation"] if relative else max(tol["dissipation"] * abs(W0) / scale, DISSIPATION_FLOOR)
@@ -753,16 +763,16 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
                   "resolved": resolved}
             for q in TILT_METRICS:
                 t3 = _tilt_tolerance(q, tol, rel3, fine0["dissipation"], 4.0 * sv.mu * sv.F0 *
-                                     float(fine0["displacement_amplitude"]))
+                                     float(fine0["displacement_amplitude"]), fine0.get("slip_index"))
                 lad = metrics.ladder_error(hs, [e[q] for e in vs3])
                 pt["aligned"][q] = metrics.effect_verdict(lad["value"], lad, t3 if resolved else None)
                 if q == "contact_area":
                     continue
                 tm = _tilt_tolerance(q, tol, relm, mdr["dissipation"], 4.0 * sv.mu * sv.F0 *
-                                     float(mdr["displacement_amplitude"]))
+                                     float(mdr["displacement_amplitude"]), mdr.get("slip_index"))
                 lf = metrics.ladder_error(hs, [e[q] for e in vsm])
                 lm = metrics.ladder_error(md_h, mdr_side[q])
-                errm = None if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
+                errm = float("nan") if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
                 pt["mdr"][q] = metrics.effect_verdict(lf["value"], lf, tm if resolved else None, error=errm,
                                                       bounded=lf["bounded"] and lm["bounded"])
             pt["holds"] = metrics.family_holds(pt["aligned"].values())

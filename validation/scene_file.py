@@ -24,6 +24,7 @@ The family of a scene follows from its fields as in the catalogue: ``variants`` 
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from dataclasses import fields
 from pathlib import Path
@@ -70,8 +71,9 @@ def scene_from_table(table: dict, where: str = "scene") -> Scene:
             raise InputError(f"{where}: variants must be an array of tables, got {table[k]!r}")
         kw[k] = v
     kw.setdefault("group", "user")
-    if not isinstance(kw["name"], str) or not kw["name"] or "," in kw["name"] or "/" in kw["name"]:
-        raise InputError(f"{where}: name must be a non-empty string without ',' or '/', got {kw['name']!r}")
+    if not isinstance(kw["name"], str) or not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.\-]*", kw["name"]):
+        raise InputError(f"{where}: name must be letters, digits and _ . - starting with a letter or digit "
+                         f"(an output folder is named after it), got {kw['name']!r}")
     try:
         return Scene(**kw)
     except InputError as e:

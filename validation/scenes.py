@@ -226,8 +226,17 @@ class Scene:
         check("amplitude", lambda v: fin(v) and v > 0, "> 0 (N for drive 'force', m otherwise)")
         check("cycles", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
               "an integer >= 2 (the last cycle is compared with the one before)")
-        check("steps", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 8,
-              "an integer >= 8 (steps per cycle)")
+        check("steps", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 8 and v % 4 == 0,
+              "a multiple of 4, >= 8 (steps per cycle: the load reversals are sampled)")
+        if self.drive == "force":
+            check("amplitude", lambda v: v < self.mu * (self.F0 - self.dF),
+                  f"below the friction limit mu (F0 - dF) = {self.mu * (self.F0 - self.dF):.4g} N (drive 'force')")
+        for v in self.variants:
+            if {"block", "cap"} & set(v):
+                if not set(v) <= {"block", "cap"} or not all(
+                        isinstance(x, (int, float)) and fin(x) and x > 2.5 for x in v.values()):
+                    raise InputError(f"scene {self.name}: a validity variant holds block and/or cap, sizes in "
+                                     f"contact radii > 2.5, got {v!r}")
         for e in ("E1", "E2"):
             check(e, lambda v: fin(v) and v > 0, "> 0 (Pa)")
         for n in ("nu1", "nu2"):
