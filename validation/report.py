@@ -72,10 +72,6 @@ def cycle_change(side: dict) -> str:
     return _n(x, ".1g") + ("" if side.get("stationary", True) else " (not stationary)")
 
 
-def _holds(h) -> str:
-    return {True: "yes", False: "**no**", None: "undetermined"}.get(h, "undetermined")
-
-
 def _grade(v: dict) -> str:
     """A metric's grade (``validation.metrics.GRADES``) as the report shows it."""
     g = v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
@@ -441,9 +437,11 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
                "status": status, "scenes": results,
                "hard_cases": hard_cases, "hard_cases_rerun": hard_cases_note is None, "witness_calculix": witness}
     path = out / "report.md"
-    files = {path: text.encode(), out / "results.json": json_bytes(payload)}
+    data = json_bytes(payload)
+    files = {out / "results.json": data}
     if json_path and str(json_path) != "-":
-        files[Path(json_path)] = files[out / "results.json"]
+        files[Path(json_path)] = data
+    files[path] = text.encode()  # renamed last: a report.md on disk always has its results.json
     write_files_atomic(files)
     # a summary figure of an earlier run that this report does not show would be left unreferenced
     for key, fname in SUMMARY_FIGURES.items():
