@@ -517,3 +517,25 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     assert abs(d[1] - d_md) <= metrics.ladder_error((0.3, 0.2), d)["error"]
     # two FE levels bound nothing: MDR is consistent with the 3D model within its spread, no more
     assert res["verdicts"]["slip_index"]["grade"] == "consistent within its spread"
+
+
+def test_a_report_that_fails_to_render_changes_no_file(quick_report, tmp_path, monkeypatch):
+    """write_report renders the whole text before it writes anything: a failure there leaves the
+    previous report.md, results.json and summary figures byte for byte."""
+    import shutil
+
+    from validation import report
+
+    _, out = quick_report
+    dst = tmp_path / "copy"
+    shutil.copytree(out, dst)
+    before = {p.name: p.read_bytes() for p in dst.iterdir() if p.is_file()}
+    assert "report.md" in before and "results.json" in before
+
+    def broken(*a, **k):
+        raise RuntimeError("render failed")
+
+    monkeypatch.setattr(report, "render_report", broken)
+    with pytest.raises(RuntimeError, match="render failed"):
+        report.write_report(dst, ["sphere-md"], {"sphere-md": "ok"})
+    assert {p.name: p.read_bytes() for p in dst.iterdir() if p.is_file()} == before

@@ -406,29 +406,31 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
 
     ``executor``: where this run's scenes ran (``mdr.executors.executor_for`` label); each
     stored scene keeps the ``worker`` that computed it. The report is rendered in full before any
-    file is replaced, and report.md, results.json and ``json_path`` are then renamed into place
-    together (``mdr.io.write_files_atomic``): a failure leaves the previous report intact."""
+    file is written; then the summary figures, and report.md, results.json and ``json_path`` are
+    staged and renamed into place together (``mdr.io.write_files_atomic``, report.md last): a failure
+    while rendering leaves the previous report and its figures intact."""
     out = Path(out)
     results = {}
     for n in names:
         r = load_scene(out, n)
         if r is not None:
             results[n] = r
-    summary_figs = {}
+    # the summary figures: what each plots, decided first, drawn only once the report has rendered
+    plots = {}
     geo = [r for r in results.values() if r["scene"]["group"] == "geometry" and r["scene"]["profile"] != "flat"]
     if geo:
         pts = {side: [(max(r["scene"]["b"], 1e-6), r[side].get("slip_index")) for r in geo] for side in ("mdr", "fem")}
-        summary_figs["delta_b"] = figures.series_figure(pts, "b (m; the sphere plotted at 1 um)",
-                                                        out / SUMMARY_FIGURES["delta_b"])
+        plots["delta_b"] = lambda path, pts=pts: figures.series_figure(pts, "b (m; the sphere plotted at 1 um)", path)
     app = [r for r in results.values() if r["scene"]["group"] == "apparatus"]
     if app:
         pts = {side: [(r["scene"]["kx"] / 1e6, r[side].get("slip_index")) for r in app] for side in ("mdr", "fem")}
-        summary_figs["delta_kx"] = figures.series_figure(pts, "k_x (N/um)", out / SUMMARY_FIGURES["delta_kx"])
+        plots["delta_kx"] = lambda path, pts=pts: figures.series_figure(pts, "k_x (N/um)", path)
     # scenes that dissipate (slip index >= 0.01): a near-zero reference makes any error look tiny
     se = {n: r["speed_error"] for n, r in results.items()
           if "speed_error" in r and (r["fem"].get("slip_index") or 0.0) >= 0.01}
     if se:
-        summary_figs["pareto"] = figures.save(figures.pareto_figure(se), out / SUMMARY_FIGURES["pareto"])
+        plots["pareto"] = lambda path: figures.save(figures.pareto_figure(se), path)
+    summary_figs = {key: SUMMARY_FIGURES[key] for key in plots}
 
     commit = git_commit()
     text = render_report(results, names, status, summary_figs=summary_figs, hard_cases=hard_cases, quick=quick,
@@ -442,6 +444,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     if json_path and str(json_path) != "-":
         files[Path(json_path)] = data
     files[path] = text.encode()  # renamed last: a report.md on disk always has its results.json
+    for key, draw in plots.items():  # each written atomically (figures.save)
+        draw(out / SUMMARY_FIGURES[key])
     write_files_atomic(files)
     # a summary figure of an earlier run that this report does not show would be left unreferenced
     for key, fname in SUMMARY_FIGURES.items():
