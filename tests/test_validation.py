@@ -529,7 +529,9 @@ def test_a_report_that_fails_to_render_changes_no_file(quick_report, tmp_path, m
     _, out = quick_report
     dst = tmp_path / "copy"
     shutil.copytree(out, dst)
-    before = {p.name: p.read_bytes() for p in dst.iterdir() if p.is_file()}
+    # bytes and inode: a file rewritten with the same bytes (a deterministic PNG) is a new inode
+    state = lambda: {p.name: (p.read_bytes(), p.stat().st_ino) for p in dst.iterdir() if p.is_file()}  # noqa: E731
+    before = state()
     assert "report.md" in before and "results.json" in before
 
     def broken(*a, **k):
@@ -538,4 +540,4 @@ def test_a_report_that_fails_to_render_changes_no_file(quick_report, tmp_path, m
     monkeypatch.setattr(report, "render_report", broken)
     with pytest.raises(RuntimeError, match="render failed"):
         report.write_report(dst, ["sphere-md"], {"sphere-md": "ok"})
-    assert {p.name: p.read_bytes() for p in dst.iterdir() if p.is_file()} == before
+    assert state() == before
