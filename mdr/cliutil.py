@@ -66,7 +66,7 @@ def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: boo
                 check_output_path(path, "--" + flag)
         for flag in OUTPUT_DIR_FLAGS:
             path = getattr(args, flag, None)
-            if path is not None:
+            if path is not None and not getattr(args, "list", False):  # --list writes nothing
                 check_output_dir(path, "--" + flag)
         result = args.func(args)
         if not write_result:
