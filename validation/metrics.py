@@ -180,22 +180,16 @@ def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=T
             "error_parts": {side: {k: b.get("error") for k, b in bars.items()} for side, bars in parts.items()}}
 
 
-def conjunction(verdicts: dict):
-    """Scene verdict: False if any metric fails, None if any is not graded ``holds``, else True
-    (``scene_grade`` says which weaker grade)."""
-    hs = [v["holds"] for v in verdicts.values()]
-    if any(h is False for h in hs):
-        return False
-    if not hs or any(h is None for h in hs):
-        return None
-    return True
-
-
 def family_holds(verdicts) -> bool | None:
     """``holds`` of several judged verdicts (those with a tolerance): False if any fails, None if any
-    is not graded ``holds``, else True."""
+    is not graded ``holds`` (or there is none), else True."""
     judged = [x["holds"] for x in verdicts if x.get("tolerance") is not None]
     return False if False in judged else (None if None in judged or not judged else True)
+
+
+def conjunction(verdicts: dict):
+    """Scene verdict, ``family_holds`` of its metrics (``scene_grade`` says which weaker grade)."""
+    return family_holds(verdicts.values())
 
 
 def scene_grade(verdicts: dict) -> str:
