@@ -14,9 +14,9 @@ OUT_FLAGS = ("--json", "--vtu", "--out")
 
 
 def _commands():
-    """(section, command line) of every ``python -m`` command in the README's bash blocks
-    (continuation lines joined)."""
-    text = (ROOT / "README.md").read_text()
+    """(section, command line) of every ``python -m`` command in the bash blocks of the README and the
+    docs pages it points to (continuation lines joined)."""
+    text = "\n".join(p.read_text() for p in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))])
     out, section = [], ""
     in_block, cur = False, ""
     for line in text.splitlines():
