@@ -261,10 +261,23 @@ def _assumptions3d_table(res):
              "the catalogue's tolerance.", "",
              "The last column is no effect: the 3D pressure at F0 with Mindlin's assumptions imposed against "
              "MDR's, by its second-moment radius (pressure_radius, which needs no contact edge located between "
-             "vertices): 3D / MDR - 1 +- its ladder's error bar.", "",
+             "vertices): 3D / MDR - 1 +- its ladder's error bar. *Last-cycle change*: the largest relative "
+             "change of the dissipation from the second-last to the last cycle, over the relaxed and the imposed "
+             "run at the finest level (the 3D cycles settle geometrically; above 1e-3 the last cycle is not "
+             "yet stationary).", "",
              "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
-             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 "
+             "| last-cycle change |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def last_change(r):
+        lv = (r.get("levels") or [{}])[-1]
+        ch = []
+        for side in ("on", "off"):
+            W = (lv.get(side) or {}).get("dissipation_per_cycle") or []
+            if len(W) >= 2 and W[-1] not in (None, 0) and W[-2] is not None:
+                ch.append(abs(W[-1] / W[-2] - 1))
+        return _n(max(ch), ".1g") if ch else "-"
 
     def eff(r, q):
         x = r["verdicts"][q]
@@ -286,7 +299,7 @@ def _assumptions3d_table(res):
                      f"{eff(r, 'dissipation_first_cycle')} | {eff(r, 'stick_axis_x')} | {eff(r, 'stick_axis_y')} | "
                      f"{eff(r, 'stick_center_x')} | {eff(r, 'pressure_center_x')} | "
                      f"{_num(r['traction_angle_max'], '.3f')} | "
-                     f"{_grade(r)}{': ' + ', '.join(failed) if failed else ''} | {pressure(r)} |")
+                     f"{_grade(r)}{': ' + ', '.join(failed) if failed else ''} | {pressure(r)} | {last_change(r)} |")
     return lines
 
 
