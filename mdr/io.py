@@ -47,7 +47,7 @@ def check_output_path(path, name="output path") -> Path:
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{name} {str(path)!r} is a directory; give a file name")
-    _check_folder(path, name)
+    _check_folder(path, name, path)
     return path
 
 
@@ -57,21 +57,24 @@ def check_output_dir(path, name="output folder") -> Path:
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise InputError(f"{name} {str(path)!r} is a file, not a folder")
-    _check_folder(path / ".probe", name)
+    _check_folder(path / ".probe", name, path)
     return path
 
 
-def _check_folder(path: Path, name: str) -> None:
+def _check_folder(path: Path, name: str, shown: Path) -> None:
+    """Raise InputError unless a file ``path`` can be created: its nearest existing ancestor is a folder
+    that takes a new file (probed), and ``path`` itself, if it exists, is writable; ``shown`` is the
+    path the message names."""
     for parent in path.parents:
         if parent.exists():
             if not parent.is_dir():
-                raise InputError(f"{name} {str(path)!r}: {str(parent)!r} is a file, not a directory")
+                raise InputError(f"{name} {str(shown)!r}: {str(parent)!r} is a file, not a directory")
             try:
                 fd, probe = tempfile.mkstemp(dir=parent, prefix=".write-probe.")
                 os.close(fd)
                 os.unlink(probe)
             except OSError as e:
-                raise InputError(f"{name} {str(path if path.name != '.probe' else path.parent)!r} cannot be written: "
+                raise InputError(f"{name} {str(shown)!r} cannot be written: "
                                  f"{str(parent)!r} takes no new file ({e.strerror or e})") from None
             if path.exists() and not os.access(path, os.W_OK):
                 raise InputError(f"{name} {str(path)!r} cannot be written (no write permission)")
@@ -79,25 +82,10 @@ def _check_folder(path: Path, name: str) -> None:
 
 
 def write_bytes_atomic(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file and ``os.replace``
-    (InputError if ``path`` cannot be a file, see :func:`check_output_path`)."""
-    path = check_output_path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, _MODE)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
-    return path
+    """Write ``data`` to ``path`` through a temporary file and ``os.replace`` (:func:`write_files_atomic`
+    of one file; InputError if ``path`` cannot be a file, see :func:`check_output_path`)."""
+    write_files_atomic({path: data})
+    return Path(path)
 
 
 def write_files_atomic(files: dict) -> None:
@@ -139,9 +127,9 @@ def dumps_json(obj) -> str:
 
 def write_json(path, obj) -> None:
     """Write ``obj`` as JSON to ``path`` atomically; ``path == '-'`` means stdout."""
-    text = dumps_json(obj)
+    data = json_bytes(obj)
     if str(path) == "-":
-        sys.stdout.write(text + "\n")
+        sys.stdout.write(data.decode())
         sys.stdout.flush()
     else:
-        write_bytes_atomic(path, (text + "\n").encode())
+        write_bytes_atomic(path, data)
