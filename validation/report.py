@@ -50,10 +50,6 @@ def _pct(x, digits=2):
     return "-" if x is None else _n(x, f"+.{digits}f", 100.0) + " %"
 
 
-def _num(x, fmt=".4g"):
-    return _n(x, fmt)
-
-
 def _g(x, k=1.0, digits=3):
     """A number with ``digits`` significant digits (0 stays 0; None is '-')."""
     if x is None:
@@ -298,7 +294,7 @@ def _assumptions3d_table(res):
         lines.append(f"| {r['variant']} | {r['levels'][-1]['dofs']} | {eff(r, 'dissipation')} | "
                      f"{eff(r, 'dissipation_first_cycle')} | {eff(r, 'stick_axis_x')} | {eff(r, 'stick_axis_y')} | "
                      f"{eff(r, 'stick_center_x')} | {eff(r, 'pressure_center_x')} | "
-                     f"{_num(r['traction_angle_max'], '.3f')} | "
+                     f"{_n(r['traction_angle_max'], '.3f')} | "
                      f"{_grade(r)}{': ' + ', '.join(failed) if failed else ''} | {pressure(r)} | {last_change(r)} |")
     return lines
 
@@ -322,7 +318,7 @@ def _tilt_table(res):
     for r in res["tilt"]:
         below = r["holds_below"]
         lines += [f"**{r['variant']}**: theta_c = {_n(r.get('theta_c'))} rad; dissipation unit {r['dissipation_unit']}; "
-                  f"MDR (aligned) slip index {_num(r['mdr'].get('slip_index'), '.4f')}; the aligned answer is not contradicted on "
+                  f"MDR (aligned) slip index {_n(r['mdr'].get('slip_index'), '.4f')}; the aligned answer is not contradicted on "
                   "the dissipation (graded holds or consistent within its spread) up to "
                   + ("no swept tilt" if below is None else f"theta = {_n(below)} rad ({_n(r.get('holds_below_ratio'))} "
                      "theta_c)")
@@ -406,9 +402,9 @@ def _hard_table(rows):
 
     for r in rows:
         err = r.get("error")
-        lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_num(r.get('iterations'), '.3g')} | "
+        lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_n(r.get('iterations'), '.3g')} | "
                      f"{_n(err, '.2e')} | {_g(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
-                     f"{_num(r.get('time_s'), '.3g')} | "
+                     f"{_n(r.get('time_s'), '.3g')} | "
                      f"{cell(r.get('note', ''))} |")
     return lines
 
@@ -527,7 +523,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
         fr = (r["fem"].get("runtime_s") or {}).get("total")
         L.append(f"| [{n}](#{n}) | {r['fem']['dofs']} | {summary_cell('contact_radius', r)} | "
                  f"{summary_cell('stick_radius', r)} | {summary_cell('dissipation', r)} | "
-                 f"{_num(r['mdr'].get('slip_index'), '.3f')} / {_num(r['fem'].get('slip_index'), '.3f')} | "
+                 f"{_n(r['mdr'].get('slip_index'), '.3f')} / {_n(r['fem'].get('slip_index'), '.3f')} | "
                  f"{cycle_change(r['mdr'])} / {cycle_change(r['fem'])} | {_n(mr, '.2g')} / {_n(fr, '.2g')} | {text} |")
     L.append("")
     for key, title in (("delta_b", "Slip index against b (geometry series)"),
