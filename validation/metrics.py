@@ -192,8 +192,12 @@ def conjunction(verdicts: dict):
     return family_holds(verdicts.values())
 
 
+def grade_of(v: dict) -> str:
+    """A verdict's grade (a stored result of an older release has only ``holds``)."""
+    return v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
+
+
 def scene_grade(verdicts: dict) -> str:
     """The weakest grade of a scene's metrics (``GRADES`` order); ``undetermined`` without metrics."""
-    grades = [v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
-              for v in verdicts.values()]
+    grades = [grade_of(v) for v in verdicts.values()]
     return max(grades, key=GRADES.index) if grades else "undetermined"

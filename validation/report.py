@@ -18,7 +18,7 @@ from pathlib import Path
 from mdr.io import json_bytes, write_files_atomic
 
 from . import figures
-from .metrics import scene_grade
+from .metrics import grade_of, scene_grade
 from .runner import load_scene
 from .scenes import TOLERANCE_ORIGINS, TOLERANCES, code_version
 
@@ -70,7 +70,7 @@ def cycle_change(side: dict) -> str:
 
 def _grade(v: dict) -> str:
     """A metric's grade (``validation.metrics.GRADES``) as the report shows it."""
-    g = v.get("grade") or {True: "holds", False: "fails"}.get(v.get("holds"), "undetermined")
+    g = grade_of(v)
     return {"holds": "**holds**", "fails": "**fails**"}.get(g, g)
 
 
