@@ -91,24 +91,123 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
     return (out, law) if return_law else out
 
 
-def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, state_at=None):
+#: cycles run at a time past ``cycles`` while a 3D run settles (``drive_3d``'s ``settle``)
+SETTLE_BLOCK = 2
+
+
+#: a loop dissipating less than this fraction of 4 mu F0 u_A hardly dissipates (a sticking punch): its
+#: settling is measured in that unit, not relative to its own dissipation (``settled``)
+HARDLY_DISSIPATES = 0.01
+
+
+def settled(W, tol, gross=0.0) -> bool:
+    """Whether a run's dissipation per cycle ``W`` has settled: its last change at most ``tol`` of
+    the last cycle's, or of ``HARDLY_DISSIPATES`` x ``gross`` (4 mu F0 u_A) where that is larger,
+    and still contracting (``mdr.ladder.contracting``: a drift that no longer shrinks has not
+    settled, unless below ``mdr.ladder.NEGLIGIBLE`` of the tolerance); an exactly repeating cycle,
+    also of zero dissipation, has."""
+    from mdr.ladder import NEGLIGIBLE, contracting
+
+    change, allowed = abs(W[-1] - W[-2]) if len(W) >= 2 else float("inf"), tol * max(abs(W[-1]), HARDLY_DISSIPATES * gross)
+    return change <= allowed and (contracting(W) or change <= NEGLIGIBLE * allowed)
+
+
+def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, state_at=None, settle=None):
     """A fretting run of a built 3D law (``fem.law3d.FEContact3D``): the normal load applied in
     ``RAMP_STEPS`` steps with friction active (with coupling, slip during the normal loading locks
     traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from
     that state. Returns the result dict with the law's 3D keys (and the state at step
-    ``state_at`` of the cycles if given)."""
-    import numpy as np
+    ``state_at`` of the cycles if given); without ``state_at`` also ``per_cycle``, the stick-zone
+    keys at every cycle's peak (``FEContact3D.cycle_keys``), beside ``dissipation_per_cycle``.
+    ``settle`` = (tol, max_cycles): run on until the dissipation settles (``drive_3d_together``)."""
+    if settle is not None and state_at is not None:
+        raise ValueError("give at most one of state_at and settle")
+    if state_at is None:
+        return drive_3d_together([law], mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t_setup, settle=settle)[0]
+    run = _Run3D(law, mu, F0, dF, alpha, ua, fa, steps, t_setup)
+    out, st_at = run.start(cycles, state_at=state_at)
+    return run.finish(out), st_at
 
-    t1 = time.perf_counter()
-    st = law.rest_state()
-    for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * (F0 + dF * np.sin(alpha)):
-        _, st = law.step(st, Fx=0.0, F_N=f)
-    res = run_contact(law.profile, law.materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps,
-                      law=law, state0=st, state_at=state_at)
-    out, st_at = res if state_at is not None else (res, None)
-    t2 = time.perf_counter()
-    out.update(law.result_keys(F0, t1 - t_setup, t1, t2, F_peak=F0 + abs(dF)))
-    out["normal_ramp_steps"] = RAMP_STEPS
-    out["runtime_s"]["per_step"] = (t2 - t1) / (RAMP_STEPS + cycles * steps)  # the mean, ramp included
-    out["model"] = "3d"
-    return (out, st_at) if state_at is not None else out
+
+def drive_3d_together(laws, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, settle=None) -> list:
+    """``drive_3d`` of several 3D laws in lockstep (the two runs of an effect, or a tilt sweep and
+    its aligned face): every run the same cycles, so that their differences compare cycle by cycle.
+
+    ``settle`` = (tol, max_cycles): after ``cycles``, all go on ``SETTLE_BLOCK`` cycles at a time
+    until the dissipation of every run settles (``settled``: its last change at most ``tol`` of it,
+    and contracting) or ``max_cycles`` have run. The 3D cycles settle over many cycles where
+    Masing's rule fails at the mesh scale (the coupled steel/aluminium pair: by ~1e-3 per cycle
+    after 4 cycles, then a tail at a ratio of ~0.9, ``docs/fem3d.md``). A continued run is the
+    same history as one long run (every cycle starts at the same phase; ``tests/test_settling.py``).
+    Each result's last-cycle keys are those of the last cycle run; ``cycles_run`` says how many,
+    ``settled`` whether the tolerance was met (None without ``settle``)."""
+    runs = [_Run3D(law, mu, F0, dF, alpha, ua, fa, steps, t_setup) for law in laws]
+    outs = [r.start(cycles) for r in runs]
+    done = cycles
+    if settle is not None:
+        tol, max_cycles = float(settle[0]), int(settle[1])
+        while not all(r.settled(o, tol) for r, o in zip(runs, outs)) and done < max_cycles:
+            block = max(2, min(SETTLE_BLOCK, max_cycles - done))
+            outs = [r.more(o, block) for r, o in zip(runs, outs)]
+            done += block
+        for r, o in zip(runs, outs):
+            o["settled"] = r.settled(o, tol)
+    return [r.finish(o) for r, o in zip(runs, outs)]
+
+
+class _Run3D:
+    """One 3D run of ``drive_3d_together``: started, continued block by block, finished."""
+
+    def __init__(self, law, mu, F0, dF, alpha, ua, fa, steps, t_setup):
+        self.law, self.steps, self.t_setup = law, steps, t_setup
+        self.load = dict(mu=mu, F0=F0, dF=dF, alpha=alpha, ua=ua, fa=fa)
+        self.elapsed = 0.0  # this run's own time (the runs of a lockstep interleave)
+
+    def start(self, cycles, state_at=None):
+        import numpy as np
+
+        t = time.perf_counter()
+        law, ld = self.law, self.load
+        st = law.rest_state()
+        for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * (ld["F0"] + ld["dF"] * np.sin(ld["alpha"])):
+            _, st = law.step(st, Fx=0.0, F_N=f)
+        out, self.state = run_contact(law.profile, law.materials, **ld, cycles=cycles, steps=self.steps, law=law,
+                                      state0=st, state_at=state_at, return_state=state_at is None)
+        self.per_cycle = law.cycle_keys(self.steps) if state_at is None else None
+        # the centres are taken at the first peak of F_x of the first run (the first loading)
+        self.centres = {k: v for k, v in law.result_keys(ld["F0"], 0.0, 0.0, 0.0).items()
+                        if k in ("stick_center_x", "pressure_center_x")}
+        self.done = cycles
+        self.elapsed += time.perf_counter() - t
+        return (out, self.state) if state_at is not None else out
+
+    def settled(self, out, tol) -> bool:
+        gross = 4.0 * self.load["mu"] * self.load["F0"] * float(out["displacement_amplitude"])
+        return settled(out["dissipation_per_cycle"], tol, gross)
+
+    def more(self, out, block) -> dict:
+        """``block`` more cycles from the last state; the result of the whole history."""
+        t = time.perf_counter()
+        law = self.law
+        nxt, self.state = run_contact(law.profile, law.materials, **self.load, cycles=block, steps=self.steps, law=law,
+                                      state0=self.state, return_state=True)
+        for k, v in law.cycle_keys(self.steps).items():
+            self.per_cycle[k] += v
+        self.done += block
+        self.elapsed += time.perf_counter() - t
+        first = {k: out[k] for k in ("dissipation_first_cycle", "dissipation_open_path", "first_stationary_cycle")}
+        return {**nxt, **first, "dissipation_per_cycle": list(out["dissipation_per_cycle"]) +
+                list(nxt["dissipation_per_cycle"]), "inputs": {**nxt["inputs"], "cycles": self.done}}
+
+    def finish(self, out) -> dict:
+        F0, dF = self.load["F0"], self.load["dF"]
+        out.update(self.law.result_keys(F0, -self.t_setup, 0.0, self.elapsed, F_peak=F0 + abs(dF)))
+        out.update(self.centres)
+        if self.per_cycle is not None:  # one history: its cycles are the law's runs
+            out["per_cycle"] = self.per_cycle
+        out.setdefault("settled", None)
+        out["cycles_run"] = self.done
+        out["normal_ramp_steps"] = RAMP_STEPS
+        out["runtime_s"]["per_step"] = self.elapsed / (RAMP_STEPS + self.done * self.steps)  # ramp included
+        out["model"] = "3d"
+        return out

@@ -753,6 +753,26 @@ class FEContact3D:
             out.update({"stick_center_x": z1["stick_center_x"], "pressure_center_x": z1["pressure_center_x"]})
         return out
 
+    #: the stick-zone keys of :meth:`cycle_keys`: those :meth:`result_keys` reports at the last cycle's peak
+    CYCLE_KEYS = ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y", "traction_angle_max")
+
+    def cycle_keys(self, steps: int) -> dict:
+        """The stick-zone keys (``CYCLE_KEYS``) at the peak of F_x of every full cycle of the last run
+        (cycles of ``steps`` steps from its first sample; a run from rest or from the normal ramp's
+        state), lists over the cycles: how the last cycle's values of :meth:`result_keys` settled
+        (``mdr.ladder.settling_error``). Empty where the last run kept no tractions."""
+        run = self.last_run
+        if not run or not run["q"]:
+            return {}
+        Fx = np.asarray(run["Fx"])
+        out = {key: [] for key in self.CYCLE_KEYS}
+        for k in range((Fx.size - 1) // int(steps)):
+            j = k * steps + int(np.argmax(Fx[k * steps:(k + 1) * steps + 1]))
+            z = self.stick_zone(run["q"][j], run["p"][j], run["a"][j])
+            for key in out:
+                out[key].append(None if not np.isfinite(z[key]) else float(z[key]))
+        return out
+
     def tilt_keys(self, F_N) -> dict:
         """``tilt``, ``contact_area_fraction``, ``contact_x_min``, ``contact_x_max`` at the normal
         force F_N without tangential traction (see :meth:`result_keys`)."""

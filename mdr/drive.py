@@ -76,15 +76,19 @@ def check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps):
 
 def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None,
                 cycles: int = 3, steps: int = 400, n: int = DEFAULT_CELLS, law: ContactLaw | None = None,
-                state_at=None, state0=None):
+                state_at=None, state0=None, return_state: bool = False):
     """Drive a contact law directly; returns the result dict (JSON keys).
 
     ``law`` is any ``mdr.protocol.ContactLaw`` (its ``run``); default: an MDRContact with ``n`` cells sized for
     the load history. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
     which gives the same result). ``state0``: the law's state to start from (default its rest
-    state), e.g. after a normal loading with friction active.
+    state), e.g. after a normal loading with friction active. ``return_state``: also return the
+    law's state at the end, as ``(result, state)``, to continue the history (a run of k cycles
+    from it continues this one: every cycle starts at the same phase); not with ``state_at``.
     """
+    if return_state and state_at is not None:
+        raise InputError("give at most one of state_at and return_state")
     F0, dF, alpha, mu, ua, fa, cycles, steps = check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)
     t_start = time.perf_counter()
     if law is None:
@@ -147,4 +151,6 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
                    "ua": ua, "fa": fa, "cycles": cycles, "steps": steps,
                    "law": law.describe()},
     }
+    if return_state:
+        return out, H.state
     return out if state_at is None else (out, kept)

@@ -68,11 +68,14 @@ class CycleAnalysis:
         return {"loop": last(self.loop_change), "dissipation": last(self.dissipation_change)}
 
 
+#: a cycle is stationary when it repeats the one before within this fraction (``analyse_cycles``)
+STATIONARY_TOL = 1e-3
+
 #: what a history's drive prescribes: ``analyse_cycles(driven=...)``
 DRIVEN = ("displacement", "force")
 
 
-def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = 1e-3, *, driven: str) -> CycleAnalysis:
+def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = STATIONARY_TOL, *, driven: str) -> CycleAnalysis:
     """Cut a history (batch + (T,)) into cycles and test them for stationarity.
 
     ``driven``: ``"displacement"`` when the history prescribes a displacement (du itself, or a

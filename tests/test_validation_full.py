@@ -248,12 +248,12 @@ def test_readme_catalogue_table(full):
 
 
 def test_mindlin_assumptions_in_3d(full):
-    """README "Mindlin's assumptions in 3D" (scene assumptions-3d, each effect against the same 3D
-    mesh with the assumption imposed). The free traction direction lowers the sphere's stationary
-    dissipation by 0.47 +- 0.13 % (a half-space boundary-element solution without Mindlin's
-    approximation: -0.2 +- 0.4 %), within the tolerance: the assumption holds; the largest
-    traction angle is 0.12 (half-space: ~0.1). The coupling of steel on aluminium (beta = +0.11)
-    leaves the stationary cycle within its error (+0.04 +- 1.5 %) but raises the first closed loop
+    """docs/fem3d.md "Mindlin's assumptions in 3D" (scene assumptions-3d, each effect against the same
+    3D mesh with the assumption imposed, both runs settled). The free traction direction lowers the
+    sphere's stationary dissipation by 0.49 +- 0.04 % (a half-space boundary-element solution without
+    Mindlin's approximation: -0.2 +- 0.4 %), within the tolerance: the assumption holds; the largest
+    traction angle is 0.10 (half-space: ~0.1). The coupling of steel on aluminium (beta = +0.11)
+    leaves the stationary cycle within its error (-0.5 +- 2 %) but raises the first closed loop
     after the normal loading by 36 +- 5 %: there MDR's uncoupled answer does not hold. The 3D pressure at F0
     with the assumptions imposed holds MDR's (pressure radius within 0.1 %). Bounds 2x."""
     _, _, sc = full
@@ -276,19 +276,16 @@ def test_mindlin_assumptions_in_3d(full):
         bound = 0.002 if "b = 20 um" in name else 0.001
         assert pr["grade"] in not_failed and abs(pr["difference"]) < bound and pr["error"] < 0.009, pr
         assert all(abs(x) < 0.002 for x in pr["levels"][1:]) and 0.0008 < abs(pr["levels"][0]) < 0.008, pr
-    # the 3D cycles settle geometrically (README): the direction effect on the sphere moves by
-    # 0.06 % over cycles 2-4 at a/10, the last cycle changes by <= 0.18 % (pairs) and 0.58 %
-    # (coupled pair), and the coupling's effect falls over cycles 2-4 (1.4, 0.4, 0.04 %)
-    def per_cycle(row, k):
-        lv = row["levels"][-1]
-        on, off = (np.asarray(lv[s]["dissipation_per_cycle"]) for s in ("on", "off"))
-        return on[k] / off[k] - 1
-
-    eff = [per_cycle(sphere, k) for k in (1, 2, 3)]
-    assert max(eff) - min(eff) < 0.0015
-    ceff = [per_cycle(coupling, k) for k in (1, 2, 3)]
-    assert ceff[0] > ceff[1] > ceff[2] and ceff[0] < 0.035
-    for row, bound in ((sphere, 0.004), (coupling, 0.012)):
+    # the 3D cycles settle geometrically, the pairs run on together until both settle to 1e-4 per cycle
+    # (docs/fem3d.md: the direction pairs after 4-12 cycles, the coupled pair after 10-18): every
+    # level's pair ran the same cycles and settled, the coupled pair at its finest level past the
+    # scene's 4, and the settling error is part of each cycle effect's error bar
+    for row in rows.values():
         for lv in row["levels"]:
+            assert lv["on"]["settled"] and lv["off"]["settled"], (row["variant"], lv["h"])
+            assert lv["on"]["cycles_run"] == lv["off"]["cycles_run"] >= 4
             W = np.asarray(lv["on"]["dissipation_per_cycle"])
-            assert abs(W[-1] / W[-2] - 1) < bound
+            assert abs(W[-1] / W[-2] - 1) <= 1e-4
+        st = row["verdicts"]["dissipation"]["settling"]
+        assert st["status"] == "stationary" and row["verdicts"]["dissipation"]["error"] >= st["error"]
+    assert coupling["levels"][-1]["on"]["cycles_run"] > 8

@@ -257,23 +257,24 @@ def _assumptions3d_table(res):
              "the catalogue's tolerance.", "",
              "The last column is no effect: the 3D pressure at F0 with Mindlin's assumptions imposed against "
              "MDR's, by its second-moment radius (pressure_radius, which needs no contact edge located between "
-             "vertices): 3D / MDR - 1 +- its ladder's error bar. *Last-cycle change*: the largest relative "
-             "change of the dissipation from the second-last to the last cycle, over the relaxed and the imposed "
-             "run at the finest level (the 3D cycles settle geometrically; above 1e-3 the last cycle is not "
-             "yet stationary).", "",
+             "vertices): 3D / MDR - 1 +- its ladder's error bar. *Cycles*: the 3D cycles settle geometrically, "
+             "so the two runs of a pair go on together past the scene's cycles until each run's dissipation "
+             "changes by at most 1e-4 per cycle, contracting (fem.contact_run.drive_3d_together); the cycles "
+             "run at the finest level, and the dissipation effect's settling error (mdr.ladder.settling_error: "
+             "the distance to the stationary cycle, part of the error bars above; bounded only once settled).", "",
              "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
              "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 "
-             "| last-cycle change |",
+             "| cycles |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def last_change(r):
         lv = (r.get("levels") or [{}])[-1]
-        ch = []
-        for side in ("on", "off"):
-            W = (lv.get(side) or {}).get("dissipation_per_cycle") or []
-            if len(W) >= 2 and W[-1] not in (None, 0) and W[-2] is not None:
-                ch.append(abs(W[-1] / W[-2] - 1))
-        return _n(max(ch), ".1g") if ch else "-"
+        on = lv.get("on") or {}
+        n = on.get("cycles_run")
+        st = ((r.get("verdicts") or {}).get("dissipation") or {}).get("settling") or {}
+        settled = {True: "settled", False: "not settled"}.get(on.get("settled"), "?")
+        err = "undetermined" if st.get("error") is None else _n(st["error"], ".1g", 100) + " %"
+        return f"{_n(n, '.0f')} ({settled}); settling {err} ({st.get('status', '?')})"
 
     def eff(r, q):
         x = r["verdicts"][q]
@@ -299,6 +300,13 @@ def _assumptions3d_table(res):
     return lines
 
 
+def _cycles(p) -> str:
+    """The cycles a tilted run ran and whether it settled (``fem.contact_run.drive_3d_together``)."""
+    settled = {True: "settled", False: "not settled"}.get(p.get("settled"),
+                                                          "stationary" if p.get("stationary") else "not stationary")
+    return f"{_n(p.get('cycles_run'), '.0f')} ({settled})"
+
+
 def _tilt_table(res):
     lines = ["Effect of a tilt theta of the flat face: each metric of the tilted face at the finest 3D level "
              "against the aligned face on the same mesh (the shared mesh error cancels), +- the error bar of the "
@@ -307,7 +315,9 @@ def _tilt_table(res):
              "dissipates (the flat punch sticks), in % of 4 mu F0 u_A (a slip-index difference); loop: the "
              "largest du difference over the aligned du amplitude; contact area at F0 over the aligned. "
              "The aligned answer holds where |effect| <= error + the catalogue's tolerance on dissipation, "
-             "slip index and loop.", ""]
+             "slip index and loop. Every run of a level goes on past the scene's cycles until each run's "
+             "dissipation changes by at most 1e-4 per cycle (or 1e-4 of 1 % of 4 mu F0 u_A), contracting; "
+             "the error bars hold the settling to the stationary cycle (mdr.ladder.settling_error).", ""]
 
     def eff(x, digits=2):
         if x is None or x["effect"] is None:
@@ -328,13 +338,13 @@ def _tilt_table(res):
                               + f": {lv.get('vertices')} vertices, {_n(lv.get('runtime_s'), '.0f')} s" for lv in r["levels"])
                   + ".", "",
                   "| theta (rad) | theta / theta_c | dissipation | vs MDR | slip index | vs MDR | contact area "
-                  "| loop du | vs MDR | stationary | aligned holds? |",
+                  "| loop du | vs MDR | cycles | aligned holds? |",
                   "|---|---|---|---|---|---|---|---|---|---|---|"]
         for p in r["points"]:
             a, m = p["aligned"], p["mdr"]
             lines.append(f"| {_n(p.get('tilt'))} | {_n(p.get('ratio'))} | {eff(a['dissipation'])} | {eff(m['dissipation'])} | "
                          f"{eff(a['slip_index'])} | {eff(m['slip_index'])} | {eff(a['contact_area'])} | "
-                         f"{eff(a['loop_du'])} | {eff(m['loop_du'])} | {'yes' if p['stationary'] else 'no'} | "
+                         f"{eff(a['loop_du'])} | {eff(m['loop_du'])} | {_cycles(p)} | "
                          + (f"{_grade(p)} |" if p.get("resolved", True) else
                             f"undetermined: {p['contact_vertices']} contact vertices |"))
         lines.append("")

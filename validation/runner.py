@@ -32,14 +32,16 @@ import numpy as np
 from mdr.apparatus import Apparatus, apparatus_result
 from mdr.drive import run_contact
 from mdr.io import DIR_MODE, write_json
+from mdr.ladder import settling_error
 from mdr.law import MDRContact
+from mdr.loops import STATIONARY_TOL
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure
 from mdr.profiles import make_profile
 from mdr import reference as ref
 
 from . import metrics
-from .scenes import Scene, a_ref
+from .scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
 
 
 def materials_of(s: Scene) -> Materials:
@@ -332,18 +334,24 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
         V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
 
     def step_bars(unit_scale):
-        """Each side's time-step error bar in the unit of a metric (J divided by ``unit_scale``); a side
-        whose time step was not computed (the 3D model's, or a family that runs none) gets a bar of 0
-        that bounds nothing, so its verdict can be no stronger than "consistent"."""
+        """Each side's time-step and settling error bars in the unit of a metric (J divided by
+        ``unit_scale``). A side whose time step was not computed (a family that runs none) gets a bar
+        of 0 that bounds nothing, so its verdict can be no stronger than "consistent". The settling
+        ("cycles"): ``mdr.ladder.settling_error`` of the finest level's dissipation over its closed
+        cycles, two cycles repeating within ``mdr.loops.STATIONARY_TOL`` being stationary."""
         out = {}
-        for side in ("mdr", "fem"):
+        for side, res in (("mdr", mdr), ("fem", fe)):
             ts = (time_step or {}).get(side)
             if ts is None:
                 out[side] = {"time step": {"status": "not computed", "bounded": False, "error": 0.0}}
-                continue
-            err = ts.get("error_at_scene_step")
-            out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
-                                       "error": None if err is None else float(err) / unit_scale}}
+            else:
+                err = ts.get("error_at_scene_step")
+                out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
+                                           "error": None if err is None else float(err) / unit_scale}}
+            W = list(res.get("dissipation_per_cycle") or [])[1:]
+            st = settling_error(W, floor=STATIONARY_TOL * max((abs(float(w)) for w in W if w is not None
+                                                               and np.isfinite(w)), default=0.0))
+            out[side]["cycles"] = {**st, "error": None if st["error"] is None else st["error"] / unit_scale}
         return out
 
     scalar("contact_radius", a, tol["contact_radius"] * a, "m")
@@ -540,6 +548,36 @@ EFFECTS_3D = {"dissipation": ("dissipation", "relative", None),
               "stick_center_x": (None, "radius", "element"),
               "pressure_center_x": (None, "radius", None)}
 
+#: the effects of ``EFFECTS_3D`` that are quantities of the cycles (the others are taken at the first loading)
+CYCLE_EFFECTS = ("dissipation", "stick_axis_x", "stick_axis_y", "stick_radius_x", "stick_radius_y")
+
+
+def _per_cycle(run: dict, q: str):
+    """The values of metric ``q`` (``CYCLE_EFFECTS``) over the closed cycles of a 3D run (the cycle from
+    rest left out), None where the run has none."""
+    seq = run.get("dissipation_per_cycle") if q == "dissipation" else (run.get("per_cycle") or {}).get(q)
+    return None if seq is None else list(seq)[1:]
+
+
+def effect_settling(on: dict, off: dict, q: str, kind: str, floor: float = 0.0) -> dict | None:
+    """How the effect ``q`` (``EFFECTS_3D``) of two 3D runs settles over their cycles: the effect of
+    every closed cycle (on minus off, relative to off or to off's contact radius) through
+    ``mdr.ladder.settling_error`` (``floor``: the change below which the runs count as settled); its
+    error, the distance from the last cycle to the stationary one, joins the effect's error bar.
+    The two runs ran the same cycles (``fem.contact_run.drive_3d_together``). None where ``q`` is no quantity of the cycles; a run without the
+    per-cycle values gives an undetermined settling (error None)."""
+    if q not in CYCLE_EFFECTS:
+        return None
+    a, b = _per_cycle(on, q), _per_cycle(off, q)
+    if not a or not b or len(a) != len(b):
+        return settling_error([None])
+    effects = []
+    for x, y in zip(a, b):
+        scale = abs(y or 0.0) if kind == "relative" else off.get("contact_radius") or 0.0
+        ok = x is not None and y is not None and np.isfinite(x) and np.isfinite(y) and scale > 0
+        effects.append((x - y) / scale if ok else None)
+    return settling_error(effects, floor=floor)
+
 
 def assumption_variant(s: Scene, v: dict) -> Scene:
     """The scene of one variant of an assumptions scene: ``v`` may set ``b`` (a truncated sphere),
@@ -580,9 +618,10 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
     q_y = 0, or no coupling, as in MDR and the axisymmetric model). The effect on, minus off, cancels
     the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
     effect far below the 3D model's own error; the error is at least the estimator's resolution
-    (``EFFECTS_3D``). The verdict of a metric: |effect| <= its error + the catalogue's tolerance
+    (``EFFECTS_3D``), plus, for the quantities of the cycles, the finest level's settling towards
+    the stationary cycle (``effect_settling``: the 3D cycles settle geometrically). The verdict of a metric: |effect| <= its error + the catalogue's tolerance
     (the assumption holds), graded by ``metrics.effect_verdict`` (a spread bounds nothing)."""
-    from fem.contact_run import drive_3d
+    from fem.contact_run import drive_3d_together
 
     t0 = time.perf_counter()
     rows = []
@@ -593,12 +632,11 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
         levels = []
         for h in sv.fe_levels:
             law = _fe_law(sv, h)
-            runs = {}
-            for side, variant in (("on", law.variant(traction="free", coupling=True)),
-                                  ("off", law.variant(traction="x") if relax == "direction"
-                                   else law.variant(coupling=False))):
-                runs[side] = drive_3d(variant, sv.mu, sv.F0, sv.dF, sv.alpha, kw.get("ua"), kw.get("fa"),
-                                      sv.cycles, sv.steps)
+            pair = (law.variant(traction="free", coupling=True),
+                    law.variant(traction="x") if relax == "direction" else law.variant(coupling=False))
+            runs = dict(zip(("on", "off"), drive_3d_together(pair, sv.mu, sv.F0, sv.dF, sv.alpha, kw.get("ua"),
+                                                             kw.get("fa"), sv.cycles, sv.steps,
+                                                             settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
             a = runs["off"]["contact_radius"]
             eff = {}
             for q, (_, kind, _) in EFFECTS_3D.items():
@@ -609,7 +647,8 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
             levels.append({"h": h, "dofs": runs["on"]["dofs"], "effects": eff,
                            **{side: {k: runs[side].get(k) for k in (*EFFECTS_3D, "traction_angle_max", "contact_radius",
                                                                      "pressure_radius", "stationary",
-                                                                     "dissipation_per_cycle", "stick_axis_quantum")}
+                                                                     "dissipation_per_cycle", "per_cycle",
+                                                                     "stick_axis_quantum", "cycles_run", "settled")}
                               for side in ("on", "off")},
                            "runtime_s": runs["on"]["runtime_s"]["total"] + runs["off"]["runtime_s"]["total"]})
             log(f"  {sv.name} a/{1 / h:.0f}: dissipation {_pct_or(eff['dissipation'])}, stick axes x, y "
@@ -622,11 +661,17 @@ def _run_assumptions3d(s: Scene, out_dir, log) -> dict:
                  "element": fine["h"] * a_ref(sv) / fine["off"]["contact_radius"], None: 0.0}
         for q, (tkey, kind, res) in EFFECTS_3D.items():
             lad = metrics.ladder_error([x["h"] for x in levels], [x["effects"][q] for x in levels])
+            # the finest level's last cycle against its stationary cycle (None: no quantity of the cycles)
+            settle = effect_settling(fine["on"], fine["off"], q, kind, floor=2.0 * SETTLE_TOL_3D)
             err = lad["error"]
             if err is not None:
                 err = max(err, floor[res])
-            verdicts[q] = {**metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err),
-                           "kind": kind, "resolution": floor[res], "ladder": lad}
+            if settle is not None:
+                err = None if err is None or settle["error"] is None else err + settle["error"]
+            bounded = lad["bounded"] and (settle is None or settle["bounded"])
+            verdicts[q] = {**metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err,
+                                                    bounded=bounded),
+                           "kind": kind, "resolution": floor[res], "ladder": lad, "settling": settle}
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
                      "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
                      "holds": metrics.family_holds(verdicts.values()),
@@ -674,6 +719,56 @@ def _tilt_effects(run, ref, relative, mu, F0) -> dict:
             "loop_du": metrics.loop_distance(run["loop"], ref["loop"], mu, F0)["du"]}
 
 
+def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> dict:
+    """How the tilt metrics of ``run`` against ``ref`` (``_tilt_effects``) settle over the closed
+    cycles (the cycle from rest left out; the 3D runs of a level ran the same cycles,
+    ``fem.contact_run.drive_3d_together``; a reference without ``ref_cycles``, MDR's, is taken as
+    stationary):
+    ``mdr.ladder.settling_error`` of the dissipation and slip-index effects cycle by cycle
+    (each cycle's dissipation over 4 mu F0 u_A of the last), with the floor the runs settled to
+    (``SETTLE_TOL_3D`` of each run's dissipation or of 1 % of 4 mu F0 u_A, ``fem.contact_run.settled``,
+    in the effect's unit); the loop distance, whose loops are kept for the last cycle only, gets
+    ``SETTLING_RATIO_MAX`` / (1 - it) times the two runs' last loop changes (the du of
+    ``mdr.loops.analyse_cycles``, in u_A as ``loop_du``; a ratcheting loop drifts in du while its
+    dissipation has settled), which bound nothing; the contact area is no quantity of the cycles
+    (None)."""
+    from fem.contact_run import HARDLY_DISSIPATES
+    from mdr.ladder import SETTLING_RATIO_MAX as r
+
+    W = list(run.get("dissipation_per_cycle") or [])[1:]
+    W0 = list(ref.get("dissipation_per_cycle") or [])[1:] if ref_cycles else [float(ref["dissipation"])] * len(W)
+    if not W or len(W0) != len(W):
+        none = settling_error([None])
+        return {"dissipation": none, "slip_index": none, "contact_area": None, "loop_du": none}
+    u, u0 = float(run["displacement_amplitude"]), float(ref["displacement_amplitude"])
+    si = (lambda w, ua: None if run.get("slip_index") is None or ref.get("slip_index") is None
+          else w / (4.0 * mu * F0 * ua))
+    eff = [_tilt_effects({**run, "dissipation": w, "slip_index": si(w, u), "loop": run["loop"]},
+                         {**ref, "dissipation": w0, "slip_index": si(w0, u0)}, relative, mu, F0)
+           for w, w0 in zip(W, W0)]
+    S = 4.0 * mu * F0 * u0
+    settled_change = SETTLE_TOL_3D * (max(abs(W[-1]), HARDLY_DISSIPATES * S) + max(abs(W0[-1]), HARDLY_DISSIPATES * S))
+    floor_W = settled_change / (abs(W0[-1]) if relative and W0[-1] else S)
+    changes = [((x.get("cycle_change") or {}).get("loop")) for x in (run, ref) if "cycle_change" in x]
+    loop = {"value": None, "extrapolated": None, "ratio": None, "cycles": len(W), "bounded": False,
+            "status": "last loop change",
+            "error": None if any(c is None for c in changes) else float(sum(changes)) * r / (1.0 - r)}
+    return {"dissipation": settling_error([e["dissipation"] for e in eff], floor=floor_W),
+            "slip_index": settling_error([e["slip_index"] for e in eff], floor=settled_change / S),
+            "contact_area": None, "loop_du": loop}
+
+
+def _with_settling(v: dict, settle: dict | None) -> dict:
+    """An effect verdict (``metrics.effect_verdict``) with a settling error bar added
+    (``_tilt_settling``; None: no quantity of the cycles): error and boundedness combined, regraded."""
+    if settle is None:
+        return {**v, "settling": None}
+    err = None if v["error"] is None or settle["error"] is None else v["error"] + settle["error"]
+    out = metrics.effect_verdict(v["effect"], {"status": v["status"]}, v["tolerance"], error=err,
+                                 bounded=v["bounded"] and settle["bounded"])
+    return {**out, "settling": settle}
+
+
 def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
     """The tolerance of a tilt effect: the catalogue's, the dissipation's relative to the reference or in
     units of 4 mu F0 u_A with its floor, the slip index's relative to the reference's ``si0`` with the
@@ -695,13 +790,14 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
     (``TILT_METRICS``) against the aligned 3D run on the same mesh: the mesh error the two share
     cancels, the effect's error bar is its own ladder (``metrics.ladder_error``); the verdict
     "the aligned answer holds" is |effect| <= error + tolerance. Against MDR: the same metrics
-    of the finest level, error bar the 3D ladder of the tilted value plus MDR's. A tilted contact of
+    of the finest level, error bar the 3D ladder of the tilted value plus MDR's. Both error bars
+    hold the finest level's settling towards the stationary cycle (``_tilt_settling``). A tilted contact of
     fewer than ``TILT_MIN_VERTICES`` vertices resolves nothing: its verdicts are None. ``holds_below``:
     the largest tilt up to which no swept tilt contradicts the aligned answer on the dissipation
     (graded holds or consistent within its spread: the two levels bound nothing)."""
     import warnings
 
-    from fem.contact_run import drive_3d
+    from fem.contact_run import drive_3d_together
 
     from .scenes import tilt_critical
 
@@ -721,19 +817,21 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
             law = _fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
             setup = time.perf_counter() - t0
             runs = []
-            for th in tilts:
-                t1 = time.perf_counter()
-                lt = law.variant(tilt=th)
-                with warnings.catch_warnings():  # stationarity is reported per run
-                    warnings.simplefilter("ignore", RuntimeWarning)
-                    out = drive_3d(lt, sv.mu, sv.F0, sv.dF, sv.alpha, None, sv.amplitude, sv.cycles, sv.steps)
+            laws = [law.variant(tilt=th) for th in tilts]
+            with warnings.catch_warnings():  # stationarity is reported per run
+                warnings.simplefilter("ignore", RuntimeWarning)
+                outs = drive_3d_together(laws, sv.mu, sv.F0, sv.dF, sv.alpha, None, sv.amplitude, sv.cycles,
+                                         sv.steps, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
+            for th, lt, out in zip(tilts, laws, outs):
                 tk = lt.tilt_keys(sv.F0)
-                runs.append({"tilt": th, "contact_vertices": int(lt.contact_mask(lt.normal(F_N=sv.F0).p).sum()), **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
-                                                                    "stationary", "dissipation_per_cycle")},
+                runs.append({"tilt": th, "contact_vertices": int(lt.contact_mask(lt.normal(F_N=sv.F0).p).sum()),
+                             **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
+                                                        "stationary", "dissipation_per_cycle", "cycle_change",
+                                                        "cycles_run", "settled")},
                              "contact_area_fraction": tk["contact_area_fraction"],
                              "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
                              "loop": {k: out["loop"][k] for k in ("du", "Fx")},
-                             "runtime_s": time.perf_counter() - t1})
+                             "runtime_s": out["runtime_s"]["cycles"]})
             levels.append({"h": h, "refine": law.hmesh.params.refine_h, "band": law.hmesh.params.band_h,
                            "dofs": law.ndofs, "vertices": law.n,
                            "setup_s": setup, "runs": runs,
@@ -759,13 +857,17 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
             mdr_side = {q: [_tilt_effects(fine, x, relm, sv.mu, sv.F0)[q] for x in mdr_ladder] for q in TILT_METRICS}
             resolved = fine["contact_vertices"] >= TILT_MIN_VERTICES
             pt = {"tilt": th, "ratio": th / thc, "aligned": {}, "mdr": {}, "stationary": bool(fine["stationary"]),
+                  "cycles_run": fine.get("cycles_run"), "settled": fine.get("settled"),
                   "contact_area_fraction": fine["contact_area_fraction"], "contact_vertices": fine["contact_vertices"],
                   "resolved": resolved}
+            settle3 = _tilt_settling(fine, fine0, rel3, sv.mu, sv.F0)
+            settlem = _tilt_settling(fine, mdr, relm, sv.mu, sv.F0, ref_cycles=False)
             for q in TILT_METRICS:
                 t3 = _tilt_tolerance(q, tol, rel3, fine0["dissipation"], 4.0 * sv.mu * sv.F0 *
                                      float(fine0["displacement_amplitude"]), fine0.get("slip_index"))
                 lad = metrics.ladder_error(hs, [e[q] for e in vs3])
-                pt["aligned"][q] = metrics.effect_verdict(lad["value"], lad, t3 if resolved else None)
+                pt["aligned"][q] = _with_settling(metrics.effect_verdict(lad["value"], lad, t3 if resolved else None),
+                                                  settle3[q])
                 if q == "contact_area":
                     continue
                 tm = _tilt_tolerance(q, tol, relm, mdr["dissipation"], 4.0 * sv.mu * sv.F0 *
@@ -773,8 +875,9 @@ def _run_tilt(s: Scene, out_dir, log) -> dict:
                 lf = metrics.ladder_error(hs, [e[q] for e in vsm])
                 lm = metrics.ladder_error(md_h, mdr_side[q])
                 errm = float("nan") if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
-                pt["mdr"][q] = metrics.effect_verdict(lf["value"], lf, tm if resolved else None, error=errm,
-                                                      bounded=lf["bounded"] and lm["bounded"])
+                pt["mdr"][q] = _with_settling(metrics.effect_verdict(lf["value"], lf, tm if resolved else None,
+                                                                     error=errm, bounded=lf["bounded"] and lm["bounded"]),
+                                              settlem[q])
             pt["holds"] = metrics.family_holds(pt["aligned"].values())
             pt["grade"] = metrics.scene_grade({q: x for q, x in pt["aligned"].items() if x["tolerance"] is not None}) \
                 if resolved else "undetermined"

@@ -58,6 +58,12 @@ FE_LEVELS_QUICK = (1 / 20, 1 / 40, 1 / 80)
 #: (``assumptions-3d``) therefore compares the 3D model with itself on each mesh, one assumption
 #: relaxed against imposed, where the shared discretisation error cancels
 FE_LEVELS_3D = (0.2, 0.14, 0.1)
+#: the 3D families run each 3D run past its scene's cycles until its dissipation settles to this
+#: fraction per cycle, at most ``SETTLE_MAX_CYCLES`` (``fem.contact_run.drive_3d``'s ``settle``): the
+#: 3D cycles settle geometrically, the coupled steel/aluminium pair over ~15-20 cycles
+#: (``mdr.ladder.settling_error`` turns the last change into the error bar of the stationary cycle)
+SETTLE_TOL_3D = 1e-4
+SETTLE_MAX_CYCLES = 24
 FE_MODELS = ("axisym", "3d")
 #: the assumptions of Mindlin's theory (and MDR) a 3D scene can relax, one per variant: the
 #: tangential traction along x, and no normal-tangential coupling of a dissimilar pair
