@@ -6,7 +6,7 @@ apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``
 the slip index of the aligned face and of faces tilted by multiples of theta_c = F0 / (4 E* b^2)
 up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
 (``FEContact3D.variant``), at two mesh levels; ``contact vertices`` counts the vertices in contact
-at F0 (half model): below 10 the contact is not resolved (``validation.runner.TILT_MIN_VERTICES``).
+at F0 (half model): below 10 the contact is not resolved (``validation.families.tilt.TILT_MIN_VERTICES``).
 ``--band H ...`` (one per level): the loaded rim arc banded, ``FEContact3D(band=(H, width, angle,
 growth))`` (sizes / b), to resolve the edge crescent at pi/3600. Run:
 
@@ -27,7 +27,7 @@ def main(argv=None):
     from mdr.materials import Materials
     from mdr.profiles import TruncatedSphere
     from mdr.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
-    from validation.runner import TILT_MIN_VERTICES
+    from validation.families.tilt import TILT_MIN_VERTICES
     from validation.scenes import TILT_BOUND, tilt_critical
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -3,7 +3,7 @@
 (``FEContact3D(..., band=(h, width, angle, growth))``, ``meshes.half3d`` ``band_*``), finer than the
 ``tilt`` scene's banded row (``TILT_BAND``: band_h = b/33, b/50): by default b/50 and b/70.
 
-The scene's loading and metrics (``validation.runner._run_tilt``: Table 2 loading F0 = 0.5 N,
+The scene's loading and metrics (``validation.families.tilt.run``: Table 2 loading F0 = 0.5 N,
 dF = 0.1 N, mu = 0.2, force amplitude 0.06 N, 4 cycles of 40 steps; the tilt against the aligned
 face on the same banded mesh, error bar the two-level ladder of the band size, the face elsewhere at
 h = 0.3 b). Not in the scene: the b/70 level has 560 interface vertices and its tilted run (the

@@ -57,7 +57,12 @@ def test_the_example_file_runs_and_its_sphere_is_hertz(tmp_path):
     ('[[scene]]\nname = ".."\ntitle = "t"\nprofile = "sphere"\n', "name must be letters"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nsteps = 10\n', "steps must be a multiple of 4"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\namplitude = 0.09\n', "below the friction limit"),
-    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nvariants = [{block = -3.0}]\n', "validity variant"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "validity"\nvariants = [{block = -3.0}]\n',
+     "validity variant"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nvariants = [{block = 3.0}]\n', "variants need a family"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "roughness"\n', "family must be one of"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "tilt"\nvariants = [{block = 3.0}]\n',
+     "needs variants, each holding tilts"),
     ('[[scene]\nname = "x"\n', "not valid TOML"),
 ])
 def test_a_bad_file_is_one_line_naming_the_field(text, word, tmp_path):
@@ -85,10 +90,11 @@ def test_the_command_refuses_a_bad_file_before_any_work(tmp_path):
 def test_every_catalogue_scene_and_variant_passes_the_checks():
     """The range checks a user's scene meets hold for every built-in scene and every scene a family
     derives from its variants (a banded tilt row refines its band at one size: levels (0.3, 0.3))."""
-    from validation import runner
+    from validation.families import assumptions3d, curvature, tilt
     from validation.scenes import CATALOGUE
 
-    derive = {"tilts": runner.tilt_variant, "a_over_R": runner.curvature_variant, "relax": runner.assumption_variant}
+    derive = {"tilts": tilt.tilt_variant, "a_over_R": curvature.curvature_variant,
+              "relax": assumptions3d.assumption_variant}
     n = 0
     for s in CATALOGUE.values():
         for v in s.variants:

@@ -15,7 +15,8 @@ import pytest
 from mdr import Materials, reference as ref
 from mdr.drive import run_contact
 from mdr.profiles import TruncatedSphere
-from validation import compare, metrics, runner
+from validation import compare, metrics, runner, sides, store
+from validation.families import assumptions3d, tilt
 from validation.fields import image_is_blank
 from validation.scenes import CATALOGUE, Scene, code_version, select
 
@@ -129,7 +130,7 @@ def test_interrupted_scene_leaves_nothing(tmp_path, monkeypatch):
 
     monkeypatch.setattr(runner, "run_scene", boom)
     with pytest.raises(KeyboardInterrupt):
-        runner.write_scene(s, tmp_path, "x")
+        store.write_scene(s, tmp_path, "x")
     assert not (tmp_path / "scenes" / s.name).exists()
     assert list((tmp_path / "scenes").iterdir()) == []
 
@@ -317,7 +318,7 @@ def test_assumptions_3d_scene(tmp_path):
     from validation import report
 
     s = Scene("t3a", "tiny 3D assumptions", "sphere", fe_model="3d", fe_levels=(0.3, 0.25), cycles=3, steps=12,
-              group="3d", variants=({"relax": "direction"}, {"relax": "coupling"}))
+              group="3d", family="assumptions3d", variants=({"relax": "direction"}, {"relax": "coupling"}))
     res = runner.run_scene(s, tmp_path)
     direction, coupling = res["assumptions3d"]
     for q, x in coupling["verdicts"].items():
@@ -335,16 +336,16 @@ def test_assumptions_3d_scene(tmp_path):
     # the pressure against MDR's (Hertz's a for the sphere), by its second-moment radius: within
     # 0.5 % on both coarse levels (measured -0.27 %, +0.11 %), and judged with its ladder's error bar
     pr = direction["pressure"]
-    assert abs(pr["mdr"] / ref.hertz(s.F0, s.R, runner.materials_of(s).E_star)["a"] - 1) < 1e-12
+    assert abs(pr["mdr"] / ref.hertz(s.F0, s.R, sides.materials_of(s).E_star)["a"] - 1) < 1e-12
     assert all(abs(x) < 5e-3 for x in pr["levels"]) and pr["error"] is not None
     assert pr["grade"] == "consistent within its spread"
-    text = "\n".join(report._assumptions3d_table(res))
+    text = "\n".join(assumptions3d.table(res))
     assert "| t3a[direction: sphere]" in text and "| t3a[coupling: sphere]" in text
     assert text.count("(two levels): consistent within its spread |") == 2
     with pytest.raises(Exception, match="relax in direction, coupling"):
-        Scene("t3b", "x", "sphere", fe_model="3d", variants=({"relax": "tilt"},))
+        Scene("t3b", "x", "sphere", fe_model="3d", family="assumptions3d", variants=({"relax": "tilt"},))
     with pytest.raises(Exception, match="need fe_model='3d'"):
-        Scene("t3c", "x", "sphere", variants=({"relax": "direction"},))
+        Scene("t3c", "x", "sphere", family="assumptions3d", variants=({"relax": "direction"},))
 
 
 @pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
@@ -360,7 +361,8 @@ def test_tilt_scene_tiny(tmp_path):
 
     thc = tilt_critical(0.5, 100e-6, Materials().E_star)
     s = Scene("tt", "tiny tilt", "flat", b=100e-6, fe_model="3d", fe_levels=(0.3, 0.2), cycles=3, steps=20,
-              group="3d", variants=({"profile": "flat", "b": 100e-6, "tilts": (0.2 * thc, 0.5 * thc)},))
+              group="3d", family="tilt",
+              variants=({"profile": "flat", "b": 100e-6, "tilts": (0.2 * thc, 0.5 * thc)},))
     res = runner.run_scene(s, tmp_path)
     (row,) = res["tilt"]
     assert row["theta_c"] == pytest.approx(thc, rel=1e-12)
@@ -374,12 +376,12 @@ def test_tilt_scene_tiny(tmp_path):
     assert row["dissipation_unit"] == "4 mu F0 u_A"  # the aligned punch sticks
     assert all(p["contact_area_fraction"] == 1.0 for p in row["points"])  # full contact below theta_c
     assert (tmp_path / res["files"]["tilt"]).exists()
-    text = "\n".join(report._tilt_table(res))
+    text = "\n".join(tilt.table(res))
     assert "tt[flat b = 100 um]" in text and "0.2 theta_c" in text
     assert report.verdict(res) == (None, "see its table")
     assert TILT_BOUND == pytest.approx(np.pi / 3600, rel=1e-15)
     with pytest.raises(Exception, match="tilt variants need fe_model='3d'"):
-        Scene("tt2", "x", "flat", b=1e-4, variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,)},))
+        Scene("tt2", "x", "flat", b=1e-4, family="tilt", variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,)},))
 
 
 def test_tilt_family_in_the_catalogue():
@@ -401,10 +403,10 @@ def test_tilt_family_in_the_catalogue():
     assert banded["tilts"] == (TILT_BOUND,) and len(banded["band"]) == len(banded["fe_levels"])
     assert banded["band"][1][0] < banded["band"][0][0]
     with pytest.raises(Exception, match="refine needs one refine tuple per FE level"):
-        Scene("tt3", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3, 0.2),
+        Scene("tt3", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3, 0.2), family="tilt",
               variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "refine": ((-1.0, 0.1, 0.8),)},))
     with pytest.raises(Exception, match="band needs one band tuple per FE level"):
-        Scene("tt4", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3,),
+        Scene("tt4", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3,), family="tilt",
               variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "band": ((0.02, 0.06, 0.45), (0.01, 0.06, 0.45))},))
 
 

@@ -207,14 +207,14 @@ def test_small_batch_path_of_per_step_is_the_same_rule(batch):
 
 def test_time_step_error_explains_the_gap_to_mindlin_deresiewicz():
     """The ladders refine space at the scene's steps per cycle; the time step is estimated apart
-    (validation.runner.time_step_error: the finest level at 1, 2, 4 times the steps). On sphere-md
+    (validation.sides.time_step_error: the finest level at 1, 2, 4 times the steps). On sphere-md
     at the quick scene's 80 steps MDR's dissipation is 0.10 % below Mindlin & Deresiewicz's closed
     form (MDR is exact for it in space): the time-step ladder shows the trapezoidal loop integral's
     order 2 (measured 2.00) and its extrapolation removes the gap (measured to 5e-6 of it). The FE
     model (a/20 here) has a time-step error of its own, not MDR's (measured 0.138 % against
     0.103 %, order 2.5): it does not cancel in MDR - FE; on geom-b20um (quick, a/20) the two even
     have opposite signs (measured MDR -0.125 %, FE +0.140 %)."""
-    from validation.runner import closed_forms, run_fe, run_mdr, time_step_error
+    from validation.sides import closed_forms, run_fe, run_mdr, time_step_error
     from validation.scenes import CATALOGUE
 
     s = CATALOGUE["sphere-md"].quick_version()

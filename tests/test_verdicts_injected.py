@@ -2,7 +2,7 @@
 
 Truth: a "holds" is evidence only if a wrong answer would not get it. The scene's real ladders
 (geom-b20um on the quick ladders: MDR 100/400/1600 cells, FE a/20, a/40, a/80, each side's time
-step at 1, 2 and 4 times the scene's steps) are graded by ``runner.scene_verdicts``; then an
+step at 1, 2 and 4 times the scene's steps) are graded by ``validation.families.pair.scene_verdicts``; then an
 error is injected into one level of one side and the grading is repeated:
 
 - +10 % or +2 % on any one level of a metric graded "holds" takes its "holds" away (the ladder
@@ -17,7 +17,8 @@ from __future__ import annotations
 import copy
 import pytest
 
-from validation import metrics, runner
+from validation import metrics, sides
+from validation.families import pair
 from validation.scenes import CATALOGUE
 
 SCALARS = ("contact_radius", "stick_radius", "dissipation", "slip_index")
@@ -26,20 +27,20 @@ SCALARS = ("contact_radius", "stick_radius", "dissipation", "slip_index")
 @pytest.fixture(scope="module")
 def ladders():
     s = CATALOGUE["geom-b20um"].quick_version()
-    mdr = [runner.run_mdr(s, n) for n in s.mdr_cells]
-    fe = [runner.run_fe(s, h)[0] for h in s.fe_levels]
-    ts = {"mdr": runner.time_step_error(s, mdr[-1], n=s.mdr_cells[-1]),
-          "fem": runner.time_step_error(s, fe[-1], h=s.fe_levels[-1])}
+    mdr = [sides.run_mdr(s, n) for n in s.mdr_cells]
+    fe = [sides.run_fe(s, h)[0] for h in s.fe_levels]
+    ts = {"mdr": sides.time_step_error(s, mdr[-1], n=s.mdr_cells[-1]),
+          "fem": sides.time_step_error(s, fe[-1], h=s.fe_levels[-1])}
     return s, mdr, fe, ts
 
 
 def _grades(s, mdr, fe, ts):
-    return {q: v["grade"] for q, v in runner.scene_verdicts(s, fe, mdr, ts).items()}
+    return {q: v["grade"] for q, v in pair.scene_verdicts(s, fe, mdr, ts).items()}
 
 
 def test_the_real_ladders_give_graded_verdicts(ladders):
     s, mdr, fe, ts = ladders
-    V = runner.scene_verdicts(s, fe, mdr, ts)
+    V = pair.scene_verdicts(s, fe, mdr, ts)
     grades = {q: v["grade"] for q, v in V.items()}
     assert set(grades.values()) <= set(metrics.GRADES)
     assert grades["contact_radius"] == "holds"  # both ladders bounded (asymptotic FE, converged MDR)
@@ -53,7 +54,7 @@ def test_the_real_ladders_give_graded_verdicts(ladders):
     for side in ("mdr", "fem"):
         assert d["error_parts"][side]["time step"] > 0
         assert d[f"{side}_error"] == pytest.approx(sum(d["error_parts"][side].values()), rel=1e-12)
-    without = runner.scene_verdicts(s, fe, mdr, None)["dissipation"]
+    without = pair.scene_verdicts(s, fe, mdr, None)["dissipation"]
     assert without["fem_error"] < d["fem_error"] and without["mdr_error"] < d["mdr_error"]
 
 

@@ -43,7 +43,7 @@ from mdr.errors import ConvergenceError, InputError
 from . import report
 from mdr.executors import check_choice, executor_for, worker_id
 
-from .runner import install_scene_files, load_scene, scene_files, write_scene
+from .store import install_scene_files, load_scene, scene_files, write_scene
 from .scenes import CATALOGUE, code_version, select
 
 
@@ -90,7 +90,7 @@ class Heartbeat:
 
 def remove_stale_tmp(out, names, *, older_than=STALE_TMP_S, log=None) -> list:
     """Remove the hidden temporary scene directories (``scenes/.NAME.XXXX``, made by
-    ``runner.write_scene``, and ``scenes/.NAME.old.PID``) a killed run left behind: those of
+    ``store.write_scene``, and ``scenes/.NAME.old.PID``) a killed run left behind: those of
     the given scene names whose mtime is older than ``older_than`` seconds, or whose embedded
     pid (``.old.PID``) is not a live process. A live run's directory is younger (it is
     touched whenever a file is written into it) and is kept. Returns the removed paths."""
@@ -147,7 +147,7 @@ def _work(scene, out, fingerprint, fields, verbose):
 def _remote(scene, fingerprint, version, fields):
     """One scene on a worker of an executor (top level: picklable for any executor): run into
     a temporary directory local to the worker and return ``(summary, files)``, the scene
-    directory as {relative path: bytes}; the caller stores it (``runner.install_scene_files``),
+    directory as {relative path: bytes}; the caller stores it (``store.install_scene_files``),
     so the output directory need not be shared with the workers. Refuses to run if the
     worker's sources differ from the caller's (``version``, ``scenes.code_version``): its
     result would be stored under the wrong fingerprint."""

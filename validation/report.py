@@ -1,6 +1,7 @@
 """report.md and results.json from the stored scene results (no solver calls).
 
-Every scene carries a verdict per metric (``validation.runner.scene_verdicts``):
+Every scene of the family ``pair`` carries a verdict per metric (``validation.families.pair.scene_verdicts``;
+the other families' tables are their own, ``validation.families``):
 MDR and FE at their finest levels, their difference, each side's error bar
 extrapolated over its refinement ladder (``validation.metrics.ladder_error``) and
 the scene's tolerance (``validation.scenes.TOLERANCES``). A metric holds exactly
@@ -17,44 +18,17 @@ from pathlib import Path
 
 from mdr.io import json_bytes, write_files_atomic
 
-from . import figures
-from .metrics import grade_of, scene_grade
-from .runner import load_scene
+from . import families, figures
+from .metrics import scene_grade
+from .store import load_scene
 from .scenes import TOLERANCE_ORIGINS, TOLERANCES, code_version
+from .text import LABELS, grade_text, num, pct, sig
 
 #: the report's summary figures (key: file name in the output folder)
 SUMMARY_FIGURES = {"delta_b": "delta_vs_b.png", "delta_kx": "delta_vs_kx.png", "pareto": "speed_error.png"}
 #: display units of the scalar metrics: (unit shown, factor from SI)
 UNITS = {"contact_radius": ("um", 1e6), "stick_radius": ("um", 1e6), "dissipation": ("pJ", 1e12),
          "slip_index": ("", 1.0)}
-LABELS = {"contact_radius": "contact radius", "stick_radius": "stick radius", "dissipation": "dissipation",
-          "slip_index": "slip index", "pressure_profile": "pressure profile at F0",
-          "traction_profile": "traction profile at the peak",
-          "loop_Fx": "loop: largest F_x difference", "loop_du": "loop: largest du difference"}
-
-
-def _n(x, spec=".3g", k=1.0) -> str:
-    """``x * k`` formatted by ``spec``: the one number formatter of the report. Renders every value a
-    result can hold: None (not computed) as '-', NaN and +-inf as such, anything not a number as
-    its text, never raising."""
-    if x is None:
-        return "-"
-    try:
-        v = float(x) * k
-    except (TypeError, ValueError):
-        return str(x)
-    return format(v, spec) if math.isfinite(v) else str(v)
-
-
-def _pct(x, digits=2):
-    return "-" if x is None else _n(x, f"+.{digits}f", 100.0) + " %"
-
-
-def _g(x, k=1.0, digits=3):
-    """A number with ``digits`` significant digits (0 stays 0; None is '-')."""
-    if x is None:
-        return "-"
-    return "0" if x == 0 else _n(x, f".{digits}g", k)
 
 
 def cycle_change(side: dict) -> str:
@@ -65,13 +39,7 @@ def cycle_change(side: dict) -> str:
     if not vals:
         return "-"
     x = max(vals)
-    return _n(x, ".1g") + ("" if side.get("stationary", True) else " (not stationary)")
-
-
-def _grade(v: dict) -> str:
-    """A metric's grade (``validation.metrics.GRADES``) as the report shows it."""
-    g = grade_of(v)
-    return {"holds": "**holds**", "fails": "**fails**"}.get(g, g)
+    return num(x, ".1g") + ("" if side.get("stationary", True) else " (not stationary)")
 
 
 def git_commit() -> str | None:
@@ -95,14 +63,14 @@ def verdict(res: dict) -> tuple[bool | None, str]:
     """The scene's verdict (the conjunction of its metrics) and the metrics that decide it: those
     that fail, else those that are undetermined, else those only consistent within a spread or
     below resolution (``validation.metrics.GRADES``)."""
-    if "validity" in res or "curvature" in res or "assumptions3d" in res or "tilt" in res:
+    if families.of_result(res) != "pair":
         return None, "see its table"
     v = res.get("verdicts") or {}
     if not v:
         return None, "no comparable quantity"
 
     def named(grade):
-        return [LABELS.get(q, q).split(" (")[0] for q, x in v.items() if _grade(x) == _grade({"grade": grade})]
+        return [LABELS.get(q, q).split(" (")[0] for q, x in v.items() if grade_text(x) == grade_text({"grade": grade})]
 
     for grade, text in (("fails", "beyond error bars + tolerance"), ("undetermined", "undetermined"),
                         ("consistent within its spread", "consistent within a ladder's spread, which bounds nothing"),
@@ -130,9 +98,9 @@ def summary_cell(q, res) -> str:
         return "-"
     ref = _reference(q, res)
     k, unit = (100.0 / ref, " %") if ref else (UNITS.get(q, ("", 1.0))[1], f" {UNITS.get(q, ('', 1.0))[0]}".rstrip())
-    d = "0" if v.get("difference") == 0 else _n(v.get("difference"), "+.2g", k)
-    return (f"{d} ({_g(v['fem_error'], k, 2)} + {_g(v['mdr_error'], k, 2)} + {_g(v['tolerance'], k, 2)}){unit}: "
-            f"{_grade(v).replace('consistent within its spread', 'consistent (spread)')}")
+    d = "0" if v.get("difference") == 0 else num(v.get("difference"), "+.2g", k)
+    return (f"{d} ({sig(v['fem_error'], k, 2)} + {sig(v['mdr_error'], k, 2)} + {sig(v['tolerance'], k, 2)}){unit}: "
+            f"{grade_text(v).replace('consistent within its spread', 'consistent (spread)')}")
 
 
 def _scene_table(res):
@@ -144,13 +112,13 @@ def _scene_table(res):
 
     def err(v, side, k):
         ld = v[f"{side}_ladder"]
-        return "0" if ld.get("status") == "converged" else _g(v[f"{side}_error"], k, 2)
+        return "0" if ld.get("status") == "converged" else sig(v[f"{side}_error"], k, 2)
 
     def bar(ld):
         if ld.get("error") is None:
             return f" ({ld.get('status')})"
         o = ld.get("order")
-        order = "" if o is None or ld.get("status") != "asymptotic" else ", p = " + _n(o, ".2g")
+        order = "" if o is None or ld.get("status") != "asymptotic" else ", p = " + num(o, ".2g")
         return f" ({ld.get('status')}{order})"
 
     def tol_origin(v):
@@ -160,9 +128,9 @@ def _scene_table(res):
     for q, v in res.get("verdicts", {}).items():
         unit, k = UNITS.get(q, (v.get("unit", ""), 1.0))
         cf = None if not cfm or q not in UNITS or cfm.get(q) is None else cfm[q] * k
-        lines.append(f"| {LABELS.get(q, q)} | {unit or v.get('unit', '')} | {_g(v['mdr'], k, 5)} | {_g(v['fem'], k, 5)} | "
-                     f"{_g(cf, 1.0, 5)} | {_g(v['difference'], k)} | {err(v, 'fem', k)}{bar(v['fem_ladder'])} | "
-                     f"{err(v, 'mdr', k)}{bar(v['mdr_ladder'])} | {_g(v['tolerance'], k, 2)}{tol_origin(v)} | {_grade(v)} |")
+        lines.append(f"| {LABELS.get(q, q)} | {unit or v.get('unit', '')} | {sig(v['mdr'], k, 5)} | {sig(v['fem'], k, 5)} | "
+                     f"{sig(cf, 1.0, 5)} | {sig(v['difference'], k)} | {err(v, 'fem', k)}{bar(v['fem_ladder'])} | "
+                     f"{err(v, 'mdr', k)}{bar(v['mdr_ladder'])} | {sig(v['tolerance'], k, 2)}{tol_origin(v)} | {grade_text(v)} |")
     if cfm:
         c = res["errors"].get("closed_form", {})
         lines += ["", f"Against the closed form ({cfm['source']}):", "",
@@ -170,9 +138,9 @@ def _scene_table(res):
                   "|---|---|---|---|---|---|"]
         for side in ("mdr", "fem"):
             r = c.get(side, {})
-            lines.append(f"| {side.upper()} | {_pct(r.get('contact_radius'), 3)} | {_pct(r.get('stick_radius'), 3)} | "
-                         f"{_pct(r.get('dissipation'), 3)} | {_g(r.get('pressure_profile'), 100, 2)} % | "
-                         f"{_g(r.get('traction_profile'), 100, 2)} % |")
+            lines.append(f"| {side.upper()} | {pct(r.get('contact_radius'), 3)} | {pct(r.get('stick_radius'), 3)} | "
+                         f"{pct(r.get('dissipation'), 3)} | {sig(r.get('pressure_profile'), 100, 2)} % | "
+                         f"{sig(r.get('traction_profile'), 100, 2)} % |")
     return lines
 
 
@@ -185,12 +153,12 @@ def _error_parts_lines(res):
     cells = []
     for side in ("mdr", "fem"):
         p = parts.get(side) or {}
-        cells.append(("MDR " if side == "mdr" else "FE ") + " + ".join(f"{name} {_g(x, 1e12, 2)}" for name, x in p.items()) + " pJ")
+        cells.append(("MDR " if side == "mdr" else "FE ") + " + ".join(f"{name} {sig(x, 1e12, 2)}" for name, x in p.items()) + " pJ")
     return ["Dissipation error bars by origin: " + "; ".join(cells) + ".", ""]
 
 
 def _time_step_lines(res):
-    """The time step's share of the dissipation error of each side (``runner.time_step_error``),
+    """The time step's share of the dissipation error of each side (``validation.sides.time_step_error``),
     part of the error bars above; sentences generated from the numbers they describe."""
     ts = res.get("errors", {}).get("time_step")
     if not ts:
@@ -202,10 +170,10 @@ def _time_step_lines(res):
         if t.get("shift") is None:
             return f"{name}: no extrapolation ({t['status']})"
         x = abs(t["shift"])
-        order = "" if t.get("order") is None else f", observed order {_n(t.get('order'), '.2g')}"
+        order = "" if t.get("order") is None else f", observed order {num(t.get('order'), '.2g')}"
         if x == 0:
             return f"{name}'s dissipation does not change with the step ({t.get('status')}{order})"
-        size = f"{_n(x, '.2g', 100)} %" if t.get("shift_unit", "relative") == "relative" else f"{_n(x, '.2g')} of 4 mu F0 u_A"
+        size = f"{num(x, '.2g', 100)} %" if t.get("shift_unit", "relative") == "relative" else f"{num(x, '.2g')} of 4 mu F0 u_A"
         return (f"{name}'s dissipation at the scene's step is {size} {'below' if t['shift'] > 0 else 'above'} its "
                 f"extrapolation ({t.get('status')}{order})")
 
@@ -216,12 +184,12 @@ def _time_step_lines(res):
     sm, sf = ((ts.get(k) or {}).get("shift") for k in ("mdr", "fem"))
     units = {(ts.get(k) or {}).get("shift_unit", "relative") for k in ("mdr", "fem")}
     if sm is not None and sf is not None and units == {"relative"}:
-        line += (f" Both extrapolated in time, MDR - FE would move by {_pct(sm - sf, 3)} of the dissipation"
+        line += (f" Both extrapolated in time, MDR - FE would move by {pct(sm - sf, 3)} of the dissipation"
                  + (" (the two shifts agree within 1e-5)" if abs(sm - sf) < 1e-5 else "") + ".")
     Wc = (res.get("closed_form") or {}).get("dissipation")
     if ts["mdr"].get("extrapolated") is not None and Wc:
         line += (f" MDR's extrapolated dissipation against the closed form: "
-                 f"{_pct(ts['mdr']['extrapolated'] / Wc - 1, 3)}.")
+                 f"{pct(ts['mdr']['extrapolated'] / Wc - 1, 3)}.")
     return [line, ""]
 
 
@@ -229,144 +197,8 @@ def _ladder_table(res):
     lines = ["| side | level | DOFs / cells | runtime (s) | dissipation error vs finest FE | vs closed form |",
              "|---|---|---|---|---|---|"]
     for r in res["speed_error"]:
-        lines.append(f"| {r['side'].upper()} | {r['level']} | {r['size']} | {_n(r.get('runtime_s'))} | "
-                     f"{_pct(r['error_vs_fe'], 3)} | {_pct(r['error_vs_closed_form'], 3)} |")
-    return lines
-
-
-def _validity_table(res):
-    lines = ["Size effect = FE of the small body against the default 200 a bodies at the same mesh (the mesh "
-             "error cancels; the default is a half-space within it): the error a half-space model makes.", "",
-             "| variant | DOFs | a: size effect | c: size effect | dW: size effect | a: MDR - FE | c: MDR - FE "
-             "| dW: MDR - FE | bulk compliance (m/N) |",
-             "|---|---|---|---|---|---|---|---|---|"]
-    for r in res["validity"]:
-        lines.append(f"| {r['variant']} | {r['dofs']} | {_pct(r['contact_radius_vs_default'], 3)} | "
-                     f"{_pct(r['stick_radius_vs_default'], 3)} | {_pct(r['dissipation_vs_default'], 3)} | "
-                     f"{_pct(r['contact_radius_mdr_minus_fe'])} | {_pct(r['stick_radius_mdr_minus_fe'])} | "
-                     f"{_pct(r['dissipation_mdr_minus_fe'])} | {_n(r.get('bulk_compliance'))} |")
-    return lines
-
-
-def _assumptions3d_table(res):
-    lines = ["Effect of relaxing one assumption of Mindlin's theory (and MDR): the 3D model with the assumption "
-             "relaxed minus the same model imposing it, on the same mesh, at the finest 3D level with the error "
-             "bar of the effect's own ladder (its status in brackets), at least the resolution of the stick-zone "
-             "estimators (one vertex; the element for the centre); dissipation in % of the imposed run's, "
-             "radii and centres in % of the contact radius. The assumption holds where |effect| <= error + "
-             "the catalogue's tolerance.", "",
-             "The last column is no effect: the 3D pressure at F0 with Mindlin's assumptions imposed against "
-             "MDR's, by its second-moment radius (pressure_radius, which needs no contact edge located between "
-             "vertices): 3D / MDR - 1 +- its ladder's error bar. *Cycles*: the 3D cycles settle geometrically, "
-             "so the two runs of a pair go on together past the scene's cycles until each run's dissipation "
-             "changes by at most 1e-4 per cycle, contracting (fem.contact_run.drive_3d_together); the cycles "
-             "run at the finest level, and the dissipation effect's settling error (mdr.ladder.settling_error: "
-             "the distance to the stationary cycle, part of the error bars above; bounded only once settled).", "",
-             "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
-             "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 "
-             "| cycles |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
-
-    def last_change(r):
-        lv = (r.get("levels") or [{}])[-1]
-        on = lv.get("on") or {}
-        n = on.get("cycles_run")
-        st = ((r.get("verdicts") or {}).get("dissipation") or {}).get("settling") or {}
-        settled = {True: "settled", False: "not settled"}.get(on.get("settled"), "?")
-        err = "undetermined" if st.get("error") is None else _n(st["error"], ".1g", 100) + " %"
-        return f"{_n(n, '.0f')} ({settled}); settling {err} ({st.get('status', '?')})"
-
-    def eff(r, q):
-        x = r["verdicts"][q]
-        if x["effect"] is None:
-            return "undetermined"
-        err = "undetermined" if x.get("error") is None else _n(x["error"], ".2g", 100)
-        return f"{_n(x['effect'], '+.2g', 100)} +- {err} % ({x.get('status')})"
-
-    def pressure(r):
-        x = r.get("pressure")
-        if not x or x["difference"] is None:
-            return "undetermined"
-        err = "undetermined" if x.get("error") is None else _n(x["error"], ".2g", 100)
-        return f"{_n(x['difference'], '+.2g', 100)} +- {err} % ({x.get('status')}): {_grade(x)}"
-
-    for r in res["assumptions3d"]:
-        failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
-        lines.append(f"| {r['variant']} | {r['levels'][-1]['dofs']} | {eff(r, 'dissipation')} | "
-                     f"{eff(r, 'dissipation_first_cycle')} | {eff(r, 'stick_axis_x')} | {eff(r, 'stick_axis_y')} | "
-                     f"{eff(r, 'stick_center_x')} | {eff(r, 'pressure_center_x')} | "
-                     f"{_n(r['traction_angle_max'], '.3f')} | "
-                     f"{_grade(r)}{': ' + ', '.join(failed) if failed else ''} | {pressure(r)} | {last_change(r)} |")
-    return lines
-
-
-def _cycles(p) -> str:
-    """The cycles a tilted run ran and whether it settled (``fem.contact_run.drive_3d_together``)."""
-    settled = {True: "settled", False: "not settled"}.get(p.get("settled"),
-                                                          "stationary" if p.get("stationary") else "not stationary")
-    return f"{_n(p.get('cycles_run'), '.0f')} ({settled})"
-
-
-def _tilt_table(res):
-    lines = ["Effect of a tilt theta of the flat face: each metric of the tilted face at the finest 3D level "
-             "against the aligned face on the same mesh (the shared mesh error cancels), +- the error bar of the "
-             "effect's own ladder; and against the aligned MDR result (error bar: the 3D ladder of the tilted "
-             "value plus MDR's). Dissipation in % of the aligned one, or, where the aligned face hardly "
-             "dissipates (the flat punch sticks), in % of 4 mu F0 u_A (a slip-index difference); loop: the "
-             "largest du difference over the aligned du amplitude; contact area at F0 over the aligned. "
-             "The aligned answer holds where |effect| <= error + the catalogue's tolerance on dissipation, "
-             "slip index and loop. Every run of a level goes on past the scene's cycles until each run's "
-             "dissipation changes by at most 1e-4 per cycle (or 1e-4 of 1 % of 4 mu F0 u_A), contracting; "
-             "the error bars hold the settling to the stationary cycle (mdr.ladder.settling_error).", ""]
-
-    def eff(x, digits=2):
-        if x is None or x["effect"] is None:
-            return "-"
-        err = "?" if x["error"] is None else f"{100 * x['error']:.{digits}g}"
-        return f"{100 * x['effect']:+.{digits}g} +- {err} %"
-
-    for r in res["tilt"]:
-        below = r["holds_below"]
-        lines += [f"**{r['variant']}**: theta_c = {_n(r.get('theta_c'))} rad; dissipation unit {r['dissipation_unit']}; "
-                  f"MDR (aligned) slip index {_n(r['mdr'].get('slip_index'), '.4f')}; the aligned answer is not contradicted on "
-                  "the dissipation (graded holds or consistent within its spread) up to "
-                  + ("no swept tilt" if below is None else f"theta = {_n(below)} rad ({_n(r.get('holds_below_ratio'))} "
-                     "theta_c)")
-                  + ("" if r["fails_at"] is None else f", not at {_n(r['fails_at'])} rad")
-                  + f"; {len(r['points']) + 1} runs per level, "
-                  + ", ".join(f"h = {_n(lv.get('h'), 'g')}" + ("" if lv.get("band") is None else f" (band {_n(lv['band'], 'g')})")
-                              + f": {lv.get('vertices')} vertices, {_n(lv.get('runtime_s'), '.0f')} s" for lv in r["levels"])
-                  + ".", "",
-                  "| theta (rad) | theta / theta_c | dissipation | vs MDR | slip index | vs MDR | contact area "
-                  "| loop du | vs MDR | cycles | aligned holds? |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for p in r["points"]:
-            a, m = p["aligned"], p["mdr"]
-            lines.append(f"| {_n(p.get('tilt'))} | {_n(p.get('ratio'))} | {eff(a['dissipation'])} | {eff(m['dissipation'])} | "
-                         f"{eff(a['slip_index'])} | {eff(m['slip_index'])} | {eff(a['contact_area'])} | "
-                         f"{eff(a['loop_du'])} | {eff(m['loop_du'])} | {_cycles(p)} | "
-                         + (f"{_grade(p)} |" if p.get("resolved", True) else
-                            f"undetermined: {p['contact_vertices']} contact vertices |"))
-        lines.append("")
-    return lines
-
-
-def _curvature_table(res):
-    lines = ["Curvature effect = FE extrapolated over its ladder minus MDR, in % of the MDR contact radius "
-             "(radii) or of the FE dissipation, with the error bar of both sides; the verdict is that of the "
-             "catalogue (error bars + tolerance) over all metrics of the variant.", "",
-             "| a/R | nu | F0 (N) | FE DOFs | contact radius | stick radius | dissipation | MDR holds? |",
-             "|---|---|---|---|---|---|---|---|"]
-
-    def eff(r, q):
-        e, err = r.get(f"{q}_effect"), r.get(f"{q}_effect_error")
-        return "-" if e is None else f"{_n(e, '+.2g', 100)} +- {_n(err or 0, '.2g', 100)} %"
-
-    for r in res["curvature"]:
-        failed = [LABELS.get(q, q).split(" (")[0] for q, x in r["verdicts"].items() if x["holds"] is False]
-        lines.append(f"| {_n(r.get('a_over_R'), '.2g', 100)} % | {_n(r.get('nu'), 'g')} | {_n(r.get('F0'))} | {r.get('dofs')} | "
-                     f"{eff(r, 'contact_radius')} | {eff(r, 'stick_radius')} | {eff(r, 'dissipation')} | "
-                     f"{_grade(r)}{': ' + ', '.join(failed) if failed else ''} |")
+        lines.append(f"| {r['side'].upper()} | {r['level']} | {r['size']} | {num(r.get('runtime_s'))} | "
+                     f"{pct(r['error_vs_fe'], 3)} | {pct(r['error_vs_closed_form'], 3)} |")
     return lines
 
 
@@ -388,7 +220,7 @@ def _witness_lines(results) -> list:
          "| CalculiX (s) | project (s) | ratio |", "|---|---|---|---|---|---|---|---|"]
 
     def cell(c):
-        return f"{_n(c.get('diff'), '+.1e')} ({_n(c.get('bar_calculix'), '.1e')} + {_n(c.get('bar_fem'), '.1e')})"
+        return f"{num(c.get('diff'), '+.1e')} ({num(c.get('bar_calculix'), '.1e')} + {num(c.get('bar_fem'), '.1e')})"
 
     for res in results:
         g, cmp_ = res.get("geometry") or {}, res.get("compare") or {}
@@ -398,9 +230,9 @@ def _witness_lines(results) -> list:
             ("**no**" if any(ok.get(q) is False for q in ("approach", "p0", "contact_radius")) else "undetermined")
         tc = ((fine.get("calculix") or {}).get("runtime_s") or {}).get("total")
         tf = ((fine.get("fem") or {}).get("runtime_s") or {}).get("total")
-        L.append(f"| {_n(g.get('block'), 'g')} / {_n(g.get('cap'), 'g')} | {cell(cmp_.get('approach') or {})} | "
+        L.append(f"| {num(g.get('block'), 'g')} / {num(g.get('cap'), 'g')} | {cell(cmp_.get('approach') or {})} | "
                  f"{cell(cmp_.get('p0') or {})} | {cell(cmp_.get('contact_radius') or {})} | {verdict_} | "
-                 f"{_n(tc, '.1f')} | {_n(tf, '.2f')} | {_n(fine.get('runtime_ratio'), '.0f')} |")
+                 f"{num(tc, '.1f')} | {num(tf, '.2f')} | {num(fine.get('runtime_ratio'), '.0f')} |")
     return L + [""]
 
 
@@ -412,9 +244,9 @@ def _hard_table(rows):
 
     for r in rows:
         err = r.get("error")
-        lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {_n(r.get('iterations'), '.3g')} | "
-                     f"{_n(err, '.2e')} | {_g(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
-                     f"{_n(r.get('time_s'), '.3g')} | "
+        lines.append(f"| {cell(r.get('name'))} | {r.get('model')} | {r.get('status')} | {num(r.get('iterations'), '.3g')} | "
+                     f"{num(err, '.2e')} | {sig(r.get('tol'), 1.0, 2)} | {cell(r.get('truth', ''))} | "
+                     f"{num(r.get('time_s'), '.3g')} | "
                      f"{cell(r.get('note', ''))} |")
     return lines
 
@@ -522,7 +354,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
         if r is None:
             L.append(f"| {n} | | | | | | | | failed: {st} |")
             continue
-        if "validity" in r or "curvature" in r or "assumptions3d" in r or "tilt" in r:
+        if families.of_result(r) != "pair":
             L.append(f"| [{n}](#{n}) | | | | | | | | see its table |")
             continue
         ok, why = verdict(r)
@@ -533,8 +365,8 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
         fr = (r["fem"].get("runtime_s") or {}).get("total")
         L.append(f"| [{n}](#{n}) | {r['fem']['dofs']} | {summary_cell('contact_radius', r)} | "
                  f"{summary_cell('stick_radius', r)} | {summary_cell('dissipation', r)} | "
-                 f"{_n(r['mdr'].get('slip_index'), '.3f')} / {_n(r['fem'].get('slip_index'), '.3f')} | "
-                 f"{cycle_change(r['mdr'])} / {cycle_change(r['fem'])} | {_n(mr, '.2g')} / {_n(fr, '.2g')} | {text} |")
+                 f"{num(r['mdr'].get('slip_index'), '.3f')} / {num(r['fem'].get('slip_index'), '.3f')} | "
+                 f"{cycle_change(r['mdr'])} / {cycle_change(r['fem'])} | {num(mr, '.2g')} / {num(fr, '.2g')} | {text} |")
     L.append("")
     for key, title in (("delta_b", "Slip index against b (geometry series)"),
                        ("delta_kx", "Slip index against k_x (apparatus)"),
@@ -555,28 +387,15 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
               + (f"; computed on worker `{r['worker']}`" if r.get("worker") else "") + ".", ""]
         if s.get("notes"):
             L += [s["notes"], ""]
-        if "curvature" in r:
-            L += _curvature_table(r) + [""]
-            if "curvature" in r["files"]:
-                L += [f"![curvature]({d}/{r['files']['curvature']})", ""]
-            continue
-        if "assumptions3d" in r:
-            L += _assumptions3d_table(r) + [""]
-            if "assumptions3d" in r["files"]:
-                L += [f"![assumptions in 3D]({d}/{r['files']['assumptions3d']})", ""]
-            continue
-        if "tilt" in r:
-            L += _tilt_table(r) + [""]
-            if "tilt" in r["files"]:
-                L += [f"![tilt]({d}/{r['files']['tilt']})", ""]
-            continue
-        if "validity" in r:
-            L += _validity_table(r) + [""]
-            if "validity" in r["files"]:
-                L += [f"![validity]({d}/{r['files']['validity']})", ""]
+        fam = families.of_result(r)
+        if fam != "pair":
+            mod = families.module(fam)
+            L += mod.table(r) + [""]
+            if mod.KEY in r.get("files", {}):
+                L += [f"![{mod.TITLE}]({d}/{r['files'][mod.KEY]})", ""]
             continue
         ok, why = verdict(r)
-        L += [f"Verdict: **{_grade({'grade': scene_grade(r.get('verdicts') or {})}).strip('*')}** ({why}).", ""]
+        L += [f"Verdict: **{grade_text({'grade': scene_grade(r.get('verdicts') or {})}).strip('*')}** ({why}).", ""]
         L += _error_parts_lines(r)
         L += _scene_table(r) + [""]
         L += _time_step_lines(r)

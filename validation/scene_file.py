@@ -18,9 +18,10 @@ Example (``docs/examples/scenes.toml`` holds a complete one, run by the tests)::
     dF = 0.0
     amplitude = 0.1          # N: the tangential force amplitude (drive = "force")
 
-The family of a scene follows from its fields as in the catalogue: ``variants`` of ``{block, cap}``
-(validity), ``{a_over_R, nu}`` (curvature), ``{relax}`` (3D assumptions) or ``{profile, b, tilts}``
-(tilt); none: MDR against the FE model on both ladders.
+A scene names its ``family`` (``validation.scenes.FAMILIES``; default ``"pair"``: MDR against the FE
+model on both ladders, no variants); the other families take ``variants`` holding their key:
+``{block, cap}`` (``"validity"``), ``{a_over_R, nu}`` (``"curvature"``), ``{relax}``
+(``"assumptions3d"``) or ``{profile, b, tilts}`` (``"tilt"``).
 """
 from __future__ import annotations
 

@@ -86,6 +86,10 @@ TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
+#: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
+#: table, its figure), and the key each family's variants hold (the pair has none)
+FAMILIES = {"pair": None, "validity": ("block", "cap"), "curvature": ("a_over_R",), "assumptions3d": ("relax",),
+            "tilt": ("tilts",)}
 
 #: What "MDR holds" claims, beyond both models' own error bars (the verdict of a metric is
 #: |MDR - FE| <= FE error + MDR error + tolerance). The half-space assumptions themselves
@@ -145,6 +149,10 @@ class Scene:
     one ``FEContact3D`` ``refine`` (x, h, radius) / a_ref, or ``band`` (h, width, angle[, growth]),
     per FE level (the loaded edge refined: a ball, a band along the rim arc; the aligned face and
     every tilt share each level's mesh).
+    ``family`` (``FAMILIES``): how the scene runs and reports, a module of ``validation.families``:
+    ``pair`` (MDR against the FE model, both ladders; no variants), ``validity`` (the FE bodies
+    shrunk), ``curvature`` (a/R swept), ``assumptions3d`` (Mindlin's assumptions relaxed in 3D),
+    ``tilt`` (the flat face tilted); each variant of a family holds its key (``FAMILIES``).
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
 
@@ -171,6 +179,7 @@ class Scene:
     fe_levels: tuple = FE_LEVELS
     mdr_cells: tuple = MDR_CELLS
     variants: tuple = ()
+    family: str = "pair"
     group: str = "geometry"
     quick: bool = False
     tolerance: dict = field(default_factory=dict)
@@ -188,6 +197,15 @@ class Scene:
             raise InputError(f"scene {self.name}: kx must be > 0 for drive='apparatus', got {self.kx!r}")
         if len(self.fe_levels) < 1 or len(self.mdr_cells) < 1:
             raise InputError(f"scene {self.name}: fe_levels and mdr_cells must not be empty")
+        if self.family not in FAMILIES:
+            raise InputError(f"scene {self.name}: family must be one of {', '.join(FAMILIES)}; got {self.family!r}")
+        keys = FAMILIES[self.family]
+        if keys is None and self.variants:
+            raise InputError(f"scene {self.name}: variants need a family ({', '.join(f for f in FAMILIES if FAMILIES[f])})"
+                             f"; family 'pair' has none")
+        if keys is not None and (not self.variants or any(not set(keys) & set(v) for v in self.variants)):
+            raise InputError(f"scene {self.name}: family {self.family!r} needs variants, each holding "
+                             f"{' or '.join(keys)}")
         relax = [v.get("relax") for v in self.variants if "relax" in v]
         if relax and (self.fe_model != "3d" or len(relax) != len(self.variants)
                       or not set(relax) <= set(ASSUMPTIONS_3D)):
@@ -347,6 +365,7 @@ def _catalogue() -> dict:
         tuple({"cap": s} for s in (3.0, 5.0, 10.0, 30.0)) + tuple({"block": s, "cap": s} for s in (3.0, 10.0))
     sc.append(Scene("validity", "Half-space validity: block and cap size against the contact radius", "sphere",
                     dF=0.0, amplitude=0.5 * 0.2 * 0.5, fe_levels=(1 / 40,), mdr_cells=(400,), variants=variants,
+                    family="validity",
                     group="validity",
                     notes="Sizes as multiples of the Hertz contact radius: the block alone (the cap at the "
                           "default 200 a), the cap alone (the block at 200 a), and both; every variant at h = a/40 "
@@ -355,7 +374,7 @@ def _catalogue() -> dict:
     curvature = tuple({"a_over_R": x, "nu": 0.29} for x in (5e-4, 1.5e-3, 4.6e-3, 1.5e-2, 5e-2)) + \
         tuple({"a_over_R": x, "nu": nu} for nu in (0.1, 0.45) for x in (4.6e-3, 5e-2))
     sc.append(Scene("validity-curvature", "Half-space validity: curvature a/R of the sphere", "sphere", dF=0.0,
-                    cycles=3, steps=40, variants=curvature, group="validity",
+                    cycles=3, steps=40, variants=curvature, family="curvature", group="validity",
                     notes="The sphere (R = 6 mm) at constant F_N loaded to a/R = 0.05 .. 5 % (F0 = 4 E* a^3 / (3 R)), "
                           "force amplitude mu F0 / 2 (the closed-form case of sphere-md), both bodies of Poisson "
                           "ratio nu; every variant through the full FE and MDR ladders, so the curvature effect "
@@ -363,6 +382,7 @@ def _catalogue() -> dict:
     # Mindlin's assumptions (shared by MDR and the axisymmetric model), relaxed one at a time in 3D
     sc.append(Scene("assumptions-3d", "Mindlin's assumptions in 3D: traction along x, no normal-tangential coupling",
                     "sphere", fe_model="3d", fe_levels=FE_LEVELS_3D, cycles=4, steps=60, group="3d",
+                    family="assumptions3d",
                     variants=({"relax": "direction"}, {"relax": "direction", "b": 20e-6},
                               {"relax": "coupling", "E2": 70e9, "nu2": 0.33}),
                     notes="Table 2 loading (F0 = 0.5 N, dF = 0.1 N, force amplitude 0.06 N). Each variant runs "
@@ -372,7 +392,7 @@ def _catalogue() -> dict:
                           "The effect is the difference of the pair, with the error bar of its own ladder."))
     # misalignment: the flat face tilted about y, against the aligned 3D model on the same mesh and MDR
     sc.append(Scene("tilt", "Misalignment: the flat face tilted up to the paper's bound pi/3600", "flat", b=100e-6,
-                    fe_model="3d", fe_levels=TILT_LEVELS_3D, cycles=4, steps=40, group="3d",
+                    fe_model="3d", fe_levels=TILT_LEVELS_3D, cycles=4, steps=40, group="3d", family="tilt",
                     variants=({"profile": "flat", "b": 100e-6, "tilts": tilt_sweep(100e-6, (0.1, 0.2, 0.3, 0.5, 1, 2, 4)),
                                "refine": TILT_REFINE_PUNCH},
                               {"profile": "truncated", "b": 20e-6, "tilts": tilt_sweep(20e-6, (0.03, 0.1, 0.2)),

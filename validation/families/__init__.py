@@ -1,0 +1,26 @@
+"""The scene families, one module each: how a scene of the family runs (``run``), its table in the
+report (``table``, over the rows stored under ``KEY`` in its result) and its figure (``figure``).
+
+``pair``: MDR against the FE model on both ladders (the report's default table and figures);
+``validity``: the FE bodies shrunk towards the contact; ``curvature``: the contact radius swept against
+R; ``assumptions3d``: Mindlin's assumptions relaxed one at a time in 3D; ``tilt``: the flat face
+tilted. A scene names its family (``validation.scenes.Scene.family``); adding a family is a module
+here with those names and its entry in ``validation.scenes.FAMILIES``.
+"""
+from __future__ import annotations
+
+import importlib
+
+
+def module(family: str):
+    """The module of a family (``validation.scenes.FAMILIES``)."""
+    from ..scenes import FAMILIES
+
+    if family not in FAMILIES:
+        raise ValueError(f"family must be one of {', '.join(FAMILIES)}; got {family!r}")
+    return importlib.import_module(f"{__name__}.{family}")
+
+
+def of_result(res: dict) -> str:
+    """The family of a stored result (its scene's ``family``)."""
+    return (res.get("scene") or {}).get("family") or "pair"
