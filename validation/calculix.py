@@ -688,35 +688,29 @@ def agrees(res) -> dict:
 
 def witness_cached(out, log=print, force: bool = False, levels=LEVELS) -> list:
     """The five geometries (``GEOMETRIES``) through :func:`witness_levels`, stored in
-    ``out/witness_calculix.json`` per code version (a rerun with unchanged code reads them back,
-    unless ``force``): ``python -m validation.compare --witness``. Needs ccx (``require_ccx``)."""
-    import json
+    ``out/witness_calculix.json`` per code version (``validation.store.cached``: a rerun with unchanged
+    code reads them back, unless ``force``): ``python -m validation.compare --witness``. Needs ccx
+    (``require_ccx``)."""
     from pathlib import Path
 
-    from .scenes import code_version
+    from .store import cached
 
-    path = Path(out) / "witness_calculix.json"
-    version = code_version()
-    try:
-        stored = json.loads(path.read_text())
-        if stored.get("code") == version and not force:
-            log("[skip] CalculiX witness: unchanged since the last run (--force reruns)")
-            return stored["results"]
-    except (OSError, ValueError, KeyError):
-        pass
-    require_ccx()
-    results = []
-    for block, cap in GEOMETRIES:
-        log(f"  CalculiX witness: block {block:g} a, cap {cap:g} a (two mesh levels, about a minute)")
-        try:
-            results.append(witness_levels(Geometry(block, cap), tuple(levels)))
-        except (ConvergenceError, RuntimeError, subprocess.SubprocessError, OSError) as e:
-            # one geometry that fails is reported as such (undetermined in the report); the others go on
-            log(f"  CalculiX witness FAILED for block {block:g} a, cap {cap:g} a: {type(e).__name__}: {e}")
-            results.append({"geometry": {"block": block, "cap": cap}, "error": f"{type(e).__name__}: {e}",
-                            "runs": [], "compare": {}})
-    write_json(path, {"code": version, "results": results})
-    return results
+    def compute():
+        require_ccx()
+        results = []
+        for block, cap in GEOMETRIES:
+            log(f"  CalculiX witness: block {block:g} a, cap {cap:g} a (two mesh levels, about a minute)")
+            try:
+                results.append(witness_levels(Geometry(block, cap), tuple(levels)))
+            except (ConvergenceError, RuntimeError, subprocess.SubprocessError, OSError) as e:
+                # one geometry that fails is reported as such (undetermined in the report); the others go on
+                log(f"  CalculiX witness FAILED for block {block:g} a, cap {cap:g} a: {type(e).__name__}: {e}")
+                results.append({"geometry": {"block": block, "cap": cap}, "error": f"{type(e).__name__}: {e}",
+                                "runs": [], "compare": {}})
+        return results
+
+    return cached(Path(out) / "witness_calculix.json", "results", compute, what="CalculiX witness", force=force,
+                  log=log)
 
 
 def _level(text):

@@ -730,31 +730,21 @@ def _hard_cases_path(out, quick: bool):
 
 def stored_hard_cases(out, quick: bool):
     """The hard-cases table a previous run stored in ``out``: ``(rows, code version)``, or ``(None, None)``."""
-    import json
+    from .store import stored
 
-    try:
-        stored = json.loads(_hard_cases_path(out, quick).read_text())
-        return stored["rows"], stored.get("code")
-    except (OSError, ValueError, KeyError, TypeError):
-        return None, None
+    return stored(_hard_cases_path(out, quick), "rows")
 
 
 def hard_cases_cached(out, quick: bool, log=print, force: bool = False):
-    """Rows of :func:`hard_cases`, stored in ``out`` per code version (a rerun with unchanged
-    code reads them back, unless ``force``); ``log`` reports each phase and case."""
-    from mdr.io import write_json
+    """Rows of :func:`hard_cases`, stored in ``out`` per code version (``validation.store.cached``: a
+    rerun with unchanged code reads them back, unless ``force``); ``log`` reports each phase and case."""
+    from .store import cached
 
-    from .scenes import code_version
-
-    path = _hard_cases_path(out, quick)
-    version = code_version()
-    rows, code = stored_hard_cases(out, quick)
-    if rows is not None and code == version and not force:
-        log("[skip] hard cases: unchanged since the last run (--force reruns)")
+    def compute():
+        log(f"hard cases ({'quick' if quick else 'full'}) ...")
+        t0 = time.perf_counter()
+        rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))
+        log(f"hard cases done in {time.perf_counter() - t0:.0f} s")
         return rows
-    log(f"hard cases ({'quick' if quick else 'full'}) ...")
-    t0 = time.perf_counter()
-    rows = hard_cases(quick=quick, log=lambda name: log(f"  hard case: {name}"))
-    log(f"hard cases done in {time.perf_counter() - t0:.0f} s")
-    write_json(path, {"code": version, "rows": rows})
-    return rows
+
+    return cached(_hard_cases_path(out, quick), "rows", compute, what="hard cases", force=force, log=log)

@@ -1,5 +1,6 @@
-"""The scene store: one directory per scene under ``OUT/scenes/``, written atomically (a run goes to a
-temporary directory that replaces the scene's when complete), read back by the report.
+"""The store of an output folder: one directory per scene under ``OUT/scenes/``, written atomically (a
+run goes to a temporary directory that replaces the scene's when complete), read back by the report;
+and the tables computed once per code version (the hard cases, the CalculiX witness: ``cached``).
 """
 from __future__ import annotations
 
@@ -10,8 +11,7 @@ from pathlib import Path
 
 from mdr.io import DIR_MODE, write_json
 
-from . import runner
-from .scenes import Scene
+from .scenes import Scene, code_version
 
 
 def scene_dir(out_root, name) -> Path:
@@ -38,6 +38,8 @@ def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, lo
     tmp = Path(tempfile.mkdtemp(prefix=f".{s.name}.", dir=final.parent))
     os.chmod(tmp, DIR_MODE)
     try:
+        from . import runner
+
         result = runner.run_scene(s, tmp, fields=fields, log=log)
         result["fingerprint"] = fingerprint
         result.update(meta or {})
@@ -86,3 +88,29 @@ def install_scene_files(out_root, name, files: dict) -> None:
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+def stored(path, key: str):
+    """What a previous run stored under ``key`` in the code-versioned JSON file ``path`` (``cached``):
+    ``(value, code version)``, or ``(None, None)`` if absent or unreadable."""
+    import json
+
+    try:
+        data = json.loads(Path(path).read_text())
+        return data[key], data.get("code")
+    except (OSError, ValueError, KeyError, TypeError):
+        return None, None
+
+
+def cached(path, key: str, compute, *, what: str, force: bool = False, log=print):
+    """``compute()``'s value, stored under ``key`` in ``path`` with the code version
+    (``validation.scenes.code_version``): a rerun with unchanged code reads it back (saying so
+    through ``log``, naming ``what``), unless ``force``."""
+    value, code = stored(path, key)
+    version = code_version()
+    if value is not None and code == version and not force:
+        log(f"[skip] {what}: unchanged since the last run (--force reruns)")
+        return value
+    value = compute()
+    write_json(path, {"code": version, key: value})
+    return value
