@@ -186,7 +186,8 @@ def build_parser():
     add_output_args(pa)
     pa.set_defaults(func=_cmd_apparatus, law_plugins=plugins)
 
-    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), sensitivity, plates",
+    ps = sub.add_parser("study", help="parameter studies of the paper: fig8, fig9, loops (Figs. 4-7), "
+                                      "sensitivity, plates, or all (comma-separated)",
                         description="Slip index against b (fig8) and against k_x (fig9) with Table 2 values, the "
                                     "four experiment loops of Figs. 4-7 (loops), or the slip index at the Table 2 "
                                     "point as each reconstructed apparatus quantity varies (sensitivity: CSV + "

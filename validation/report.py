@@ -325,14 +325,15 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
              "the observed order p and Roache's safety factor 1.25 where the three finest levels converge "
              "monotonically with 0.5 <= p <= 4: an upper bound; the spread of the levels where they do not: "
              "no bound), plus, on the dissipation and the slip index, the time step's error bar (the finest "
-             "level at 1, 2 and 4 times the steps). The *tolerance* is what \"MDR holds\" claims beyond both "
+             "level at 1, 2 and 4 times the steps) and the cycles' settling towards the stationary cycle "
+             "(`mdr.ladder.settling_error`). The *tolerance* is what \"MDR holds\" claims beyond both "
              "error bars (`validation/scenes.py`, `TOLERANCES`; marked *floor* where the resolution floor "
-             "of the dissipation, 1e-4 x 4 mu F0 u_A, exceeds it). Grades: **yes** (holds) when "
+             "of the dissipation, 1e-4 x 4 mu F0 u_A, exceeds it). Grades: **holds** when "
              "|MDR - FE| <= FE error + MDR error + tolerance and every error bar is an upper bound; "
              "*consistent within its spread* when the inequality holds but a ladder is not in its asymptotic "
              "range (non-monotone, or an order outside 0.5-4): an error injected into one level could hide "
              "in its spread, so this is no evidence that MDR holds; *below resolution* when it holds only "
-             "thanks to the floor; **no** when the inequality fails; *undetermined* when a number or a ladder "
+             "thanks to the floor; **fails** when the inequality fails; *undetermined* when a number or a ladder "
              "level is not finite. The FE displacement is the half-space comparable one (`fem.law`, "
              "`displacement=\"contact\"`). Summary cells: MDR - FE (FE error + MDR error + tolerance), "
              "radii in % of the FE contact radius, dissipation in % of the FE dissipation, slip index absolute. "
@@ -358,7 +359,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
             L.append(f"| [{n}](#{n}) | | | | | | | | see its table |")
             continue
         ok, why = verdict(r)
-        text = {True: "yes", False: f"**no**: {why}", None: why}[ok]
+        text = {True: "**holds**", False: f"**fails**: {why}", None: why}[ok]
         if st not in ("ok", "skipped", "stored"):
             text = f"this run failed ({st}); the row shows the previous result"
         mr = r["mdr"].get("runtime_s")
