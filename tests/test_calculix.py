@@ -157,6 +157,6 @@ def test_calculix_agrees_with_fem_normal(block, cap):
     assert len(row) == 1 and "| yes |" in row[0], row
     assert cx.agrees(res)["approach"] and cx.agrees(res)["p0"] and cx.agrees(res)["contact_radius"]
     assert fine["runtime_ratio"] > 1  # CalculiX is the slower code (measured 46-66x at a/80)
-    # README: approach within 2-5e-5, p0 within 9e-5, contact radius within 2e-4 at a/80 (bounds 3x)
+    # docs/comparison.md: approach within 2-5e-5, p0 within 9e-5, contact radius within 2e-4 at a/80 (bounds 3x)
     assert abs(res["compare"]["approach"]["diff"]) < 1.5e-4
     assert abs(res["compare"]["p0"]["diff"]) < 3e-4 and abs(res["compare"]["contact_radius"]["diff"]) < 6e-4

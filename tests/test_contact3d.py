@@ -411,7 +411,7 @@ def test_masing_rule_at_the_mesh_scale(law3d):
     The discrete full-stick tractions are negative at a few vertices next to the contact edge
     (the P1 field cannot follow the 1/sqrt(a - r) edge), so an unloading increment can push a
     vertex at its forward slip limit further forward. This is why the 3D cycles may settle
-    geometrically instead of after one cycle (README)."""
+    geometrically instead of after one cycle (docs/fem3d.md)."""
     from fem.law3d import FEContact3D
     from mdr.profiles import Sphere
 
@@ -497,7 +497,7 @@ def test_pressure_radius_holds_mdr_where_the_edge_read_falls_inside(tmp_path):
 
 @pytest.mark.slow
 def test_convergence_ladder(tmp_path):
-    """The three coarse levels of the README's convergence table (benchmarks/bench_fem3d_contact.py;
+    """The three coarse levels of docs/fem3d.md's convergence table (benchmarks/bench_fem3d_contact.py;
     40 steps per cycle here, 100 there): the largest traction angle falls monotonically towards
     the half-space value ~0.1 (measured 0.168, 0.150, 0.118), the dissipation reaches
     Mindlin-Deresiewicz within a few % at a/10 (measured +1.7 %) from +14.7 % at a/5, and the
@@ -525,10 +525,10 @@ def test_convergence_ladder(tmp_path):
 
 @pytest.mark.slow
 def test_ring_ladder(ring_pair, tmp_path):
-    """The mesh refined in the slip annulus (ring (0.9, 0.18, h / 2) around the coarse h, the README's
+    """The mesh refined in the slip annulus (ring (0.9, 0.18, h / 2) around the coarse h, docs/fem3d.md's
     ring table; 100 steps per cycle as there): the dissipation falls towards Mindlin-Deresiewicz,
     from +1.9 % at h = a/5 to within 0.3 % at a/7 (measured -0.04 %; the finer ring levels of the
-    README's table scatter by +-0.3 %, so this is not a converged error); and under force control
+    docs/fem3d.md's table scatter by +-0.3 %, so this is not a converged error); and under force control
     the time discretisation costs 40 steps per cycle a few tenths of a % (measured -0.37 % against 100 steps at a/7, consistent with the
     trapezoidal loop integral's O(steps^-2))."""
     from fem.contact_run import run_fem_contact
@@ -575,10 +575,10 @@ def test_fitted_stick_ellipse_converges_to_cattaneo_mindlin(ring_pair):
     peak of F_x = mu F_N / 2, on the ring meshes of ``test_ring_ladder``. With the traction along x
     (Mindlin's assumption, under which Cattaneo-Mindlin is the exact half-space answer) its error
     against Cattaneo-Mindlin, the larger of its two axes', falls from h = a/5 to a/7 (measured on this
-    r = 0.9 a mesh, x, y: +1.65 %, +0.39 % and +0.76 %, +0.70 %; the README's five-member means
+    r = 0.9 a mesh, x, y: +1.65 %, +0.39 % and +0.76 %, +0.70 %; docs/fem3d.md's five-member means
     +1.74 %, +1.14 % and +0.64 %, +0.88 %), within 1.5 % at a/7. The traction of free direction
     changes the fitted axes by under 0.15 % of c at a/7 (measured on this mesh -0.03 %, -0.05 %; the
-    README's means -0.01 %, -0.03 %): a sub-vertex estimator (the stick set's own axes move by one
+    docs/fem3d.md's means -0.01 %, -0.03 %): a sub-vertex estimator (the stick set's own axes move by one
     vertex, 0.27 % of c on this a/7 mesh)."""
     c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
     err, eff = {}, {}
@@ -593,7 +593,7 @@ def test_fitted_stick_ellipse_converges_to_cattaneo_mindlin(ring_pair):
 
 @pytest.mark.slow  # two more pairs at a/7, ~1.5 min
 def test_ring_ensemble_dissipation_and_direction(ring_pair):
-    """Three ring meshes of one resolution (h = a/7, ring circles r = 0.88, 0.9, 0.92 a; README
+    """Three ring meshes of one resolution (h = a/7, ring circles r = 0.88, 0.9, 0.92 a; docs/fem3d.md
     "An ensemble of ring meshes"): the free-direction dissipation's ensemble mean is within 0.4 % of
     Mindlin-Deresiewicz (measured 0.9985, members 0.9963, 0.9996, 0.9996), the members scatter by
     under 0.6 % (measured 0.33 %), and on every member the free traction direction lowers the

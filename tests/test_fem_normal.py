@@ -121,18 +121,18 @@ def test_unknown_backend_is_an_input_error():
 # -------------------------------------------------------------------- contact
 
 
-# README table "FE normal contact" (sphere against Hertz): errors of a, p0 and the
+# docs/fem.md table "FE normal contact" (sphere against Hertz): errors of a, p0 and the
 # half-space-comparable indentation d at h = a/N. Each is asserted with a margin of 2.5x
-# (same sign, magnitude at most 2.5x the README value).
-README_HERTZ_ERRORS = {20: (1.1e-4, -6.8e-4, 1.1e-4), 40: (6.0e-5, -2.4e-4, 2.0e-4),
-                       80: (1.3e-5, -1.0e-4, 2.2e-4), 160: (2.4e-5, -1.1e-4, 1.7e-4)}
+# (same sign, magnitude at most 2.5x the docs/fem.md value).
+DOC_HERTZ_ERRORS = {20: (1.1e-4, -6.8e-4, 1.1e-4), 40: (6.0e-5, -2.4e-4, 2.0e-4),
+                    80: (1.3e-5, -1.0e-4, 2.2e-4), 160: (2.4e-5, -1.1e-4, 1.7e-4)}
 MARGIN = 2.5
 
 
 def assert_readme_hertz_errors(out, N):
     h = hertz(F, R, MAT.E_star)
     measured = (out["contact_radius"] / h["a"] - 1, out["p0"] / h["p0"] - 1, out["indentation"] / h["d"] - 1)
-    for name, m, claim in zip(("a", "p0", "d"), measured, README_HERTZ_ERRORS[N]):
+    for name, m, claim in zip(("a", "p0", "d"), measured, DOC_HERTZ_ERRORS[N]):
         assert np.sign(m) == np.sign(claim) and abs(m) <= MARGIN * abs(claim), (N, name, m, claim)
 
 
@@ -267,7 +267,7 @@ def test_error_falls_under_mesh_refinement(cache):
     for N in (10, 20, 40):
         out = run_normal("sphere", R=R, F=F, h_contact=1 / N, cache_dir=cache)
         errs.append(abs(out["contact_radius"] / h["a"] - 1))
-        if N in README_HERTZ_ERRORS:
+        if N in DOC_HERTZ_ERRORS:
             assert_readme_hertz_errors(out, N)
     assert errs[0] > errs[1] > errs[2]
 

@@ -78,7 +78,7 @@ def test_gross_slip_ten_times_u_star_many_cycles_without_drift(cache):
     rows = rows_of(hc.case_gross_slip_many_cycles, cache)
     for r in rows.values():
         assert_ok(r)
-        assert r["drift"] < 6e-13  # README: drift 2e-13 mu F_N (measured 2.3e-13 MDR, 3.4e-14 FE)
+        assert r["drift"] < 6e-13  # docs/comparison.md: drift 2e-13 mu F_N (measured 2.3e-13 MDR, 3.4e-14 FE)
     assert ("gross slip u_A = 10 u*, 50 cycles", "mdr") in rows
 
 
@@ -133,7 +133,7 @@ def test_friction_extremes(cache):
 def test_penalty_extremes_are_flagged_detected_or_handled(cache):
     rows = rows_of(hc.case_penalty_extremes, cache)
     soft = rows[("normal penalty 0.1, pure penalty", "fem")]
-    # too soft: a large error (README: 20 %, measured 20.2 %) that the model reports
+    # too soft: a large error (docs/comparison.md: 20 %, measured 20.2 %) that the model reports
     # (penetration) and warns about
     assert soft["status"] == "flagged" and soft["warned"] and 0.1 < soft["error"] < 0.4
     assert 0.1 < soft["penalty_error"] < 0.4
@@ -167,7 +167,7 @@ def test_near_incompressible_does_not_lock(cache):
     depend on the bodies' series compliance, so no calibration of the FE law enters."""
     r = rows_of(hc.case_incompressible, cache)[("nu = 0.49 (near-incompressible)", "fem")]
     assert_ok(r)
-    assert r["hertz_error"] < 1.5e-3  # README: Hertz error 6.1e-4 at a/20 (nu = 0.29: 6.8e-4)
+    assert r["hertz_error"] < 1.5e-3  # docs/comparison.md: Hertz error 6.1e-4 at a/20 (nu = 0.29: 6.8e-4)
     assert r["hertz_error"] < 3 * r["hertz_error_029"] + 1e-4
     assert abs(r["dissipation_error"]) < 3 * abs(r["dissipation_error_029"]) + 1e-3
     assert r["stick_radius_error"] < 3 * r["stick_radius_error_029"] + 1e-3
@@ -187,7 +187,7 @@ def test_very_coarse_mesh_reports_a_large_error_fine_mesh_converges(cache):
     rows = rows_of(hc.case_mesh_extremes, cache)
     coarse = rows[("mesh h = a/5", "fem")]
     assert coarse["status"] == "flagged" and coarse["warned"]
-    # large, but bounded and reported (README: dW +4.1 %, stick radius 6.2 % of a)
+    # large, but bounded and reported (docs/comparison.md: dW +4.1 %, stick radius 3.0 % of a)
     assert 0.02 < coarse["dissipation_error"] < 0.08 and 0.015 < coarse["stick_radius_error"] < 0.06
     fine = rows[("mesh h = a/80", "fem")]
     assert_ok(fine) and not fine["warned"]

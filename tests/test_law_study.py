@@ -139,7 +139,7 @@ def test_fe_backed_fig9_agrees_with_mdr_and_is_the_same_on_dask(tmp_path):
     for r in rows:
         assert r["fem_error"] is not None and r["fem_error"] < 0.01  # resolution: own error below 0.01
         assert abs(r["difference"]) <= r["fem_error"] + TOLERANCES["slip_index"], r
-        # README: own error <= 7e-4 and |FE - MDR| <= 4e-4 at a/10 (measured at 35 points)
+        # docs/apparatus.md: own error <= 7e-4 and |FE - MDR| <= 4e-4 at a/10 (measured at 35 points)
         assert r["fem_error"] < 2e-3 and abs(r["difference"]) < 1e-3, r
     with open(tmp_path / "jobs" / "fig9_fem.csv") as f:
         assert [float(x["delta_fem"]) for x in csv.DictReader(f)] == [r["delta_fem"] for r in rows]

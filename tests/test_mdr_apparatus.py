@@ -33,7 +33,7 @@ def test_equilibrium_and_coulomb_bounds_hold_every_step():
 
 def test_profile_transition_sphere_below_10um_flat_punch_above_30um():
     """The paper's central finding (Fig. 8), at two apparatus stiffnesses, one batch pass
-    each. README: b <= 10 um acts as the sphere (slip index within 0.3 %: measured 3.1e-3
+    each. docs/apparatus.md: b <= 10 um acts as the sphere (slip index within 0.3 %: measured 3.1e-3
     and 2.1e-3 at b = 10 um), b >= 30 um as the flat punch of radius b (within 1.3 %:
     measured 1.3e-2 and 0.9e-2 at 30 um, 2.1e-3 and 1.4e-3 at 40 um); margins 2.3-2.6x."""
     b = np.array([1e-6, 5e-6, 10e-6, 30e-6, 40e-6, 100e-6, 300e-6])
@@ -96,7 +96,7 @@ def _stroke_loss_plates(app, mu1, F0, mu2):
 
 
 def test_sensitivity_normal_force_oscillation_and_phase_matter_little(sens):
-    # the paper's claim for dF and alpha holds: |change| < 0.02 (< 5 % of delta; README:
+    # the paper's claim for dF and alpha holds: |change| < 0.02 (< 5 % of delta; docs/apparatus.md:
     # |change| <= 0.016, measured 0.0154)
     for (q, v, p), r in sens.items():
         assert r["stationary"]
@@ -110,7 +110,7 @@ def test_sensitivity_normal_force_oscillation_and_phase_matter_little(sens):
 def test_sensitivity_mu2_acts_through_the_plate_compliance(sens):
     """The paper's "mu2 matters little" holds only as far as the plates are stiff: both
     contacts slide, so a bedding force mu2 (m1 g + F0) compresses the plates by
-    mu2 (m1 g + F0) / k_p of the stroke u_A, and delta drops by that fraction. README:
+    mu2 (m1 g + F0) / k_p of the stroke u_A, and delta drops by that fraction. docs/apparatus.md:
     within 1.6 % of these closed forms (measured 1.3-1.6 %), tested within 4 %."""
     app = Apparatus()
     slope = (app.m1 * G + 0.5) / (app.k_plates * 150e-9)  # -d delta / d mu2
@@ -125,8 +125,8 @@ def test_sensitivity_mu2_acts_through_the_plate_compliance(sens):
         # plates bent across their thickness cannot push the block off its bedding: it sticks
         bend = Apparatus(plate_model="bending")
         assert bend.k_plates * 150e-9 < 0.1 * bend.m1 * G
-        assert sens[("plate_model", "bending", p)]["delta"] < 5e-13  # README: delta = 0 (measured 1.5e-13)
-        # the bedding sphere radius only changes the bedding's short stick phase (README:
+        assert sens[("plate_model", "bending", p)]["delta"] < 5e-13  # docs/apparatus.md: delta = 0 (measured 1.5e-13)
+        # the bedding sphere radius only changes the bedding's short stick phase (docs/apparatus.md:
         # < 1e-4, measured 3.4e-5)
         for R_bed in (1e-3, 2.5e-3, 10e-3):
             assert abs(sens[("R_bed", R_bed, p)]["change"]) < 1e-4
@@ -226,7 +226,7 @@ def test_the_mdr_law_follows_the_protocol_and_the_apparatus_returns_the_state_at
 @pytest.mark.parametrize("h,tol", [(0.05, 5e-3), pytest.param(0.025, 3e-3, marks=pytest.mark.slow)],
                          ids=["a20", "a40"])
 def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_path, h, tol):
-    """README: at h = a/20 the slip index is within 0.2 % of MDR's (measured -0.198 %, the
+    """docs/apparatus.md: at h = a/20 the slip index is within 0.2 % of MDR's (measured -0.198 %, the
     law's own error on the path -0.204 %), at a/40 0.12 % (-0.122 %, -0.126 %); tolerances
     2.5x. Coarse FE mesh (h = a/20): the apparatus slip index with the FE law differs from
     the MDR one by the FE law's own error on the same load path. That error is measured

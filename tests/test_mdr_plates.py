@@ -1,5 +1,5 @@
 """Readings of the brass plates (mdr.apparatus, A3): limits, block equilibrium, the
-rocking stiffness, and the regime claims of the README's plate-reading table."""
+rocking stiffness, and the regime claims of docs/apparatus.md's plate-reading table."""
 import numpy as np
 import pytest
 
@@ -106,7 +106,7 @@ def test_the_block_is_in_equilibrium_at_every_step(pm):
 
 def test_tilt_readings_barely_reach_the_contact():
     """One plate resultant at h2 over a tilting block: A = 1/k_p + (h2 - h)^2/k_theta and
-    Bc = 1/k_p + h2 (h2 - h)/k_theta. README: with Table 1 (h2 - h = 1 mm) the tilt adds
+    Bc = 1/k_p + h2 (h2 - h)/k_theta. docs/apparatus.md: with Table 1 (h2 - h = 1 mm) the tilt adds
     < 1e-3 um/N to the contact's path (measured 6.8e-4 at R_bed = 1 mm), the parallelogram
     at most 0.013 um/N (measured 0.0125), both against the ~0.5 um/N on F_x alone that
     Figs. 4-9 ask for (test below)."""
@@ -147,7 +147,7 @@ def test_rocking_stiffness_is_the_derivative_of_the_bedding_moment():
     assert k_num == pytest.approx(app.rocking_stiffness(F0), rel=1e-3)
 
 
-# ---------------------------------------------------------- the README's regime table
+# ---------------------------------------------------------- docs/apparatus.md's regime table
 RES = dict(cycles=3, steps=160, n=200)
 READINGS = (("axial", 5e-3), ("inplane", 5e-3), ("rigid", 5e-3), ("tilt", 1e-3), ("tilt", 10e-3),
             ("parallel", 1e-3), ("parallel", 10e-3), ("bending", 5e-3))
@@ -173,7 +173,7 @@ def table():
 
 
 def test_no_plate_reading_gives_partial_slip_in_figs_4_5_or_a_transition_above_1_N_per_um(table):
-    """README table: every reading but bending reaches the friction limit in Figs. 4-5
+    """docs/apparatus.md table: every reading but bending reaches the friction limit in Figs. 4-5
     (measured on limit >= 21 % of the cycle, delta >= 0.16) where the paper has partial
     slip, slides in Figs. 6-7 (>= 53 %) as the paper, and slips at k_x = 1 N/um (delta >=
     0.17 for b = 50, 100 um) where the paper's Figs. 8-9 are near zero."""
@@ -189,7 +189,7 @@ def test_no_plate_reading_gives_partial_slip_in_figs_4_5_or_a_transition_above_1
 
 
 def test_plates_bent_across_their_thickness_stick_in_every_case(table):
-    """README table: bending plates (1.7 N/mm) leave every case sticking, Figs. 6-7 too
+    """docs/apparatus.md table: bending plates (1.7 N/mm) leave every case sticking, Figs. 6-7 too
     (the paper: gross slip), and the Fig. 9 curves flat at zero up to 2 N/um."""
     lp, d9 = table
     i = [r[0] for r in READINGS].index("bending")
@@ -199,7 +199,7 @@ def test_plates_bent_across_their_thickness_stick_in_every_case(table):
 
 
 def test_a_compliance_on_the_contact_force_alone_reproduces_figs_4_and_6_to_9(table):
-    """What the readings lack (README): 0.5 um/N carrying F_x alone, in series with the
+    """What the readings lack (docs/apparatus.md): 0.5 um/N carrying F_x alone, in series with the
     axis, makes Fig. 4 partial slip (F_x <= 0.93 mu1 F_N, delta 0.011) while Figs. 6-7 stay
     in gross slip (on limit 30 % and 51 %) and moves the transition between 1 and 2 N/um
     (delta 1e-4 and 0 at 1 N/um, 0.19 and 0.23 at 2 N/um for b = 50, 100 um). Fig. 5 still

@@ -195,14 +195,14 @@ def test_stick_radius_of_a_flat_face_reaches_its_edge():
         assert b * (1 - 1e-9) <= r["stick_radius"] <= r["contact_radius"], n
 
 
-# README table "How the law is discretised, and how accurate it is" (the errors of
+# docs/mdr.md table "How the law is discretised, and how accurate it is" (the errors of
 # benchmarks/bench_mdr.py, 3 cycles x 400 steps): per cell count the sphere's loop-area
 # dissipation error against Mindlin-Deresiewicz at u_A = u*/2, the largest F_x error of the
 # first loading against Cattaneo-Mindlin (/ mu F_N), and the truncated sphere (b = 20 um,
 # dF = 0.1 N) dissipation against a 16x finer grid. Asserted with a margin of 2.5x and the
-# sign of the README value.
-README_MDR_TABLE = {100: (2.6e-4, 3.7e-5, 8.7e-5), 200: (1.7e-5, 8.9e-6, 4.6e-5),
-                    400: (-2.0e-5, 2.3e-6, 7.7e-6), 800: (-3.9e-5, 5.8e-7, 3.9e-6)}
+# sign of the docs/mdr.md value.
+DOC_MDR_TABLE = {100: (2.6e-4, 3.7e-5, 8.7e-5), 200: (1.7e-5, 8.9e-6, 4.6e-5),
+                 400: (-2.0e-5, 2.3e-6, 7.7e-6), 800: (-3.9e-5, 5.8e-7, 3.9e-6)}
 
 
 def test_readme_discretisation_table_and_friction_work():
@@ -224,7 +224,7 @@ def test_readme_discretisation_table_and_friction_work():
 
     W_fine = trunc_W(6400)
     first = slice(0, steps // 4 + 1)
-    for n, claims in README_MDR_TABLE.items():
+    for n, claims in DOC_MDR_TABLE.items():
         H = MDRContact(Sphere(R), STEEL, MU, F_max=F0, n=n).run(u=u, F_N=FN)
         measured = (loop_integral(H.u[last], H.Fx[last]) / W_ref - 1,
                     np.max(np.abs(H.Fx[first] - ref.cattaneo_mindlin_force(u[first], F0, MU, USTAR))) / (MU * F0),
@@ -232,7 +232,7 @@ def test_readme_discretisation_table_and_friction_work():
         for m, claim in zip(measured, claims):
             assert np.sign(m) == np.sign(claim) and abs(m) <= 2.5 * abs(claim), (n, m, claim)
         if n >= 800:
-            # README: the friction work is exact in time and converges to 2e-6 (measured 1.8e-6)
+            # docs/mdr.md: the friction work is exact in time and converges to 2e-6 (measured 1.8e-6)
             assert abs(np.sum(H.work[2 * steps + 1:]) / W_ref - 1) < 5e-6
 
 

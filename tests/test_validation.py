@@ -412,7 +412,7 @@ def test_tilt_family_in_the_catalogue():
 
 @pytest.mark.slow
 def test_tilt_family(tmp_path):
-    """The catalogue's tilt family (the README numbers): the aligned answer is not contradicted on the
+    """The catalogue's tilt family (the docs/fem3d.md numbers): the aligned answer is not contradicted on the
     dissipation (graded consistent within the two levels' spread; catalogue tolerance: 0.5 %, or 1e-4
     of 4 mu F0 u_A where the aligned face sticks) up to 0.3
     theta_c and fails from 0.5 theta_c on for the flat punch b = 100 um (3.4e-5, 5.7e-5 rad) and the

@@ -105,21 +105,21 @@ def test_every_verdict_is_its_stated_inequality(full):
 def test_mdr_holds_for_every_large_body_scene(full):
     """Large bodies, small a/R: no metric of a directly driven or apparatus scene fails or is
     undetermined; each agrees within the error bars plus the tolerance, graded "holds" where both
-    ladders are bounded and "consistent within its spread" where one is not (README). The one
-    exception the README names: the truncated sphere b = 0.6 mm driven directly (a/R = 10 %),
+    ladders are bounded and "consistent within its spread" where one is not (docs/comparison.md). The one
+    exception docs/comparison.md names: the truncated sphere b = 0.6 mm driven directly (a/R = 10 %),
     whose displacement loop departs (the cap's compliance in shear)."""
     _, _, sc = full
     bad = {n: [q for q, v in r["verdicts"].items() if v["grade"] in ("fails", "undetermined")]
            for n, r in _large_body_scenes(sc).items()}
     assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
-    # README: 64 of the 141 verdicts hold, 76 are consistent within a spread, 1 fails, none undetermined
+    # docs/comparison.md: 64 of the 141 verdicts hold, 76 are consistent within a spread, 1 fails, none undetermined
     grades = [v["grade"] for r in _large_body_scenes(sc).values() for v in r["verdicts"].values()]
     assert len(grades) == 141 and grades.count("fails") == 1 and grades.count("undetermined") == 0
     assert 32 <= grades.count("holds") <= 100 and 38 <= grades.count("consistent within its spread") <= 109
-    for name in ("geom-flat", "flat-md", "exp-fig6", "exp-fig7"):  # README: graded "holds" throughout
+    for name in ("geom-flat", "flat-md", "exp-fig6", "exp-fig7"):  # docs/comparison.md: graded "holds" throughout
         assert sc[name]["holds"] is True, name
     du = sc["geom-b600um"]["verdicts"]["loop_du"]
-    # README: the FE contact is 3.6 % of u_A more compliant, beyond 0.35 % + 1 %
+    # docs/comparison.md: the FE contact is 3.6 % of u_A more compliant, beyond 0.35 % + 1 %
     assert 0.018 < du["difference"] < 0.072
     # in the apparatus of Figs. 6-7 (same profile) the displacement agrees
     for name in ("exp-fig6", "exp-fig7"):
@@ -129,9 +129,9 @@ def test_mdr_holds_for_every_large_body_scene(full):
 def test_closed_form_anchors(full):
     _, _, sc = full
     cf = sc["sphere-md"]["errors"]["closed_form"]
-    # MDR: grid and time-step error only (README: dissipation -0.016 %, stick radius < 1e-5)
+    # MDR: grid and time-step error only (docs/comparison.md: dissipation -0.016 %, stick radius < 1e-5)
     assert abs(cf["mdr"]["dissipation"]) < 4e-4 and abs(cf["mdr"]["stick_radius"]) < 2e-5
-    # FE at a/80 (README: dissipation +0.10 %, stick radius +0.02 %, traction 0.4 % relative L2)
+    # FE at a/80 (docs/comparison.md: dissipation +0.10 %, stick radius +0.02 %, traction 0.4 % relative L2)
     assert 0 < cf["fem"]["dissipation"] < 0.0025
     assert abs(cf["fem"]["stick_radius"]) < 5e-4
     assert abs(cf["fem"]["contact_radius"]) < 1e-4
@@ -145,7 +145,7 @@ def test_closed_form_anchors(full):
 
 def test_stick_radius_converges_on_both_ladders(full):
     """Issue 11: the one stick radius converges on both ladders in every geometry scene
-    (b = 5 um included). README: MDR error bar below 3e-4 of c, FE below 1.5 %."""
+    (b = 5 um included). docs/comparison.md: MDR error bar below 3e-4 of c, FE below 1.5 %."""
     _, _, sc = full
     for name, r in sc.items():
         if r["scene"]["group"] != "geometry":
@@ -182,7 +182,7 @@ def test_half_space_breaks_for_a_small_block(full):
 def test_half_space_breaks_with_curvature(full):
     """The curvature axis: MDR holds at small a/R and fails at a/R = 5 %, where the FE
     dissipates measurably more than the half-space (the cap's compliance under shear).
-    README: +0.11 % at a/R = 0.46 %, +0.45 % at 1.5 %, +1.7 % at 5 % (nu = 0.29), +1.4 % and
+    docs/comparison.md: +0.11 % at a/R = 0.46 %, +0.45 % at 1.5 %, +1.7 % at 5 % (nu = 0.29), +1.4 % and
     +2.0 % at 5 % for nu = 0.1 and 0.45; radii within 0.07 %."""
     _, _, sc = full
     rows = sc["validity-curvature"]["curvature"]
@@ -205,7 +205,7 @@ def test_half_space_breaks_with_curvature(full):
 
 
 def test_tolerances_hold_for_bodies_of_ten_radii(full):
-    """README: MDR's half-space error stays within the tolerances (0.5 % dissipation, 0.2 %
+    """docs/comparison.md: MDR's half-space error stays within the tolerances (0.5 % dissipation, 0.2 %
     contact radius) once both bodies are 10 contact radii large (and a/R <= 1.5 %, above)."""
     _, _, sc = full
     rows = {r["variant"]: r for r in sc["validity"]["validity"]}
@@ -213,19 +213,19 @@ def test_tolerances_hold_for_bodies_of_ten_radii(full):
                   "cap 30 a (block 200 a)", "block 10 a, cap 10 a"):
         r = rows[label]
         assert abs(r["dissipation_vs_default"]) < 0.005 and abs(r["contact_radius_vs_default"]) < 0.002, label
-    # and not below: a block of 3 contact radii (README: -2.4 % dissipation)
+    # and not below: a block of 3 contact radii (docs/comparison.md: -2.4 % dissipation)
     assert -0.048 < rows["block 3 a (cap 200 a)"]["dissipation_vs_default"] < -0.012
 
 
 def _pct(r, q):
-    """MDR - FE of a scalar metric in % of its README reference (FE contact radius or dissipation)."""
+    """MDR - FE of a scalar metric in % of its docs/comparison.md reference (FE contact radius or dissipation)."""
     v = r["verdicts"][q]
     ref = r["fem"]["contact_radius"] if q != "dissipation" else abs(v["fem"])
     return 100 * v["difference"] / ref, 100 * v["fem_error"] / ref
 
 
 def test_readme_catalogue_table(full):
-    """The README's table "What the full catalogue shows", each bound with a 2.5x margin."""
+    """docs/comparison.md's table "What the full catalogue shows", each bound with a 2.5x margin."""
     _, _, sc = full
     d, e = _pct(sc["sphere-md"], "dissipation")
     assert -0.28 < d < 0 and e < 0.95
@@ -264,11 +264,11 @@ def test_mindlin_assumptions_in_3d(full):
     assert -0.0094 < d["effect"] < -0.0019 and d["error"] < 0.0026 and d["grade"] in not_failed
     assert 0.06 < sphere["traction_angle_max"] < 0.25 and sphere["grade"] in not_failed
     assert coupling["verdicts"]["dissipation"]["grade"] in not_failed
-    # the first closed loop after the normal loading, coupled against uncoupled on each mesh (README:
+    # the first closed loop after the normal loading, coupled against uncoupled on each mesh (docs/fem3d.md:
     # +36 +- 5 %; Table 2's varying normal force; at constant F_N half-space codes give +12-14 %)
     first = coupling["verdicts"]["dissipation_first_cycle"]
     assert 0.18 < first["effect"] < 0.72 and first["holds"] is False and coupling["holds"] is False
-    # the 3D pressure against MDR's, by the pressure radius of the imposed runs (README: -0.04 +- 0.44,
+    # the 3D pressure against MDR's, by the pressure radius of the imposed runs (docs/fem3d.md: -0.04 +- 0.44,
     # -0.10 +- 0.23, -0.04 +- 0.44 %; a/5 0.16-0.41 % off, the finer levels within 0.1 %): it holds on
     # every variant
     for name, row in rows.items():
