@@ -69,9 +69,9 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshPa
 
 from .contact3d import (RelativeFlexibility, project_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
                         tangential_slope)
-from .elastic3d import stiffness3d
+from .condensed3d import condensed_body
 from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
-from .interface3d import hat_integrals, mortar_flexibility, mortar_interface, probe_response
+from .interface3d import hat_integrals, mortar_interface
 from .law import _frozen, step_history
 from .run import reference_radius
 from .solvers import blas_threads
@@ -234,21 +234,22 @@ class FEContact3D:
         self.hmesh = cached_mesh3d(params, cache_dir)
         mesh = self.hmesh.mesh
         t1 = time.perf_counter()
-        K, basis = stiffness3d(mesh, m.E2, m.nu2)
         self.mi = mi = mortar_interface(mesh)
         parts = {"assembly": time.perf_counter() - t1}
-        D_blk, self.backend, fac_blk = mortar_flexibility(K, basis, mesh, mi, backend=backend, timings=parts)
-        self.ndofs = int(K.shape[0])
         # the axis probes of the contact measure: as shallow as in the axisymmetric law, below the contact
         # disk (inside the bodies: the mesh is deeper than 2 contact_extent a_ref)
         zp = max(DEFAULT_PROBE_DEPTH, contact_extent + 0.25) * a_ref
-        R_blk = probe_response(fac_blk, basis, mesh, mi, (0.0, 0.0, -zp))
+        # each body's condensed interface (for E = 1 Pa: scaled by 1/E), cached on disk beside the mesh
+        blk = condensed_body(self.hmesh, mi, m.nu2, zp, backend=backend, cache_dir=cache_dir, timings=parts)
+        self.backend, self.ndofs = blk.params.backend, blk.ndofs
+        D_blk, R_blk = blk.D / m.E2, blk.R / m.E2
+        self.condensed = {"block": {"cache": blk.info.get("cache"), "key": blk.key}}
         if m.nu1 == m.nu2:  # the flexibility of one mesh scales with 1/E at fixed nu
-            D_ind, R_ind = D_blk * (m.E2 / m.E1), R_blk * (m.E2 / m.E1)
+            D_ind, R_ind = blk.D / m.E1, blk.R / m.E1
         else:
-            K1, _ = stiffness3d(mesh, m.E1, m.nu1)
-            D_ind, _, fac_ind = mortar_flexibility(K1, basis, mesh, mi, backend=backend, timings=parts)
-            R_ind = probe_response(fac_ind, basis, mesh, mi, (0.0, 0.0, -zp))
+            ind = condensed_body(self.hmesh, mi, m.nu1, zp, backend=backend, cache_dir=cache_dir, timings=parts)
+            D_ind, R_ind = ind.D / m.E1, ind.R / m.E1
+            self.condensed["indenter"] = {"cache": ind.info.get("cache"), "key": ind.key}
             self.ndofs *= 2
         self.rf = RelativeFlexibility.from_bodies(D_blk, D_ind)
         self._Dt_plate = self.rf.Dt
@@ -371,7 +372,8 @@ class FEContact3D:
                 "mesh": dict(self.hmesh.params.as_dict(), key=self.hmesh.key), "backend": self.backend}
 
     def mesh_summary(self) -> dict:
-        return dict(self.hmesh.params.as_dict(), key=self.hmesh.key, cache=self.hmesh.info.get("cache"))
+        return dict(self.hmesh.params.as_dict(), key=self.hmesh.key, cache=self.hmesh.info.get("cache"),
+                    condensed=self.condensed)
 
     def normal_load(self, F_N) -> dict:
         return {"F_N": np.asarray(F_N, dtype=float)}

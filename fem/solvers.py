@@ -198,6 +198,11 @@ def factorize(A, backend: str | None = None) -> Factor:
     ``auto`` with no error only when chosen through the environment; as an
     argument it raises :class:`InputError`.
     """
+    return _CLASSES[resolve_backend(backend)](A)
+
+
+def resolve_backend(backend: str | None = None) -> str:
+    """The backend ``factorize`` uses for ``backend`` (see there): a name of ``BACKENDS``."""
     explicit = backend is not None
     name = backend or os.environ.get("FRETTING_SPARSE_SOLVER", "auto")
     avail = available_backends()
@@ -209,4 +214,4 @@ def factorize(A, backend: str | None = None) -> Factor:
         if explicit:
             raise InputError(f"solver backend {name!r} is not installed; available: {', '.join(avail)}")
         name = avail[0]
-    return _CLASSES[name](A)
+    return name

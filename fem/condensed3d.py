@@ -1,0 +1,127 @@
+"""On-disk cache of a 3D body's condensed interface: the weighted flexibility of the contact
+vertices and their response at the axis probe (``fem.interface3d.mortar_flexibility``,
+``probe_response``), the costly part of a 3D set-up (on a ring mesh of 807 contact vertices, 25 s
+of its 35 s; the factorisation 3 s).
+
+A body's condensed interface is a pure function of its mesh, its Poisson ratio, the probe's
+depth and the sparse solver (which changes it at round-off only); it scales with 1/E at a fixed
+Poisson ratio, so it is stored for E = 1 Pa and every Young's modulus of that ratio shares one
+file. Key: SHA-256 of those inputs and ``CONDENSED_FORMAT_VERSION``; file
+``<cache_dir>/condensed3d-<key[:24]>.npz`` beside the meshes, written atomically and verified on
+read (its stored inputs equal the request, the digest of its arrays matches), rebuilt and
+replaced when it fails, never used (``meshes.cache.cached_artifact``, the meshes' protocol).
+"""
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import time
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from mdr.io import write_bytes_atomic
+from meshes.cache import CacheError, _digest, cached_artifact
+
+#: bump when the condensation or the stored format changes (part of the key)
+CONDENSED_FORMAT_VERSION = 1
+
+
+@dataclass(frozen=True)
+class CondensedParams:
+    """What a body's condensed interface depends on: the mesh (its cache key), the Poisson ratio,
+    the axis probe's depth (m, below the contact plane) and the solver backend (resolved)."""
+
+    mesh_key: str
+    nu: float
+    probe_depth: float
+    backend: str
+
+    def resolved(self) -> "CondensedParams":
+        return self
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class CondensedBody:
+    """``D`` (3 n, 3 n) and ``R`` (3, 3, n) of a body of E = 1 Pa (divide by E), its DOF count."""
+
+    params: CondensedParams
+    D: np.ndarray
+    R: np.ndarray
+    ndofs: int
+    key: str = ""
+    info: dict = field(default_factory=dict)
+
+
+def condensed_key(p: CondensedParams) -> str:
+    blob = json.dumps({"params": p.as_dict(), "format": CONDENSED_FORMAT_VERSION, "kind": "condensed3d"},
+                      sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+def _save(body: CondensedBody, path):
+    arrs = {"D": np.ascontiguousarray(body.D), "R": np.ascontiguousarray(body.R)}
+    header = {"params": body.params.as_dict(), "key": body.key, "format": CONDENSED_FORMAT_VERSION,
+              "ndofs": int(body.ndofs), "digest": _digest(arrs),
+              "info": {k: v for k, v in body.info.items() if k != "cache"}}
+    buf = io.BytesIO()
+    np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8), **arrs)
+    return write_bytes_atomic(path, buf.getvalue())
+
+
+def _load(path, expected: CondensedParams | None = None) -> CondensedBody:
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            header = json.loads(bytes(z["__header__"]).decode())
+            arrs = {k: z[k] for k in z.files if k != "__header__"}
+    except Exception as exc:
+        raise CacheError(f"unreadable condensed-interface cache file {path}: {exc}") from exc
+    if not isinstance(header, dict) or header.get("format") != CONDENSED_FORMAT_VERSION:
+        raise CacheError(f"{path}: not a condensed interface of format {CONDENSED_FORMAT_VERSION}")
+    if _digest(arrs) != header.get("digest"):
+        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
+    try:
+        params = CondensedParams(**header["params"])
+    except Exception as exc:
+        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
+    if expected is not None and params.as_dict() != expected.as_dict():
+        raise CacheError(f"{path}: stored parameters differ from the request")
+    return CondensedBody(params=params, D=arrs["D"], R=arrs["R"], ndofs=int(header["ndofs"]),
+                         key=header.get("key", ""), info=header.get("info", {}))
+
+
+def condensed_body(hmesh, mi, nu: float, probe_depth: float, *, backend=None, cache_dir=None,
+                   timings: dict | None = None) -> CondensedBody:
+    """The condensed interface of a body of Poisson ratio ``nu`` on the 3D mesh ``hmesh``
+    (``meshes.half3d.Half3DMesh``; ``mi`` its ``fem.interface3d.MortarInterface``), for E = 1 Pa,
+    from the cache if valid, else assembled, factorised and condensed
+    (``fem.interface3d.mortar_flexibility``, ``probe_response``) and stored. ``timings`` (a dict)
+    gains the seconds of the ``assembly``, ``factorisation`` and ``condensation`` actually run (0
+    on a cache hit). ``info["cache"]``: hit, miss, rebuilt, unsaved."""
+    from .elastic3d import stiffness3d
+    from .interface3d import mortar_flexibility, probe_response
+    from .solvers import resolve_backend
+
+    parts = {"assembly": 0.0, "factorisation": 0.0, "condensation": 0.0}
+    p = CondensedParams(mesh_key=hmesh.key, nu=float(nu), probe_depth=float(probe_depth),
+                        backend=resolve_backend(backend))
+
+    def build(p):
+        mesh = hmesh.mesh
+        t0 = time.perf_counter()
+        K, basis = stiffness3d(mesh, 1.0, p.nu)
+        parts["assembly"] += time.perf_counter() - t0
+        D, _, fac = mortar_flexibility(K, basis, mesh, mi, backend=p.backend, timings=parts)
+        R = probe_response(fac, basis, mesh, mi, (0.0, 0.0, -p.probe_depth))
+        return CondensedBody(params=p, D=D, R=R, ndofs=int(K.shape[0]))
+
+    body = cached_artifact(p, cache_dir, False, prefix="condensed3d", key_of=condensed_key, load=_load,
+                           build=build, save=_save)
+    if timings is not None:
+        for k, v in parts.items():
+            timings[k] = timings.get(k, 0.0) + v
+    return body

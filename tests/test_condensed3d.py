@@ -1,0 +1,73 @@
+"""The on-disk cache of the 3D bodies' condensed interfaces (``fem.condensed3d``): a warm set-up
+reads what a cold one computed (the same model to the last bit), skips the condensation, one file
+serves every Young's modulus of a Poisson ratio, and a corrupt file is rebuilt, never used."""
+import warnings
+
+import numpy as np
+import pytest
+
+from fem.law3d import FEContact3D
+from mdr.materials import Materials
+from mdr.profiles import Sphere
+
+R, MU, F = 6e-3, 0.2, 0.5
+
+
+def law(cache, **kw):
+    return FEContact3D(Sphere(R), kw.pop("mat", Materials()), MU, F_max=F, h_contact=0.3, cache_dir=cache, **kw)
+
+
+def files(cache):
+    return sorted(p.name for p in cache.glob("condensed3d-*.npz"))
+
+
+def test_a_warm_set_up_is_the_cold_one_without_the_condensation(tmp_path):
+    cold = law(tmp_path)
+    assert cold.condensed["block"]["cache"] == "miss" and cold.timings["condensation"] > 0
+    warm = law(tmp_path)
+    assert warm.condensed["block"]["cache"] == "hit"
+    assert warm.timings["condensation"] == 0 and warm.timings["factorisation"] == 0
+    assert np.array_equal(warm.rf.Dt, cold.rf.Dt) and np.array_equal(warm.rf.Dn, cold.rf.Dn)
+    assert warm.ndofs == cold.ndofs and warm.c_bulk == cold.c_bulk
+    a, b = cold.normal(F_N=F), warm.normal(F_N=F)
+    assert np.array_equal(a.p, b.p) and a.approach == b.approach
+    # against the condensation of a body of E = 200 GPa directly (the cache stores E = 1 Pa): round-off
+    from fem.elastic3d import stiffness3d
+    from fem.interface3d import mortar_flexibility
+
+    m = Materials()
+    K, basis = stiffness3d(cold.hmesh.mesh, m.E2, m.nu2)
+    D, _, _ = mortar_flexibility(K, basis, cold.hmesh.mesh, cold.mi)
+    Dt_direct = np.asarray(D)[:2 * cold.n, :2 * cold.n]
+    blk = np.asarray(cold._Dt_plate)  # block + indenter, steel on steel: twice the block's
+    assert np.max(np.abs(blk[:2 * cold.n, :2 * cold.n] - 2 * Dt_direct)) < 1e-10 * np.max(np.abs(Dt_direct))
+
+
+def test_one_file_per_poisson_ratio_and_every_modulus_shares_it(tmp_path):
+    steel = law(tmp_path)
+    # other moduli of the same E* (the same mesh) and the same nu: the same file, scaled by 1/E
+    other = law(tmp_path, mat=Materials(E1=200e9 * 2 / 3, E2=400e9))
+    assert len(files(tmp_path)) == 1 and other.condensed["block"]["cache"] == "hit"
+    assert np.allclose(other.rf.Dt, steel.rf.Dt, rtol=1e-12, atol=0)  # 3/400 + 1/400 = 2/200
+    # a dissimilar pair (another E*: its own mesh): one file per body, both read back the next time
+    alu = law(tmp_path, mat=Materials(E2=70e9, nu2=0.33))
+    assert alu.condensed["block"]["cache"] == alu.condensed["indenter"]["cache"] == "miss"
+    assert len(files(tmp_path)) == 3
+    again = law(tmp_path, mat=Materials(E2=70e9, nu2=0.33))
+    assert again.condensed["block"]["cache"] == again.condensed["indenter"]["cache"] == "hit"
+    assert np.array_equal(again.rf.Dt, alu.rf.Dt) and again.beta == alu.beta
+
+
+def test_a_corrupt_file_is_rebuilt_not_used(tmp_path):
+    cold = law(tmp_path)
+    (path,) = tmp_path.glob("condensed3d-*.npz")
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0xFF  # one flipped byte inside the arrays
+    path.write_bytes(bytes(data))
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        again = law(tmp_path)
+    assert again.condensed["block"]["cache"] == "rebuilt" and any("digest" in str(x.message) or "unreadable"
+                                                                   in str(x.message) for x in w)
+    assert np.array_equal(again.rf.Dt, cold.rf.Dt)
+    assert law(tmp_path).condensed["block"]["cache"] == "hit"
