@@ -45,7 +45,7 @@ def test_the_example_file_runs_and_its_sphere_is_hertz(tmp_path):
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nR = -6e-3\n', "R must be > 0"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nF0 = "half a newton"\n', "F0 must be a number"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ndF = 0.6\n', "dF must be in [0, F0)"),
-    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ncycles = 1\n', "cycles must be an integer >= 2"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ncycles = 2\n', "cycles must be an integer >= 3"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfe_levels = [0.0125, 0.05]\n', "fe_levels must be"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "cone"\n', "profile must be one of"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "truncated"\nb = 0.01\n', "b must be in [0, R)"),

@@ -485,7 +485,7 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     definition is enough) drives the 3D law through the apparatus's trial steps
     (``FEContact3D.prepare``). Its FE result is the direct call of ``mdr.apparatus.run_apparatus`` with
     ``FEContact3D`` to round-off and carries the 3D keys beside the apparatus ones; the truncated
-    sphere b = 20 um (Table 2 loading, u_A = 150 nm, 2 cycles of 60 steps) converges towards MDR over
+    sphere b = 20 um (Table 2 loading, u_A = 150 nm, 3 cycles of 60 steps) converges towards MDR over
     h = 0.3, 0.2: the coarse level is off by its own ladder step (ratio in [0.5, 2]; measured 1.1 in
     tests/test_contact3d.py), the fine one within the two-level error."""
     from fem.law3d import FEContact3D
@@ -493,7 +493,7 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
 
     s = Scene("t3d-app", "tiny 3D truncated sphere in the apparatus", "truncated", b=20e-6, drive="apparatus",
               amplitude=150e-9, kx=1.9e6, mu2=0.1, fe_model="3d", fe_levels=(0.3, 0.2), mdr_cells=(400, 1600),
-              cycles=2, steps=60, group="3d")
+              cycles=3, steps=60, group="3d")
     res = runner.run_scene(s)
     fe = res["fem"]
     for k in ("slip_index", "dissipation", "stationary", "evaluations_per_step", "loop",

@@ -289,3 +289,14 @@ def test_mindlin_assumptions_in_3d(full):
         st = row["verdicts"]["dissipation"]["settling"]
         assert st["status"] == "stationary" and row["verdicts"]["dissipation"]["error"] >= st["error"]
     assert coupling["levels"][-1]["on"]["cycles_run"] > 8
+
+
+def test_the_docs_tables_are_what_the_catalogue_gives(full):
+    """The generated tables of docs/*.md (``python -m validation.docs``) against this run: the words
+    (grades, verdicts) exactly, the numbers within the check's tolerance. A table left behind by a
+    change of the code fails here."""
+    from validation import docs
+
+    _, _, sc = full
+    diffs = docs.check(sc)
+    assert not diffs, "\n".join(diffs[:10])

@@ -248,8 +248,9 @@ class Scene:
         check("dF", lambda v: fin(v) and 0 <= v < self.F0, "in [0, F0) (N)")
         check("alpha", lambda v: fin(v), "finite (rad)")
         check("amplitude", lambda v: fin(v) and v > 0, "> 0 (N for drive 'force', m otherwise)")
-        check("cycles", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 2,
-              "an integer >= 2 (the last cycle is compared with the one before)")
+        check("cycles", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 3,
+              "an integer >= 3 (two closed cycles after the one from rest: the last is compared with the one "
+              "before, mdr.ladder.settling_error)")
         check("steps", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 8 and v % 4 == 0,
               "a multiple of 4, >= 8 (steps per cycle: the load reversals are sampled)")
         if self.drive == "force":
