@@ -325,10 +325,16 @@ def plates_markdown(rows):
         PAPER_POINTS.values()) + ".\n"
 
 
+#: the units of the study rows' dimensional columns, written into the CSV headers (SI)
+CSV_UNITS = {"kx": "N/m", "b": "m"}
+
+
 def _csv(rows):
+    """The rows as CSV, a dimensional column's header carrying its unit (``CSV_UNITS``): ``kx (N/m)``."""
     buf = io.StringIO()
-    w = csv.DictWriter(buf, fieldnames=list(rows[0]))
-    w.writeheader()
+    keys = list(rows[0])
+    buf.write(",".join(f"{k} ({CSV_UNITS[k]})" if k in CSV_UNITS else k for k in keys) + "\r\n")
+    w = csv.DictWriter(buf, fieldnames=keys)
     w.writerows(rows)
     return buf.getvalue().encode()
 

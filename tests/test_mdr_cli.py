@@ -131,6 +131,13 @@ def test_studies_in_parallel_processes_equal_sequential(tmp_path):
     for a, b in zip(par, seq):
         assert a["rows"] == b["rows"]
     assert (tmp_path / "par" / "fig9.csv").is_file() and (tmp_path / "par" / "sensitivity.md").is_file()
+    # the CSV says its units, and its numbers are the rows' (SI)
+    import csv
+
+    with open(tmp_path / "par" / "fig9.csv") as f:
+        table = list(csv.reader(f))
+    assert table[0][:2] == ["b (m)", "kx (N/m)"]
+    assert [float(x[1]) for x in table[1:]] == [r["kx"] for r in par[0]["rows"]]
     assert study_names("all") == ["fig8", "fig9", "loops", "sensitivity", "plates"]
     rc = main(["study", "fig9,nope", "--out", str(tmp_path / "x")])
     assert rc == 2 and not (tmp_path / "x").exists()
