@@ -14,15 +14,13 @@ replaced when it fails, never used (``meshes.cache.cached_artifact``, the meshes
 from __future__ import annotations
 
 import hashlib
-import io
 import json
 import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from mdr.io import write_bytes_atomic
-from meshes.cache import CacheError, _digest, cached_artifact
+from meshes.cache import cached_artifact, read_verified, write_verified
 
 #: bump when the condensation or the stored format changes (part of the key)
 CONDENSED_FORMAT_VERSION = 1
@@ -64,32 +62,14 @@ def condensed_key(p: CondensedParams) -> str:
 
 
 def _save(body: CondensedBody, path):
-    arrs = {"D": np.ascontiguousarray(body.D), "R": np.ascontiguousarray(body.R)}
-    header = {"params": body.params.as_dict(), "key": body.key, "format": CONDENSED_FORMAT_VERSION,
-              "ndofs": int(body.ndofs), "digest": _digest(arrs),
-              "info": {k: v for k, v in body.info.items() if k != "cache"}}
-    buf = io.BytesIO()
-    np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8), **arrs)
-    return write_bytes_atomic(path, buf.getvalue())
+    return write_verified(path, {"params": body.params.as_dict(), "key": body.key, "format": CONDENSED_FORMAT_VERSION,
+                                 "ndofs": int(body.ndofs), "info": {k: v for k, v in body.info.items() if k != "cache"}},
+                          {"D": np.ascontiguousarray(body.D), "R": np.ascontiguousarray(body.R)})
 
 
 def _load(path, expected: CondensedParams | None = None) -> CondensedBody:
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            header = json.loads(bytes(z["__header__"]).decode())
-            arrs = {k: z[k] for k in z.files if k != "__header__"}
-    except Exception as exc:
-        raise CacheError(f"unreadable condensed-interface cache file {path}: {exc}") from exc
-    if not isinstance(header, dict) or header.get("format") != CONDENSED_FORMAT_VERSION:
-        raise CacheError(f"{path}: not a condensed interface of format {CONDENSED_FORMAT_VERSION}")
-    if _digest(arrs) != header.get("digest"):
-        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
-    try:
-        params = CondensedParams(**header["params"])
-    except Exception as exc:
-        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
-    if expected is not None and params.as_dict() != expected.as_dict():
-        raise CacheError(f"{path}: stored parameters differ from the request")
+    header, arrs, params = read_verified(path, CONDENSED_FORMAT_VERSION, "condensed interface", CondensedParams,
+                                         expected)
     return CondensedBody(params=params, D=arrs["D"], R=arrs["R"], ndofs=int(header["ndofs"]),
                          key=header.get("key", ""), info=header.get("info", {}))
 

@@ -73,15 +73,46 @@ def _digest(arrs: dict) -> str:
     return h.hexdigest()
 
 
-def save_mesh(amesh: AxisymMesh, path) -> Path:
-    """Write ``amesh`` atomically to ``path`` (.npz with a verified header)."""
-    arrs = _arrays(amesh)
-    header = {"params": amesh.params.as_dict(), "key": amesh.key, "format": MESH_FORMAT_VERSION,
-              "digest": _digest(arrs), "info": amesh.info}
+def write_verified(path, header: dict, arrs: dict) -> Path:
+    """Write ``arrs`` and a JSON ``header`` (to which the arrays' digest is added) atomically to
+    ``path`` (.npz): the one format of every cached artifact, read back by :func:`read_verified`."""
+    header = dict(header, digest=_digest(arrs))
     buf = io.BytesIO()
     np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8),
              **arrs)
     return write_bytes_atomic(path, buf.getvalue())
+
+
+def read_verified(path, fmt: int, what: str, params_cls, expected=None) -> tuple:
+    """Read a file of :func:`write_verified` and verify it: its format ``fmt``, the digest of its
+    arrays, its stored parameters (``params_cls(**header["params"])``) equal to ``expected``
+    (resolved) if given. Returns ``(header, arrays, params)``; :class:`CacheError` naming ``what``
+    if anything is off."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            header = json.loads(bytes(z["__header__"]).decode())
+            arrs = {k: z[k] for k in z.files if k != "__header__"}
+    except Exception as exc:
+        raise CacheError(f"unreadable {what} cache file {path}: {exc}") from exc
+    if not isinstance(header, dict):
+        raise CacheError(f"{path}: header is not a JSON object (corrupt file)")
+    if header.get("format") != fmt:
+        raise CacheError(f"{path}: not a {what} of format {fmt} (format {header.get('format')})")
+    if _digest(arrs) != header.get("digest"):
+        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
+    try:
+        params = params_cls(**header["params"])
+    except Exception as exc:  # missing, unknown or invalid stored parameters
+        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
+    if expected is not None and params.as_dict() != expected.resolved().as_dict():
+        raise CacheError(f"{path}: stored parameters differ from the request")
+    return header, arrs, params
+
+
+def save_mesh(amesh: AxisymMesh, path) -> Path:
+    """Write ``amesh`` atomically to ``path`` (.npz with a verified header)."""
+    return write_verified(path, {"params": amesh.params.as_dict(), "key": amesh.key, "format": MESH_FORMAT_VERSION,
+                                 "info": amesh.info}, _arrays(amesh))
 
 
 class CacheError(RuntimeError):
@@ -92,26 +123,7 @@ def load_mesh(path, expected: AxisymMeshParams | None = None) -> AxisymMesh:
     """Read and verify a mesh file; raise :class:`CacheError` if anything is off."""
     from skfem import MeshTri1
 
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            header = json.loads(bytes(z["__header__"]).decode())
-            arrs = {k: z[k] for k in z.files if k != "__header__"}
-    except CacheError:
-        raise
-    except Exception as exc:
-        raise CacheError(f"unreadable mesh cache file {path}: {exc}") from exc
-    if not isinstance(header, dict):
-        raise CacheError(f"{path}: header is not a JSON object (corrupt file)")
-    if header.get("format") != MESH_FORMAT_VERSION:
-        raise CacheError(f"{path}: format {header.get('format')} != {MESH_FORMAT_VERSION}")
-    if _digest(arrs) != header.get("digest"):
-        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
-    try:
-        params = AxisymMeshParams(**header["params"])
-    except Exception as exc:  # missing, unknown or invalid stored parameters
-        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
-    if expected is not None and params.as_dict() != expected.resolved().as_dict():
-        raise CacheError(f"{path}: stored parameters differ from the request")
+    header, arrs, params = read_verified(path, MESH_FORMAT_VERSION, "mesh", AxisymMeshParams, expected)
     bodies = {}
     for b in BODIES:
         m = MeshTri1(arrs[f"{b}/p"], arrs[f"{b}/t"])

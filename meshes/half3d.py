@@ -49,7 +49,6 @@ file ``<cache_dir>/half3d-<key[:24]>.npz``.
 from __future__ import annotations
 
 import hashlib
-import io
 import json
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -57,10 +56,9 @@ from pathlib import Path
 import numpy as np
 
 from mdr.errors import InputError
-from mdr.io import write_bytes_atomic
 
 from .axisym import GMSH_LOCK, ContactZoneParams
-from .cache import CacheError, _digest, _gmsh_version, cached_artifact
+from .cache import _gmsh_version, cached_artifact, read_verified, write_verified
 
 SHAPES = ("cylinder", "box")
 GROUPS = ("contact", "top", "bottom", "symmetry", "sides")
@@ -429,33 +427,13 @@ def _arrays(hm: Half3DMesh) -> dict:
 
 
 def save_mesh3d(hm: Half3DMesh, path) -> Path:
-    arrs = _arrays(hm)
-    header = {"params": hm.params.as_dict(), "key": hm.key, "format": MESH3D_FORMAT_VERSION,
-              "digest": _digest(arrs), "info": {k: v for k, v in hm.info.items() if k != "cache"}}
-    buf = io.BytesIO()
-    np.savez(buf, __header__=np.frombuffer(json.dumps(header, sort_keys=True).encode(), dtype=np.uint8),
-             **arrs)
-    return write_bytes_atomic(path, buf.getvalue())
+    return write_verified(path, {"params": hm.params.as_dict(), "key": hm.key, "format": MESH3D_FORMAT_VERSION,
+                                 "info": {k: v for k, v in hm.info.items() if k != "cache"}}, _arrays(hm))
 
 
 def load_mesh3d(path, expected: Half3DMeshParams | None = None) -> Half3DMesh:
     """Read and verify a cached 3D mesh; :class:`meshes.cache.CacheError` if anything is off."""
-    try:
-        with np.load(path, allow_pickle=False) as z:
-            header = json.loads(bytes(z["__header__"]).decode())
-            arrs = {k: z[k] for k in z.files if k != "__header__"}
-    except Exception as exc:
-        raise CacheError(f"unreadable mesh cache file {path}: {exc}") from exc
-    if not isinstance(header, dict) or header.get("format") != MESH3D_FORMAT_VERSION:
-        raise CacheError(f"{path}: not a half3d mesh of format {MESH3D_FORMAT_VERSION}")
-    if _digest(arrs) != header.get("digest"):
-        raise CacheError(f"{path}: array digest mismatch (corrupt file)")
-    try:
-        params = Half3DMeshParams(**header["params"])
-    except Exception as exc:
-        raise CacheError(f"{path}: stored parameters unreadable ({exc})") from exc
-    if expected is not None and params.as_dict() != expected.resolved().as_dict():
-        raise CacheError(f"{path}: stored parameters differ from the request")
+    header, arrs, params = read_verified(path, MESH3D_FORMAT_VERSION, "half3d mesh", Half3DMeshParams, expected)
     tris = {k.split("/", 1)[1]: v for k, v in arrs.items() if k.startswith("boundary/")}
     mesh = to_skfem(arrs["p"], arrs["t"], tris)
     return Half3DMesh(params=params, mesh=mesh, key=header.get("key", ""), info=header.get("info", {}))

@@ -24,3 +24,19 @@ def module(family: str):
 def of_result(res: dict) -> str:
     """The family of a stored result (its scene's ``family``)."""
     return (res.get("scene") or {}).get("family") or "pair"
+
+
+def result_of(s, key: str, rows: list, t0: float, out_dir, figure, **extra) -> dict:
+    """A family's result: its scene, its ``rows`` under ``key`` (the family's ``KEY``), ``extra`` keys
+    (default ``closed_form`` None), ``errors`` with a_ref, the run time since ``t0``
+    (``time.perf_counter``) and, with ``out_dir``, its ``figure(result, out_dir)`` files."""
+    import time
+    from pathlib import Path
+
+    from ..scenes import a_ref
+
+    result = {"scene": s.as_dict(), "closed_form": None, **extra, key: rows, "errors": {"a_ref": a_ref(s)},
+              "files": {}, "runtime_s": time.perf_counter() - t0}
+    if out_dir is not None:
+        result["files"].update(figure(result, Path(out_dir)))
+    return result

@@ -13,6 +13,7 @@ from mdr.ladder import settling_error
 from mdr.normal import approach_from_force
 
 from .. import metrics
+from . import result_of
 from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
 from ..sides import fe_law, materials_of, pct_or, profile_of
 from ..text import LABELS, grade_text, num
@@ -167,11 +168,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                      "holds": metrics.family_holds(verdicts.values()),
                      "grade": metrics.scene_grade({q: x for q, x in verdicts.items() if x["tolerance"] is not None}),
                      "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})
-    result = {"scene": s.as_dict(), "closed_form": None, "assumptions3d": rows, "errors": {"a_ref": a_ref(s)},
-              "files": {}, "runtime_s": time.perf_counter() - t0}
-    if out_dir is not None:
-        result["files"].update(figure(result, Path(out_dir)))
-    return result
+    return result_of(s, KEY, rows, t0, out_dir, figure)
 
 
 def table(res) -> list:

@@ -10,7 +10,8 @@ from pathlib import Path
 from mdr.materials import Materials
 
 from .. import metrics
-from ..scenes import Scene, a_ref
+from . import result_of
+from ..scenes import Scene
 from ..sides import run_fe, run_mdr
 from ..text import LABELS, grade_text, num
 from .pair import scene_verdicts
@@ -64,11 +65,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
         log(f"  a/R = {row['a_over_R']:.2%}, nu = {row['nu']:g}: dissipation MDR - FE "
             f"{d['difference'] / abs(d['fem']):+.3%} (error bars {(d['fem_error'] + d['mdr_error']) / abs(d['fem']):.3%}, "
             f"tolerance {d['tolerance'] / abs(d['fem']):.2%}): {row['grade']}")
-    result = {"scene": s.as_dict(), "closed_form": None, "curvature": rows, "errors": {"a_ref": a_ref(s)},
-              "files": {}, "runtime_s": time.perf_counter() - t0}
-    if out_dir is not None:
-        result["files"].update(figure(result, Path(out_dir)))
-    return result
+    return result_of(s, KEY, rows, t0, out_dir, figure)
 
 
 def table(res) -> list:

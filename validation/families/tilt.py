@@ -11,7 +11,8 @@ import numpy as np
 from mdr.ladder import settling_error
 
 from .. import metrics
-from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
+from . import result_of
+from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene
 from ..sides import fe_law, materials_of, pct_or, run_mdr
 from ..text import grade_text, num
 
@@ -240,11 +241,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                      "levels": [{**lv, "runs": [{k: x for k, x in r.items() if k != "loop" or lv is levels[-1]}
                                                 for r in lv["runs"]]} for lv in levels],
                      "runtime_s": sum(lv["runtime_s"] for lv in levels)})
-    result = {"scene": s.as_dict(), "closed_form": None, "tilt": rows, "errors": {"a_ref": a_ref(s)},
-              "files": {}, "runtime_s": time.perf_counter() - t_scene}
-    if out_dir is not None:
-        result["files"].update(figure(result, Path(out_dir)))
-    return result
+    return result_of(s, KEY, rows, t_scene, out_dir, figure)
 
 
 def cycles_text(p) -> str:

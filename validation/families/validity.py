@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 from .. import metrics
+from . import result_of
 from ..scenes import Scene, a_ref
 from ..sides import closed_forms, run_fe, run_mdr
 from ..text import num, pct
@@ -58,11 +59,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
         row["runtime_s"] = res["runtime_s"]["total"]
         rows.append(row)
         log(f"  {row['variant']}: a {row['contact_radius']:.4g} m (MDR-FE {row['contact_radius_mdr_minus_fe']:+.2%})")
-    result = {"scene": s.as_dict(), "closed_form": closed, "mdr": mdr, "fem": base, "validity": rows,
-              "errors": {"a_ref": a}, "files": {}, "runtime_s": time.perf_counter() - t0}
-    if out_dir is not None:
-        result["files"].update(figure(result, Path(out_dir)))
-    return result
+    return result_of(s, KEY, rows, t0, out_dir, figure, closed_form=closed, mdr=mdr, fem=base)
 
 
 def table(res) -> list:
