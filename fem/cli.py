@@ -97,6 +97,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="measure of --ua and the output displacements: 'contact' (default; half-space "
                         "comparable, as in python -m mdr contact) or 'plate' (indenter top plate vs block bottom, "
                         "includes the finite bodies' compliance)")
+    c.add_argument("--vtu", default=None, metavar="PATH",
+                   help="also write the fields at the drive's peak in the last cycle to this .vtu file "
+                        "(axisymmetric model: displacements, von Mises stress, contact pressure, shear traction, "
+                        "stick/slip status, slip)")
     c.add_argument("--model", choices=("axisym", "3d"), default="axisym",
                    help="'axisym' (default): Fourier modes 0 + 1, traction along x (Mindlin's assumption); '3d': "
                         "the 3D half model (y >= 0) with a two-component traction of free direction and exact "
@@ -152,7 +156,7 @@ def _contact(args) -> dict:
     disp = args.displacement or "contact"
     return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
                            args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
-                           **opts, displacement=disp, model=args.model)
+                           **opts, displacement=disp, model=args.model, vtu=args.vtu)
 
 
 def _normal(args) -> dict:

@@ -32,19 +32,24 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
                     h_contact=H_CONTACT_DEFAULT, contact_extent=None, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
                     backend=None, displacement="contact", return_law=False, model="axisym", traction=None,
-                    tilt=0.0, ring=None):
+                    tilt=0.0, ring=None, vtu=None):
     """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
     ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
     in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``; ``tilt`` of the flat
     face, rad; ``ring`` (r, width, h) / a_ref, the 3D mesh's refined ring, ``fem.law3d.FEContact3D``).
-    ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1)."""
+    ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1). ``vtu`` (a path,
+    axisymmetric model): the fields at the peak of the drive in the last cycle, in the x-z plane
+    (``fem.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
+    traction, stick/slip status and slip), written after the run; its path is the key ``vtu``."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
     if model == "3d":
         return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
                        displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt,
                        ring=ring)
+    if vtu is not None and model == "3d":
+        raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
     if ring is not None:
         raise InputError("ring (the refined ring of the mesh) applies to the 3D model only")
     if traction is not None:
@@ -60,8 +65,16 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
                     block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
                     cache_dir=cache_dir, backend=backend, displacement=displacement)
     t1 = time.perf_counter()
-    out = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law)
+    k = (cycles - 1) * steps + steps // 4  # the drive's peak in the last cycle
+    out, st = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law,
+                          state_at=k)
     t2 = time.perf_counter()
+    if vtu is not None:
+        import numpy as np
+
+        from .output import write_fretting_vtu
+
+        out["vtu"] = str(write_fretting_vtu(law, st, F0 + dF * np.sin(2 * np.pi * k / steps + alpha), vtu))
     out.update(law.result_keys(F0, t0, t1, t2))  # the FE's own contact radius and indentation at F0, ...
     out["approach"] = law.normal(F_N=F0).approach
     out["displacement"] = law.displacement

@@ -46,7 +46,8 @@ def fretting_fields(law, state, F_N) -> dict:
     x-z plane: theta = 0 (the +x half) and theta = pi (the -x half), where the
     sin(theta) stresses vanish. Returns point data over each body's P2 nodes (for
     ``meshes.export_vtu``): ``u_x0``/``u_x180`` ((n, 3): x, z, 0 of each half, the
-    x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa).
+    x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa), and the
+    contact fields at theta = 0 (``contact_fields``: pressure, shear traction, status, slip).
     Assumes linear elasticity (superposition) and the law's small-sliding pairing.
     """
     model = law.model
@@ -77,6 +78,35 @@ def fretting_fields(law, state, F_N) -> dict:
         for key, sg in (("mises_x0", 1.0), ("mises_x180", -1.0)):
             out[key][name] = _mises(*(base[k][name] + sg * a1[k] for k in ("srr", "szz", "stt", "srz")))
     out.update({k: base[k] for k in ("u", "mises")})
+    out.update(contact_fields(law, state, res))
+    return out
+
+
+#: ``contact_status`` values: no contact, stick, slip
+STATUS = {"none": 0, "stick": 1, "slip": 2}
+
+
+def contact_fields(law, state, res) -> dict:
+    """The contact fields at the indenter's contact nodes (the pairs' slave points; 0 at every other
+    node of both bodies), in the plane of the tangential load at theta = 0: ``contact_pressure``
+    (Pa, the pair force over its weight), ``shear_traction_x`` (Pa, the mode-1 pair force over its
+    weight: the traction along x), ``contact_status`` (``STATUS``: 0 no contact, 1 stick, 2 slip)
+    and ``slip_x`` (m, the accumulated plastic slip of the pair). ``res``: the normal solution at the
+    state's normal force; ``state``: an ``fem.law.FEState``."""
+    it = law.model.interface
+    lam = np.asarray(state.lam, dtype=float)
+    values = {"contact_pressure": lam / it.w, "shear_traction_x": np.asarray(state.T, dtype=float) / it.w,
+              "contact_status": np.where(lam > 0, np.where(np.asarray(state.sgn) != 0, STATUS["slip"],
+                                                           STATUS["stick"]), STATUS["none"]).astype(float),
+              "slip_x": np.asarray(state.p, dtype=float)}
+    out = {}
+    for key, v in values.items():
+        per_body = {}
+        for name, body in law.model.bodies.items():
+            n = Basis(body.mesh, ElementTriP2(), intorder=1).N
+            per_body[name] = np.zeros(n)
+        per_body["indenter"][it.ind_nodes] = v
+        out[key] = per_body
     return out
 
 
