@@ -255,6 +255,12 @@ class FEContact:
         return dict(self.amesh.params.as_dict(), key=self.amesh.key, cache=self.amesh.info.get("cache"))
 
     # ----------------------------------------------------------------- state
+    def contact_at(self, F_N) -> dict:
+        """``mdr.protocol.ContactLaw.contact_at``: the FE's own contact radius and half-space comparable
+        indentation (``fem.normal``) at ``F_N``."""
+        nr = self.normal(F_N=F_N)
+        return {"contact_radius": float(nr.contact_radius), "indentation": float(nr.indentation)}
+
     def normal_load(self, F_N) -> dict:
         """Normal forces as ``prepare``/``step`` take them (``mdr.protocol``): the force, solved per step."""
         return {"F_N": np.asarray(F_N, dtype=float)}

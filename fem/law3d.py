@@ -375,6 +375,12 @@ class FEContact3D:
         return dict(self.hmesh.params.as_dict(), key=self.hmesh.key, cache=self.hmesh.info.get("cache"),
                     condensed=self.condensed)
 
+    def contact_at(self, F_N) -> dict:
+        """``mdr.protocol.ContactLaw.contact_at``: the 3D model's own contact radius and half-space
+        comparable indentation at ``F_N`` (without tangential traction)."""
+        nr = self.normal(F_N=F_N)
+        return {"contact_radius": float(nr.contact_radius), "indentation": float(self.indentation(nr))}
+
     def normal_load(self, F_N) -> dict:
         return {"F_N": np.asarray(F_N, dtype=float)}
 

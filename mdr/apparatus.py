@@ -408,7 +408,6 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
     """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``).
 
     ``state_at`` (a step index): return ``(result, state of the law after that step)``."""
-    from .normal import approach_from_force
 
     t0 = time.perf_counter()
     mu = nonnegative("mu", mu)
@@ -416,11 +415,10 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
         law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
     out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, state_at=state_at)
     last = slice(cycles * steps - steps, cycles * steps + 1)
-    d0 = float(approach_from_force(profile, materials, F0))
     cyc = out["cycles"]
     delta = float(out["slip_index"])
     result = {
-        "contact_radius": float(profile.g_inv(d0)), "indentation": d0, "normal_force": F0,
+        **law.contact_at(F0), "normal_force": F0,  # the law's own, never another model's
         "stick_radius": float(out["stick_radius"]),
         "dissipation": float(out["dissipation"]),
         "slip_index": None if not np.isfinite(delta) else delta,

@@ -23,7 +23,6 @@ from .grid import DEFAULT_CELLS
 from .law import MDRContact
 from .loops import analyse_cycles, loop_integral, slip_index
 from .materials import Materials
-from .normal import approach_from_force
 from .profiles import Profile
 from .protocol import ContactLaw
 
@@ -119,7 +118,6 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     last = slice(first, cycles * steps + 1)
     dW = float(cyc.dissipation[-1])
     u_amp = ua if ua is not None else 0.5 * float(np.ptp(H.u[last]))
-    d0 = float(approach_from_force(profile, materials, F0))
     stationary = bool(cyc.last_is_stationary) or mu == 0
     # the first closed loop after the normal loading, +Q -> -Q -> +Q (from the drive's first peak, a
     # quarter cycle in; check_loading makes steps a multiple of 4 and cycles >= 2); the open path from
@@ -130,8 +128,7 @@ def run_contact(profile: Profile, materials: Materials, mu, F0, dF=0.0, alpha=0.
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {
-        "contact_radius": float(profile.g_inv(d0)),
-        "indentation": d0,
+        **law.contact_at(F0),  # the law's own (an FE law's: the FE's), never another model's
         "normal_force": F0,
         "stick_radius": float(H.window_stick_radius(law)),
         "dissipation": dW,

@@ -200,6 +200,12 @@ class MDRContact:
         F_N = nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N)
         return approach_from_force(self.profile, self.materials, F_N)
 
+    def contact_at(self, F_N) -> dict:
+        """``mdr.protocol.ContactLaw.contact_at``: the half-space's closed form (MDR is exact for the
+        normal contact of an axisymmetric profile)."""
+        d = float(self.approach(F_N))
+        return {"contact_radius": float(self.profile.g_inv(d)), "indentation": d}
+
     def normal_load(self, F_N) -> dict:
         """Normal forces as the approaches of ``prepare``/``step`` (``mdr.protocol``), at once."""
         return {"d": self.approach(F_N)}

@@ -55,6 +55,12 @@ class ContactLaw(Protocol):
     def rest_state(self) -> Any:
         """The state with the bodies apart and no tangential history."""
 
+    def contact_at(self, F_N) -> dict:
+        """The law's own normal contact at the normal force ``F_N`` without tangential traction:
+        ``contact_radius`` and ``indentation`` (m, half-space comparable), the keys every result
+        of a run of the law reports (``mdr.drive.run_contact``, ``mdr.apparatus.apparatus_result``):
+        a law's result never carries another model's numbers."""
+
     def normal_load(self, F_N) -> dict:
         """The keyword arguments of ``prepare``/``step`` that impose the normal forces
         ``F_N`` (an array of any shape batch + (T,)): ``{"d": ...}`` for a law that turns

@@ -515,3 +515,23 @@ def test_fem_contact_vtu_holds_the_cattaneo_mindlin_contact_fields(tmp_path, cac
     assert r[stick].max() < c + h * a and r[slip].min() > c - h * a
     q_cm = cattaneo_mindlin_traction(r[inner], fa, F0, MU, a)
     assert np.max(np.abs(pd["shear_traction_x"][inner] - q_cm)) < 0.02 * MU * p0
+
+
+def test_a_run_of_the_fe_law_reports_the_fe_contact_not_the_half_space_one(cache):
+    """``run_contact`` and ``apparatus_result`` with an FE law report the law's own contact radius and
+    indentation (``contact_at``), with no FE post-processing by the caller: on a coarse mesh (a/10) they
+    differ from the half-space's closed form (MDR's), and a run reports the FE's."""
+    from mdr.apparatus import Apparatus, apparatus_result
+    from mdr.reference import hertz
+
+    law = FEContact(SPHERE, MAT, MU, F_max=0.5, h_contact=0.1, cache_dir=cache)
+    own = law.contact_at(0.5)
+    hz = hertz(0.5, R, MAT.E_star)
+    assert abs(own["contact_radius"] / hz["a"] - 1) > 1e-4  # the FE's edge, not Hertz's
+    out = run_contact(SPHERE, MAT, MU, 0.5, fa=0.05, cycles=3, steps=20, law=law)
+    app = apparatus_result(SPHERE, MAT, Apparatus(kx=2e6, mu2=0.1), MU, 0.5, 0.0, 0.0, 150e-9, cycles=3, steps=20,
+                           law=law)
+    for res in (out, app):
+        assert res["contact_radius"] == own["contact_radius"] and res["indentation"] == own["indentation"]
+    mdr = run_contact(SPHERE, MAT, MU, 0.5, fa=0.05, cycles=3, steps=20)
+    assert mdr["contact_radius"] == pytest.approx(hz["a"], rel=1e-12)
