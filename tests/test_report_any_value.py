@@ -119,7 +119,24 @@ def test_summary_figures_take_any_value(tmp_path):
 
     odd = [(1e-6, None), (2e-6, float("nan")), (float("inf"), 0.1), (5e-6, 0.2), (6e-6, float("-inf"))]
     assert (tmp_path / figures.series_figure({"mdr": odd, "fem": odd[:3]}, "b", tmp_path / "s.png")).exists()
-    rows = [{"side": s, "runtime_s": t, "error_vs_closed_form": e, "error_vs_fe": None}
-            for s in ("mdr", "fem") for t, e in ((None, 0.1), (0.5, float("nan")), (0.0, 0.1), (1.0, None))]
-    figures.save(figures.pareto_figure({"x": rows}), tmp_path / "p.png")
+    rows = [{"side": s, "runtime_s": t, "dissipation": W}
+            for s in ("mdr", "fem") for t, W in ((None, 0.1), (0.5, float("nan")), (0.0, 0.1), (1.0, None), (1.0, 2.0))]
+    for ref in (1.0, None, float("nan"), 0.0):
+        res = {"scene": {"group": "g"}, "closed_form": {"dissipation": ref}, "speed_error": rows}
+        figures.save(figures.speed_error_figure(figures.speed_error_points(res), "t"), tmp_path / "p.png")
     assert (tmp_path / "p.png").stat().st_size > 0
+
+
+def test_speed_error_points_measure_each_level_against_the_answer_it_approximates():
+    """The closed form where one exists, else the side's own extrapolated answer; no point where
+    there is neither (a distance to the finest level would vanish there by construction)."""
+    from validation import figures
+
+    rows = [{"side": "fem", "runtime_s": 1.0, "dissipation": 1.1}, {"side": "fem", "runtime_s": 2.0, "dissipation": 1.02},
+            {"side": "mdr", "runtime_s": 0.1, "dissipation": 0.97}]
+    scene = {"group": "geometry", "name": "s"}
+    pts = figures.speed_error_points({"scene": scene, "closed_form": {"dissipation": 1.0}, "speed_error": rows})
+    assert [round(p["error"], 12) for p in pts] == [0.03, 0.1, 0.02] and [p["model"] for p in pts] == ["MDR", "FE", "FE"]
+    v = {"dissipation": {"fem_ladder": {"extrapolated": 1.01}, "mdr_ladder": {"extrapolated": None}}}
+    pts = figures.speed_error_points({"scene": scene, "closed_form": None, "verdicts": v, "speed_error": rows})
+    assert [p["model"] for p in pts] == ["FE", "FE"] and pts[1]["error"] == pytest.approx(0.01 / 1.01)
