@@ -78,7 +78,6 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     out.update(law.result_keys(F0, t0, t1, t2))  # the FE's own contact radius and indentation at F0, ...
     out["approach"] = law.normal(F_N=F0).approach
     out["displacement"] = law.displacement
-    out["bulk_compliance"] = law.plate_bulk_compliance(F0)
     if return_law:
         return out, law
     return out

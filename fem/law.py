@@ -242,11 +242,13 @@ class FEContact:
         """The keys every FE run adds to its law-independent result (``python -m fem contact``,
         ``python -m mdr apparatus --law fem``, the validation runner; the one home of this
         post-processing): ``contact_radius``, ``pressure_radius`` and ``indentation``, the FE's own
-        at ``F_N`` (half-space comparable, ``fem.normal``), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
+        at ``F_N`` (half-space comparable, ``fem.normal``), ``bulk_compliance`` (m/N, the bodies' series
+        compliance in the plate measure at ``F_N``: plate = contact + bulk_compliance * Fx,
+        :meth:`plate_bulk_compliance`), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
         {setup, cycles, total} from the times t0 (start), t1 (law set up), t2 (runs done)."""
         nr = self.normal(F_N=F_N)
         return {"contact_radius": float(nr.contact_radius), "pressure_radius": float(nr.pressure_radius),
-                "indentation": float(nr.indentation),
+                "indentation": float(nr.indentation), "bulk_compliance": self.plate_bulk_compliance(F_N),
                 "dofs": self.dofs, "mesh": self.mesh_summary(), "solver": self.solver_summary(),
                 "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0}}
 

@@ -739,7 +739,8 @@ class FEContact3D:
         nr = self.normal(F_N=F_N)
         out = {"contact_radius": nr.contact_radius, "pressure_radius": self.pressure_radius(nr.p),
                "approach": nr.approach, "indentation": self.indentation(nr),
-               "bulk_compliance": self.c_bulk, "displacement": self.displacement, "traction": self.traction,
+               "bulk_compliance": self.plate_bulk_compliance(F_N), "displacement": self.displacement,
+               "traction": self.traction,
                "coupling": self.coupling, "dofs": self.ndofs, "vertices": self.n, "beta": self.beta,
                "mesh": self.mesh_summary(),
                "solver": {"backend": self.backend, **self.stats},

@@ -172,7 +172,7 @@ def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
     t2 = time.perf_counter()
     if s.fe_model == "3d":
         return _fe3d_outputs(s, law, out, st, h, t0, t1, t2)
-    out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h, bulk_compliance=law.c_bulk)
+    out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h)
     nr = law.normal(F_N=s.F0)
     it = law.model.interface
     T = np.asarray(st.T) if st is not None else np.zeros(it.n)
