@@ -38,13 +38,19 @@ def peak_index(s: Scene) -> int:
 
 
 def drive(s: Scene, law):
-    """Run the scene's loading with ``law``; returns (result dict, state at the peak step)."""
+    """Run the scene's loading with ``law``; returns (result dict, state at the peak step). A 3D FE law
+    driven directly gets the same frictional normal ramp as ``python -m fem contact --model 3d``
+    (``fem.contact_run.drive_3d``)."""
     prof, mat = profile_of(s), materials_of(s)
     k = peak_index(s)
     if s.drive == "apparatus":
         return apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
                                 ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=law, state_at=k)
     kw = {"fa": s.amplitude} if s.drive == "force" else {"ua": s.amplitude}
+    if s.fe_model == "3d" and hasattr(law, "cycle_keys"):  # the 3D law: its frictional normal ramp first
+        from fem.contact_run import drive_3d
+
+        return drive_3d(law, s.mu, s.F0, s.dF, s.alpha, kw.get("ua"), kw.get("fa"), s.cycles, s.steps, state_at=k)
     return run_contact(prof, mat, s.mu, s.F0, s.dF, s.alpha, cycles=s.cycles, steps=s.steps, law=law,
                        state_at=k, **kw)
 
