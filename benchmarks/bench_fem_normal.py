@@ -26,7 +26,7 @@ from mdr.reference import hertz  # noqa: E402
 from meshes import cached_mesh  # noqa: E402
 from fem.model import build_model  # noqa: E402
 from fem.normal import solve_normal  # noqa: E402
-from fem.run import mesh_params  # noqa: E402
+from fem.normal_run import mesh_params  # noqa: E402
 
 
 def main(argv=None):

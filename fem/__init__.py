@@ -4,7 +4,7 @@ modes 0 and 1 on one r-z mesh) and a 3D half model, each for what it alone can a
 Axisymmetric: ``axisym`` (mode-0 weak forms), ``interface`` (small-sliding contact pairs),
 ``condense`` (interface flexibility), ``model`` (boundary conditions, set-up once per mesh),
 ``normal`` (penalty / augmented-Lagrangian contact and the half-space-comparable indentation),
-``run`` (one normal-contact run, ``python -m fem normal``); tangential loading: ``mode1`` (Fourier
+``normal_run`` (one normal-contact run, ``python -m fem normal``); tangential loading: ``mode1`` (Fourier
 mode-1 weak forms, axis regularity), ``friction`` (Coulomb return map, active-set interface solver,
 augmented Lagrangian), ``law`` (``FEContact``, the contact-law protocol of ``mdr.protocol``).
 

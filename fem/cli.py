@@ -160,7 +160,7 @@ def _contact(args) -> dict:
 
 
 def _normal(args) -> dict:
-    from .run import run_normal
+    from .normal_run import run_normal
 
     out, model, res = run_normal(
         args.profile, R=args.R, b=0.0 if args.b is None else args.b, F=args.F, exact=args.exact_cap,

@@ -117,7 +117,7 @@ class FEContact:
                  friction_exact_start=True, **mesh_kw):
         from meshes import cached_mesh
 
-        from .run import mesh_params
+        from .normal_run import mesh_params
 
         if not isinstance(profile, Profile) or profile.describe().get("profile") == "general":
             raise InputError(f"profile must be a Sphere, TruncatedSphere or FlatPunch, got {profile!r}")

@@ -73,7 +73,7 @@ from .condensed3d import condensed_body
 from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
 from .interface3d import hat_integrals, mortar_interface
 from .law import _frozen, step_history
-from .run import reference_radius
+from .normal_run import reference_radius
 from .solvers import blas_threads
 
 #: half-angle of the vertex sector around the y axis that resolves the stick extent along y (rad)

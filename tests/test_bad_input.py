@@ -21,7 +21,7 @@ import pytest
 from fem.cli import main as fem_main
 from fem.law import FEContact
 from fem.normal import solve_normal
-from fem.run import run_normal
+from fem.normal_run import run_normal
 from mdr import FlatPunch, GeneralProfile, InputError, Materials, MDRContact, Sphere, TruncatedSphere, make_profile
 from mdr.apparatus import Apparatus, apparatus_result, run_apparatus
 from mdr.cli import main as mdr_main

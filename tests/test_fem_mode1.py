@@ -5,7 +5,7 @@ from scipy.sparse.linalg import spsolve
 
 from fem.axisym import boundary_nodes, node_coords, stiffness
 from fem.mode1 import node_dofs_mode1, rigid_fields, stiffness_mode1
-from fem.run import mesh_params
+from fem.normal_run import mesh_params
 from mdr.materials import Materials
 from meshes import cached_mesh
 

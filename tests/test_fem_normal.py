@@ -19,7 +19,7 @@ from mdr.reference import (flat_punch_approach, flat_punch_pressure, hertz, trun
 from fem.axisym import boundary_nodes, lame, node_coords, node_dofs, stiffness
 from fem.condense import Condensation
 from fem.normal import PENALTY_WARN, solve_normal
-from fem.run import run_normal
+from fem.normal_run import run_normal
 from fem.solvers import available_backends, factorize
 
 R = 6e-3

@@ -157,7 +157,7 @@ def case_flat_punch(quick=True, cache_dir=None):
                      "F_x = min(2 G* b u, mu F_N)", t0, stick_radius_before=float(H.c[40]),
                      stick_radius_after=float(H.c[-1])))
     # FE: normal stiffness at two forces (radius fixed), pressure inside, edge growth under refinement
-    from fem.run import run_normal
+    from fem.normal_run import run_normal
 
     t0 = time.perf_counter()
     hs = (1 / 20, 1 / 40) if quick else (1 / 20, 1 / 40, 1 / 80)
@@ -221,7 +221,7 @@ def case_truncated_edge(quick=True, cache_dir=None):
     """Truncated sphere with the flat face edge inside, at and beyond the sphere's contact
     edge (b = 0.9 a, a, 1.05 a, a the Hertz radius at F): contact radius and approach against
     the closed forms (the kink at r = b gives a weak pressure singularity)."""
-    from fem.run import run_normal
+    from fem.normal_run import run_normal
 
     rows = []
     a_h = ref.hertz(F, R, STEEL.E_star)["a"]
@@ -422,7 +422,7 @@ def case_penalty_extremes(quick=True, cache_dir=None):
     Lagrangian needs more than its 50 passes for the default 1e-8, so those rows accept a
     normal penetration of 1e-4 of d (reached in ~35 passes) and each row reports what its
     own tangential solve did."""
-    from fem.run import run_normal
+    from fem.normal_run import run_normal
 
     rows = []
     h_ = ref.hertz(F, R, STEEL.E_star)
@@ -476,7 +476,7 @@ def case_incompressible(quick=True, cache_dir=None):
     force control (F_x history, no series-compliance calibration) the Mindlin-Deresiewicz
     dissipation at the force amplitude F_CM(u*/2) and the Cattaneo-Mindlin stick radius,
     with the two-body E*, G*; errors no worse than at nu = 0.29 on the same mesh."""
-    from fem.run import run_normal
+    from fem.normal_run import run_normal
 
     rows = []
     h = 1 / 20 if quick else 1 / 80
@@ -574,7 +574,7 @@ def case_mesh_extremes(quick=True, cache_dir=None):
     """h = a/5: the contact holds ~10 pairs; the model warns and the error (Cattaneo-Mindlin
     stick radius, Mindlin-Deresiewicz dissipation) is large but reported (flagged).
     h = a/320 (~44k DOFs): Newton still converges in a few iterations, Hertz to 1e-3."""
-    from fem.run import run_normal
+    from fem.normal_run import run_normal
 
     rows = []
     a = ref.hertz(F, R, STEEL.E_star)["a"]

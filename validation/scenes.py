@@ -465,7 +465,7 @@ def code_version() -> str:
 
 def a_ref(scene: Scene) -> float:
     """Half-space contact radius at the largest normal force (the FE mesh's a_ref)."""
-    from fem.run import reference_radius
+    from fem.normal_run import reference_radius
     from mdr.materials import Materials
 
     E_star = Materials(scene.E1, scene.nu1, scene.E2, scene.nu2).E_star
