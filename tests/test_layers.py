@@ -13,9 +13,11 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("mdr", "meshes", "fem", "validation")
-#: the packages each package may import (besides itself)
-ALLOWED = {"mdr": set(), "meshes": {"mdr"}, "fem": {"mdr", "meshes"}, "validation": {"mdr", "meshes", "fem"}}
+PACKAGES = ("mdr", "meshes", "fem", "rough", "validation")
+#: the packages each package may import (besides itself); ``rough`` (rough surfaces, the half-space
+#: beside the FE model) stands on ``mdr`` only
+ALLOWED = {"mdr": set(), "meshes": {"mdr"}, "fem": {"mdr", "meshes"}, "rough": {"mdr"},
+           "validation": {"mdr", "meshes", "fem", "rough"}}
 
 
 def _modules():
