@@ -2,6 +2,8 @@
 
 ``rough.surfaces``: self-affine, isotropic random height maps generated with tamaas (the rough-contact
 library, ``pip install tamaas``) from stated parameters, or a measured topography read from a file
-with its pixel size; their radially averaged power spectrum. The contact engine on these surfaces
-comes next; this package depends on ``mdr`` only.
+with its pixel size; their radially averaged power spectrum. ``rough.normal``: the frictionless normal
+contact of an axisymmetric indenter with such a surface, FFT boundary elements on a periodic grid
+(tamaas), with the pixel's and the period's errors. The frictional contact with memory comes next;
+this package depends on ``mdr`` only.
 """
