@@ -60,7 +60,8 @@ def _family_table(scene: str):
 
 
 #: the generated tables: name -> function of results.json's ``scenes``
-TABLES = {"catalogue": catalogue_table, "assumptions-3d": _family_table("assumptions-3d")}
+TABLES = {"catalogue": catalogue_table, **{n: _family_table(n) for n in ("assumptions-3d", "validity",
+                                                                         "validity-curvature")}}
 
 
 def blocks(text: str) -> list:
@@ -134,7 +135,7 @@ def main(argv=None) -> int:
               f"of a catalogue run ({type(e).__name__}); run python -m validation.compare --jobs 2 first",
               file=sys.stderr)
         return 2
-    missing = [n for n in ("assumptions-3d",) if n not in scenes]
+    missing = [n for n in TABLES if n != "catalogue" and n not in scenes]
     if missing:
         print(f"python -m validation.docs: error: {path} lacks the scenes {', '.join(missing)}: a full catalogue "
               "run is needed", file=sys.stderr)
