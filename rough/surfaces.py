@@ -152,3 +152,14 @@ def radial_psd(m: HeightMap) -> tuple:
     vals = np.bincount(ring.ravel(), weights=C.ravel(), minlength=n)[rings] / \
         np.maximum(np.bincount(ring.ravel(), minlength=n)[rings], 1)
     return 2 * np.pi * rings / L, vals
+
+
+def rms_slope(m: HeightMap) -> float:
+    """The rms gradient sqrt(<|grad h|^2>) of a periodic map (spectral derivative)."""
+    h = m.h
+    kx = 2 * np.pi * np.fft.fftfreq(h.shape[0], d=m.pixel)
+    ky = 2 * np.pi * np.fft.fftfreq(h.shape[1], d=m.pixel)
+    H = np.fft.fft2(h)
+    KX, KY = np.meshgrid(kx, ky, indexing="ij")
+    gx, gy = np.real(np.fft.ifft2(1j * KX * H)), np.real(np.fft.ifft2(1j * KY * H))
+    return float(np.sqrt(np.mean(gx ** 2 + gy ** 2)))

@@ -109,3 +109,13 @@ def test_without_tamaas_the_message_names_the_install(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", no_tamaas)
     with pytest.raises(InputError, match="pip install tamaas"):
         surfaces.generate(RoughnessParams(**PAPER))
+
+
+def test_rms_slope_of_a_sine():
+    """h = A sin(2 pi x / lambda): rms slope A (2 pi / lambda) / sqrt(2), to round-off."""
+    from rough.surfaces import HeightMap, rms_slope
+
+    n, px, A = 64, 1e-6, 1e-7
+    x = np.arange(n) * px
+    h = np.tile(A * np.sin(2 * np.pi * x / (n * px / 4)), (n, 1)).T
+    assert rms_slope(HeightMap(h=h, pixel=px)) == pytest.approx(A * 2 * np.pi / (n * px / 4) / np.sqrt(2), rel=1e-12)
