@@ -4,13 +4,15 @@ nothing, the paper's roughness (rms 1 um) spreads a smaller real contact area ov
 import numpy as np
 import pytest
 
+from mdr.errors import InputError
+
 from mdr.materials import Materials
 from mdr.profiles import make_profile
 from mdr.reference import hertz
 
 pytest.importorskip("tamaas", reason="rough contact needs tamaas: pip install tamaas")
 
-from rough.normal import Grid, grid_ladder, normal_contact, normal_error  # noqa: E402
+from rough.normal import Grid, ensemble, grid_ladder, normal_contact, normal_error  # noqa: E402
 from rough.surfaces import RoughnessParams, generate, rms_slope  # noqa: E402
 
 MAT, R, F = Materials(), 6e-3, 0.5
@@ -96,3 +98,23 @@ def test_a_nominally_flat_rough_contact_grows_its_real_area_with_the_load():
             kappa.append(r["contact_area"] / L ** 2 * MAT.E_star * hs / p)
         assert all(1.8 < k < 2.8 for k in kappa), kappa
         assert abs(kappa[1] / kappa[0] - 1) < 0.1, kappa  # proportional to the load
+
+
+def test_an_ensemble_says_what_one_realisation_cannot():
+    """Four realisations of the paper's sphere roughness (rms 1 um) on one grid: their real contact
+    areas differ by more than 10 % (measured 20 %: one realisation is no answer), where an rms of 1 nm
+    (1 % of the approach) leaves their pressure radii within 5e-3 of each other (measured 1.2e-3: the
+    smooth limit); the statistics are the members' own."""
+    grid = Grid(1.6e-3, 256)
+    base = RoughnessParams(rms=1e-6, hurst=0.8, lambda_short=16e-6, lambda_long=0.4e-3, size=grid.period, n=256)
+    from dataclasses import replace
+
+    rough = ensemble(SPHERE, MAT, F, grid, base, seeds=(1, 2, 3, 4))
+    tiny = ensemble(SPHERE, MAT, F, grid, replace(base, rms=1e-9), seeds=(1, 2, 3, 4))
+    A = rough["contact_area"]
+    assert A["std"] / A["mean"] > 0.1 and A["mean"] < 0.3 * np.pi * HZ["a"] ** 2
+    assert tiny["pressure_radius"]["std"] / tiny["pressure_radius"]["mean"] < 5e-3
+    v = np.array(A["values"])
+    assert A["mean"] == pytest.approx(v.mean()) and A["sem"] == pytest.approx(v.std(ddof=1) / 2)
+    with pytest.raises(InputError, match="at least 2 seeds"):
+        ensemble(SPHERE, MAT, F, grid, base, seeds=(1,))
