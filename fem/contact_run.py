@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import time
 
-from mdr.drive import check_loading, run_contact
+from mdr.drive import check_loading, last_peak, run_contact
 from mdr.errors import InputError, in_range
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
@@ -43,13 +43,13 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     (``fem.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
     traction, stick/slip status and slip), written after the run; its path is the key ``vtu``."""
     check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
+    if vtu is not None and model == "3d":
+        raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
     if model == "3d":
         return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
                        displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt,
                        ring=ring)
-    if vtu is not None and model == "3d":
-        raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
     if ring is not None:
         raise InputError("ring (the refined ring of the mesh) applies to the 3D model only")
     if traction is not None:
@@ -65,16 +65,15 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
                     block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
                     cache_dir=cache_dir, backend=backend, displacement=displacement)
     t1 = time.perf_counter()
-    k = (cycles - 1) * steps + steps // 4  # the drive's peak in the last cycle
-    out, st = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law,
-                          state_at=k)
+    k, FN_peak = last_peak(F0, dF, alpha, cycles, steps)
+    res = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law,
+                      state_at=k if vtu is not None else None)  # the state at the peak only for the fields
+    out, st = res if vtu is not None else (res, None)
     t2 = time.perf_counter()
     if vtu is not None:
-        import numpy as np
-
         from .output import write_fretting_vtu
 
-        out["vtu"] = str(write_fretting_vtu(law, st, F0 + dF * np.sin(2 * np.pi * k / steps + alpha), vtu))
+        out["vtu"] = str(write_fretting_vtu(law, st, FN_peak, vtu))
     out.update(law.result_keys(F0, t0, t1, t2))  # the FE's own contact radius and indentation at F0, ...
     out["approach"] = law.normal(F_N=F0).approach
     out["displacement"] = law.displacement
@@ -103,7 +102,8 @@ def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_c
     return (out, law) if return_law else out
 
 
-#: cycles run at a time past ``cycles`` while a 3D run settles (``drive_3d``'s ``settle``)
+#: cycles run at a time past ``cycles`` while a 3D run settles (``drive_3d``'s ``settle``): the fewest
+#: ``mdr.drive.run_contact`` runs (so a run may end one cycle past ``max_cycles``)
 SETTLE_BLOCK = 2
 
 
@@ -120,7 +120,9 @@ def settled(W, tol, gross=0.0) -> bool:
     also of zero dissipation, has."""
     from mdr.ladder import NEGLIGIBLE, contracting
 
-    change, allowed = abs(W[-1] - W[-2]) if len(W) >= 2 else float("inf"), tol * max(abs(W[-1]), HARDLY_DISSIPATES * gross)
+    if len(W) < 2:
+        return False
+    change, allowed = abs(W[-1] - W[-2]), tol * max(abs(W[-1]), HARDLY_DISSIPATES * gross)
     return change <= allowed and (contracting(W) or change <= NEGLIGIBLE * allowed)
 
 
@@ -159,9 +161,8 @@ def drive_3d_together(laws, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup
     if settle is not None:
         tol, max_cycles = float(settle[0]), int(settle[1])
         while not all(r.settled(o, tol) for r, o in zip(runs, outs)) and done < max_cycles:
-            block = max(2, min(SETTLE_BLOCK, max_cycles - done))
-            outs = [r.more(o, block) for r, o in zip(runs, outs)]
-            done += block
+            outs = [r.more(o, SETTLE_BLOCK) for r, o in zip(runs, outs)]
+            done += SETTLE_BLOCK
         for r, o in zip(runs, outs):
             o["settled"] = r.settled(o, tol)
     return [r.finish(o) for r, o in zip(runs, outs)]
@@ -187,8 +188,7 @@ class _Run3D:
                                       state0=st, state_at=state_at, return_state=state_at is None)
         self.per_cycle = law.cycle_keys(self.steps) if state_at is None else None
         # the centres are taken at the first peak of F_x of the first run (the first loading)
-        self.centres = {k: v for k, v in law.result_keys(ld["F0"], 0.0, 0.0, 0.0).items()
-                        if k in ("stick_center_x", "pressure_center_x")}
+        self.centres = law.first_loading_keys()
         self.done = cycles
         self.elapsed += time.perf_counter() - t
         return (out, self.state) if state_at is not None else out

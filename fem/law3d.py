@@ -749,18 +749,32 @@ class FEContact3D:
         out.update(self.tilt_keys(F_N if F_peak is None else F_peak))
         run = self.last_run
         if run and run["q"]:
-            Fx = np.asarray(run["Fx"])
-            k0 = run["first"] if run["first"] < Fx.size else 0
-            k = k0 + int(np.argmax(Fx[k0:]))
+            k = self._window_peak(run)
             z = self.stick_zone(run["q"][k], run["p"][k], run["a"][k])
             out.update({key: z[key] for key in ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y",
                                                 "stick_axis_quantum", "stick_fit_x", "stick_fit_y",
                                                 "traction_angle_max")})
-            peaks = np.flatnonzero((Fx[1:-1] >= Fx[:-2]) & (Fx[1:-1] > Fx[2:]) & (Fx[1:-1] > 0)) + 1
-            k1 = int(peaks[0]) if peaks.size else k
-            z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])
-            out.update({"stick_center_x": z1["stick_center_x"], "pressure_center_x": z1["pressure_center_x"]})
+            out.update(self.first_loading_keys())
         return out
+
+    @staticmethod
+    def _window_peak(run) -> int:
+        """The step of the peak of F_x in a run's recorded window (the last cycle)."""
+        Fx = np.asarray(run["Fx"])
+        k0 = run["first"] if run["first"] < Fx.size else 0
+        return k0 + int(np.argmax(Fx[k0:]))
+
+    def first_loading_keys(self) -> dict:
+        """``stick_center_x`` and ``pressure_center_x`` at the last run's first peak of F_x (its first
+        loading; without one, the peak of its recorded window); empty where it kept no tractions."""
+        run = self.last_run
+        if not run or not run["q"]:
+            return {}
+        Fx = np.asarray(run["Fx"])
+        peaks = np.flatnonzero((Fx[1:-1] >= Fx[:-2]) & (Fx[1:-1] > Fx[2:]) & (Fx[1:-1] > 0)) + 1
+        k1 = int(peaks[0]) if peaks.size else self._window_peak(run)
+        z1 = self.stick_zone(run["q"][k1], run["p"][k1], run["a"][k1])
+        return {"stick_center_x": z1["stick_center_x"], "pressure_center_x": z1["pressure_center_x"]}
 
     #: the stick-zone keys of :meth:`cycle_keys`: those :meth:`result_keys` reports at the last cycle's peak
     CYCLE_KEYS = ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y", "traction_angle_max")

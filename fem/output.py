@@ -99,14 +99,11 @@ def contact_fields(law, state, res) -> dict:
               "contact_status": np.where(lam > 0, np.where(np.asarray(state.sgn) != 0, STATUS["slip"],
                                                            STATUS["stick"]), STATUS["none"]).astype(float),
               "slip_x": np.asarray(state.p, dtype=float)}
+    nodes = {name: Basis(body.mesh, ElementTriP2(), intorder=1).N for name, body in law.model.bodies.items()}
     out = {}
     for key, v in values.items():
-        per_body = {}
-        for name, body in law.model.bodies.items():
-            n = Basis(body.mesh, ElementTriP2(), intorder=1).N
-            per_body[name] = np.zeros(n)
-        per_body["indenter"][it.ind_nodes] = v
-        out[key] = per_body
+        out[key] = {name: np.zeros(n) for name, n in nodes.items()}
+        out[key]["indenter"][it.ind_nodes] = v
     return out
 
 

@@ -33,6 +33,13 @@ def harmonic_history(F0, dF, alpha, cycles, steps):
     return t, F0 + dF * np.sin(2.0 * np.pi * t + alpha)
 
 
+def last_peak(F0, dF, alpha, cycles, steps) -> tuple[int, float]:
+    """The step of the drive's peak in the last cycle (a quarter cycle into it, sin(2 pi t) = 1;
+    ``steps`` a multiple of 4) and the normal force F_N there (N): where the fields are read."""
+    k = (cycles - 1) * steps + steps // 4
+    return k, float(F0 + dF * np.sin(2.0 * np.pi * k / steps + alpha))
+
+
 def check_harmonic_load(F0, dF, alpha, cycles, steps):
     """Validate the normal force F0 + dF sin(2 pi t + alpha) and the time sampling (``dF`` and
     ``alpha`` may be batch arrays), for every driver: ``check_loading`` here and the apparatus.

@@ -326,6 +326,7 @@ def test_law3d_fretting_run(law3d):
     (["--profile", "sphere", "--R", "6e-3", "--h-contact", "0.9"], "h_contact must be in"),
     (["--profile", "sphere", "--R", "6e-3", "--contact-extent", "0.9"], "contact_extent"),
     (["--profile", "sphere", "--R", "6e-3", "--ring", "0.9", "0.18", "0.5"], "band_h must be"),
+    (["--profile", "sphere", "--R", "6e-3", "--vtu", "results/x.vtu"], "vtu applies to the axisymmetric model"),
 ])
 def test_cli_model_3d_bad_input(flags, msg, capsys):
     from fem.cli import main

@@ -54,7 +54,7 @@ def _family_table(scene: str):
     def table(scenes: dict) -> list:
         r = scenes[scene]
         lines = families.module(families.of_result(r)).table(r)
-        return lines[lines.index(next(x for x in lines if x.startswith("| "))):]  # the table, not its preamble
+        return lines[next(i for i, x in enumerate(lines) if x.startswith("| ")):]  # the table, not its preamble
     table.__doc__ = f"The table of scene {scene!r} as its family renders it in the report (without its preamble)."
     return table
 

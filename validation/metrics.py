@@ -141,6 +141,18 @@ def effect_verdict(effect, ladder: dict, tolerance, *, error=_LADDERS, bounded=N
             "holds": holds, "grade": g, "bounded": b}
 
 
+def with_settling(v: dict, settle: dict | None) -> dict:
+    """An effect verdict (``effect_verdict``) with the settling of its quantity towards the stationary
+    cycle (``mdr.ladder.settling_error``; None: no quantity of the cycles) added to its error bar:
+    errors summed, boundedness of both, regraded; the settling kept under ``settling``."""
+    if settle is None:
+        return {**v, "settling": None}
+    err = None if v["error"] is None or settle["error"] is None else v["error"] + settle["error"]
+    out = effect_verdict(v["effect"], {"status": v["status"]}, v["tolerance"], error=err,
+                         bounded=v["bounded"] and settle["bounded"])
+    return {**out, "settling": settle}
+
+
 def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=True, unit="",
             extra: dict | None = None, floor: float | None = None) -> dict:
     """One metric's verdict: |MDR - FE| against FE error + MDR error + tolerance, graded.

@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from mdr.apparatus import Apparatus, apparatus_result
-from mdr.drive import run_contact
+from mdr.drive import last_peak, run_contact
 from mdr.law import MDRContact
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure
@@ -34,7 +34,7 @@ def profile_of(s: Scene):
 
 def peak_index(s: Scene) -> int:
     """Step of the positive peak of the tangential drive in the last cycle."""
-    return (s.cycles - 1) * s.steps + s.steps // 4
+    return last_peak(s.F0, s.dF, s.alpha, s.cycles, s.steps)[0]
 
 
 def drive(s: Scene, law):
@@ -189,9 +189,7 @@ def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
              "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(it.n, bool)}
     if vtu_path is not None:
         if st is not None:  # modes 0 + 1 at the peak of the last cycle, in the x-z plane
-            k = peak_index(s)
-            FN_peak = s.F0 + s.dF * np.sin(2 * np.pi * k / s.steps + s.alpha)
-            write_fretting_vtu(law, st, FN_peak, vtu_path)
+            write_fretting_vtu(law, st, last_peak(s.F0, s.dF, s.alpha, s.cycles, s.steps)[1], vtu_path)
         else:
             write_vtu(law.model, nr, vtu_path)
     return out, field

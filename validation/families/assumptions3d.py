@@ -110,8 +110,9 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
     effect far below the 3D model's own error; the error is at least the estimator's resolution
     (``EFFECTS_3D``), plus, for the quantities of the cycles, the finest level's settling towards
-    the stationary cycle (``effect_settling``: the 3D cycles settle geometrically). The verdict of a metric: |effect| <= its error + the catalogue's tolerance
-    (the assumption holds), graded by ``metrics.effect_verdict`` (a spread bounds nothing)."""
+    the stationary cycle (``effect_settling``: the 3D cycles settle geometrically). The verdict of a
+    metric: |effect| <= its error + the catalogue's tolerance (the assumption holds), graded by
+    ``metrics.effect_verdict`` and ``metrics.with_settling`` (a spread bounds nothing)."""
     from fem.contact_run import drive_3d_together
 
     t0 = time.perf_counter()
@@ -157,12 +158,8 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             err = lad["error"]
             if err is not None:
                 err = max(err, floor[res])
-            if settle is not None:
-                err = None if err is None or settle["error"] is None else err + settle["error"]
-            bounded = lad["bounded"] and (settle is None or settle["bounded"])
-            verdicts[q] = {**metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err,
-                                                    bounded=bounded),
-                           "kind": kind, "resolution": floor[res], "ladder": lad, "settling": settle}
+            ev = metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err)
+            verdicts[q] = {**metrics.with_settling(ev, settle), "kind": kind, "resolution": floor[res], "ladder": lad}
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
                      "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
                      "holds": metrics.family_holds(verdicts.values()),

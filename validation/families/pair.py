@@ -98,14 +98,20 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
         ml = metrics.ladder_error(md_h, mv, floor=ZERO * scale)
         V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
 
+    # each side's settling ("cycles"): ``mdr.ladder.settling_error`` of the finest level's dissipation
+    # over its closed cycles (J), two cycles repeating within ``mdr.loops.STATIONARY_TOL`` being stationary
+    settling = {}
+    for side, res in (("mdr", mdr), ("fem", fe)):
+        W = list(res.get("dissipation_per_cycle") or [])[1:]
+        settling[side] = settling_error(W, floor=STATIONARY_TOL * max((abs(float(w)) for w in W if w is not None
+                                                                       and np.isfinite(w)), default=0.0))
+
     def step_bars(unit_scale):
-        """Each side's time-step and settling error bars in the unit of a metric (J divided by
-        ``unit_scale``). A side whose time step was not computed (a family that runs none) gets a bar
-        of 0 that bounds nothing, so its verdict can be no stronger than "consistent". The settling
-        ("cycles"): ``mdr.ladder.settling_error`` of the finest level's dissipation over its closed
-        cycles, two cycles repeating within ``mdr.loops.STATIONARY_TOL`` being stationary."""
+        """Each side's time-step and settling (``settling``) error bars in the unit of a metric (J
+        divided by ``unit_scale``). A side whose time step was not computed (a family that runs none)
+        gets a bar of 0 that bounds nothing, so its verdict can be no stronger than "consistent"."""
         out = {}
-        for side, res in (("mdr", mdr), ("fem", fe)):
+        for side in ("mdr", "fem"):
             ts = (time_step or {}).get(side)
             if ts is None:
                 out[side] = {"time step": {"status": "not computed", "bounded": False, "error": 0.0}}
@@ -113,9 +119,7 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
                 err = ts.get("error_at_scene_step")
                 out[side] = {"time step": {"status": ts.get("status"), "bounded": ts.get("bounded", False),
                                            "error": None if err is None else float(err) / unit_scale}}
-            W = list(res.get("dissipation_per_cycle") or [])[1:]
-            st = settling_error(W, floor=STATIONARY_TOL * max((abs(float(w)) for w in W if w is not None
-                                                               and np.isfinite(w)), default=0.0))
+            st = settling[side]
             out[side]["cycles"] = {**st, "error": None if st["error"] is None else st["error"] / unit_scale}
         return out
 

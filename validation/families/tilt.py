@@ -95,17 +95,6 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
             "contact_area": None, "loop_du": loop}
 
 
-def _with_settling(v: dict, settle: dict | None) -> dict:
-    """An effect verdict (``metrics.effect_verdict``) with a settling error bar added
-    (``_tilt_settling``; None: no quantity of the cycles): error and boundedness combined, regraded."""
-    if settle is None:
-        return {**v, "settling": None}
-    err = None if v["error"] is None or settle["error"] is None else v["error"] + settle["error"]
-    out = metrics.effect_verdict(v["effect"], {"status": v["status"]}, v["tolerance"], error=err,
-                                 bounded=v["bounded"] and settle["bounded"])
-    return {**out, "settling": settle}
-
-
 def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
     """The tolerance of a tilt effect: the catalogue's, the dissipation's relative to the reference or in
     units of 4 mu F0 u_A with its floor, the slip index's relative to the reference's ``si0`` with the
@@ -203,8 +192,8 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 t3 = _tilt_tolerance(q, tol, rel3, fine0["dissipation"], 4.0 * sv.mu * sv.F0 *
                                      float(fine0["displacement_amplitude"]), fine0.get("slip_index"))
                 lad = metrics.ladder_error(hs, [e[q] for e in vs3])
-                pt["aligned"][q] = _with_settling(metrics.effect_verdict(lad["value"], lad, t3 if resolved else None),
-                                                  settle3[q])
+                v3 = metrics.effect_verdict(lad["value"], lad, t3 if resolved else None)
+                pt["aligned"][q] = metrics.with_settling(v3, settle3[q])
                 if q == "contact_area":
                     continue
                 tm = _tilt_tolerance(q, tol, relm, mdr["dissipation"], 4.0 * sv.mu * sv.F0 *
@@ -212,9 +201,9 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 lf = metrics.ladder_error(hs, [e[q] for e in vsm])
                 lm = metrics.ladder_error(md_h, mdr_side[q])
                 errm = float("nan") if lf["error"] is None or lm["error"] is None else lf["error"] + lm["error"]
-                pt["mdr"][q] = _with_settling(metrics.effect_verdict(lf["value"], lf, tm if resolved else None,
-                                                                     error=errm, bounded=lf["bounded"] and lm["bounded"]),
-                                              settlem[q])
+                vm = metrics.effect_verdict(lf["value"], lf, tm if resolved else None, error=errm,
+                                            bounded=lf["bounded"] and lm["bounded"])
+                pt["mdr"][q] = metrics.with_settling(vm, settlem[q])
             pt["holds"] = metrics.family_holds(pt["aligned"].values())
             pt["grade"] = metrics.scene_grade({q: x for q, x in pt["aligned"].items() if x["tolerance"] is not None}) \
                 if resolved else "undetermined"
