@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import sys
 
 import numpy as np
 import scipy.sparse as sp
@@ -89,9 +90,8 @@ def blas_threads(n: int = 1):
     interface took 2.4 s instead of 8 ms (the idle pool spins while the other
     works).
 
-    Nested blocks with the same ``n`` cost nothing (entering one scans the
-    loaded libraries, about 3 ms): callers running many small solves wrap the
-    whole loop once.
+    Nested blocks with the same ``n`` cost nothing; an outer block sets the pools' sizes (the
+    pools themselves are found once per set of imported modules, ``_blas_pools``).
     """
     if _BLAS_LIMIT and _BLAS_LIMIT[-1] == n:
         yield
@@ -107,24 +107,40 @@ def blas_threads(n: int = 1):
 _BLAS_LIMIT: list = []
 
 
+def _blas_pools():
+    """The BLAS thread pools loaded in this process: a ``threadpoolctl.ThreadpoolController`` or, without
+    it, the OpenBLAS ctypes handles. Found once per set of imported modules (a new import may load
+    another BLAS): finding them reads /proc/self/maps, which took a third of a 3D contact step when
+    every step did it."""
+    key = len(sys.modules)
+    if _POOLS.get("key") != key:
+        try:
+            from threadpoolctl import ThreadpoolController
+        except ImportError:
+            pools = _openblas_handles()
+        else:
+            pools = ThreadpoolController()
+        _POOLS.update(key=key, pools=pools)
+    return _POOLS["pools"]
+
+
+_POOLS: dict = {}
+
+
 @contextlib.contextmanager
 def _blas_threads(n):
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:
-        threadpool_limits = None
-    if threadpool_limits is not None:
-        with threadpool_limits(limits=n, user_api="blas"):
+    pools = _blas_pools()
+    if not isinstance(pools, list):  # threadpoolctl
+        with pools.limit(limits=n, user_api="blas"):
             yield
         return
-    handles = _openblas_handles()
-    old = [get() for _, get in handles]
-    for set_, _ in handles:
+    old = [get() for _, get in pools]
+    for set_, _ in pools:
         set_(n)
     try:
         yield
     finally:
-        for (set_, _), k in zip(handles, old):
+        for (set_, _), k in zip(pools, old):
             set_(k)
 
 
