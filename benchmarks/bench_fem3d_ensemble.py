@@ -11,7 +11,7 @@ sizes a/20, a/28, a/40, the stick edge on a ring at 1.008, 0.990, 1.008 of Catta
 So every level here is an ensemble of meshes of the same resolution whose ring circle r = R
 varies (0.88-0.92 a; the refined annulus R -+ 0.18 a always covers the slip zone 0.79-1 a): the
 ensemble mean and its standard error, and the ladder of the means
-(``mdr.ladder.ladder_error``).
+(``common.ladder.ladder_error``).
 
 Each member runs the sphere twice on its mesh (``FEContact3D.variant``): the tangential traction
 of free direction and along x (Mindlin's assumption, as MDR), so the paired difference measures
@@ -131,7 +131,7 @@ def ensemble_error(sizes, means_se) -> dict:
     errors of the finest mean; where a step between the three finest means is below two of its
     standard errors no order can be observed, and the error is their spread plus two standard errors
     (the rule of a ladder without an observed order)."""
-    from mdr.ladder import ladder_error
+    from common.ladder import ladder_error
 
     m = [x[0] for x in means_se]
     se = [x[1] for x in means_se]

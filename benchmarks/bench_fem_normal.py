@@ -20,7 +20,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from mdr.io import write_json  # noqa: E402
+from common.io import write_json  # noqa: E402
 from mdr.materials import Materials  # noqa: E402
 from mdr.reference import hertz  # noqa: E402
 from meshes import cached_mesh  # noqa: E402

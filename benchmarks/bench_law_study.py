@@ -34,9 +34,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout without installing
 
-from mdr.cli import build_parser
-from mdr.plugins import law_plugins
-from mdr.study import R_IND, RES, TABLE2, run_studies
+from studies.cli import build_parser
+from fem.cli import FE_LAW
+from studies.study import R_IND, RES, TABLE2, run_studies
 
 
 class _Timed:
@@ -93,7 +93,7 @@ def main(argv=None):
     from mdr.materials import Materials
     from mdr.profiles import TruncatedSphere
 
-    fe = law_plugins()["fem"]
+    fe = FE_LAW
     law_args = build_parser().parse_args(["study", "fig8", "--law", "fem", "--h-contact", str(args.h_contact)])
     # one apparatus point on a built law: CPU time and where it goes
     law = fe.make_law(TruncatedSphere(R_IND, 50e-6), Materials(), TABLE2["mu1"], TABLE2["F0"] + TABLE2["dF"],

@@ -12,7 +12,7 @@ mu = 0.2, F_N = 0.5 + 0.1 sin(2 pi t) N, u = 150 nm sin(2 pi t), 3 cycles x 400 
    each method at the smallest size of its list with an error <= 2e-6 (target: the
    compiled law at least 2x faster), and at the sizes named in the README.
 2. Force control (F_x = 0.06 sin, same F_N) against displacement control (target: within 3x).
-3. One apparatus scene at the study resolution (``mdr.study.RES``; target < 20 ms) and the
+3. One apparatus scene at the study resolution (``studies.study.RES``; target < 20 ms) and the
    Fig. 8 + Fig. 9 studies (target < 1 s of compute).
 4. Import and first-call cost in a fresh interpreter, with an empty numba cache (compiles)
    and with the cache filled by that first run.
@@ -39,7 +39,7 @@ from mdr import Materials, MDRContact, TruncatedSphere, kernels  # noqa: E402
 from mdr.grid import make_grid  # noqa: E402
 from mdr.loops import loop_integral  # noqa: E402
 from mdr.normal import approach_from_force  # noqa: E402
-from mdr.study import R_IND, _slip_index, fig8, fig9  # noqa: E402
+from studies.study import R_IND, _slip_index, fig8, fig9  # noqa: E402
 
 MAT = Materials()
 MU, STEPS = 0.2, 400

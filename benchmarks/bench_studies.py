@@ -3,7 +3,7 @@
     python benchmarks/bench_studies.py [--repeat 5]
 
 Times (medians of repeated runs, no file output):
-- the full Fig. 8 + Fig. 9 studies (all points, stationary cycles, as ``mdr.study``
+- the full Fig. 8 + Fig. 9 studies (all points, stationary cycles, as ``studies.study``
   runs them: one batch pass per study and kind of profile),
 - one single scene at the same resolution (truncated sphere b = 50 um, k_x = 2 N/um,
   Table 2 load),
@@ -23,7 +23,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout without installing
 
 from mdr.profiles import TruncatedSphere
-from mdr.study import R_IND, _slip_index, fig8, fig9, run_studies, sensitivity
+from studies.study import R_IND, _slip_index, fig8, fig9, run_studies, sensitivity
 
 
 def median_time(fn, repeat):

@@ -1,8 +1,8 @@
 """The apparatus with the tilted 3D law: one experiment of the paper (Figs. 6, 7: truncated sphere
-b = 0.6 mm, R = 6 mm, k_x = 1.9 N/um, ``mdr.study.LOOP_CASES``) read again with a misaligned face.
+b = 0.6 mm, R = 6 mm, k_x = 1.9 N/um, ``studies.study.LOOP_CASES``) read again with a misaligned face.
 
 The MDR law and the 3D law (``fem.law3d.FEContact3D``, contact measure, trial steps) in the same
-apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``mdr.study.loops``):
+apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``studies.study.loops``):
 the slip index of the aligned face and of faces tilted by multiples of theta_c = F0 / (4 E* b^2)
 up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
 (``FEContact3D.variant``), at two mesh levels; ``contact vertices`` counts the vertices in contact
@@ -26,7 +26,7 @@ def main(argv=None):
     from mdr.law import MDRContact
     from mdr.materials import Materials
     from mdr.profiles import TruncatedSphere
-    from mdr.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
+    from studies.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
     from validation.families.tilt import TILT_MIN_VERTICES
     from validation.scenes import TILT_BOUND, tilt_critical
 

@@ -15,6 +15,5 @@ tangential and coupled contact solvers), ``law3d`` (``FEContact3D``).
 Shared: ``solvers`` (sparse factorisation backends, BLAS threads), ``bulk`` (the finite bodies'
 series compliance), ``output`` (fields, VTU), ``contact_run`` (a fretting run of either model,
 ``python -m fem contact``; the 3D runs until they settle), ``cli`` (``python -m fem``), ``apparatus``
-(the FE law in ``python -m mdr apparatus --law fem``, reached as an entry-point plugin: ``mdr`` never
-imports ``fem``).
+(the FE law in ``python -m mdr apparatus --law fem``: ``studies`` stands on ``fem``).
 """

@@ -1,10 +1,8 @@
 """The FE contact law in the apparatus: ``python -m mdr apparatus --law fem``.
 
-``mdr`` does not import ``fem`` (the layers: ``mdr`` at the bottom, ``fem`` on
-it, ``validation`` on top). The FE law reaches the apparatus command as a plugin
-of the entry-point group ``fretting.contact_laws`` (``pyproject.toml``):
-:data:`FE_LAW` (in ``fem.cli``, so building the parser stays cheap) adds the FE
-flags and calls :func:`fem_apparatus_result` here.
+The command (``studies.cli``, a layer above ``fem``) takes :data:`fem.cli.FE_LAW` (in ``fem.cli``,
+so building the parser stays cheap): it adds the FE flags and calls :func:`fem_apparatus_result`
+here. The apparatus model itself (``mdr.apparatus``) knows only the contact-law protocol.
 """
 from __future__ import annotations
 
@@ -13,7 +11,7 @@ import time
 import numpy as np
 
 from mdr.apparatus import Apparatus, apparatus_result, check_load
-from mdr.errors import InputError, in_range, nonnegative, positive
+from common.errors import InputError, in_range, nonnegative, positive
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL

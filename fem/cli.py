@@ -1,7 +1,7 @@
 """Command line: ``python -m fem {normal,contact} ...`` (axisymmetric or 3D FE contact, SI units).
 
-Same convention as ``python -m mdr`` (``mdr.cliutil``): the profile, material,
-load and ``--json`` flags are those of ``mdr.cli`` (JSON to stdout by default),
+Same convention as ``python -m mdr`` (``common.cli``): the profile, material,
+load flags are ``mdr.flags``, the ``--json`` flag ``common.cli``'s (JSON to stdout by default),
 bad input exits 2, a solver that does not converge 3, one line on stderr. The
 FE model flags are declared once, in :func:`add_fe_options`.
 """
@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import argparse
 
-from mdr.cli import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
-                     profile_from_args)
-from mdr.cliutil import OneLineParser, add_output_args, run_command
-from mdr.errors import InputError
+from common.cli import OneLineParser, add_output_args, run_command
+from common.errors import InputError
+from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
+                       profile_from_args)
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
 
@@ -186,7 +186,7 @@ def fe_options(args) -> dict:
 
 
 class _FEApparatusLaw:
-    """The FE law as a plugin of ``python -m mdr apparatus --law fem`` (``mdr.plugins``)."""
+    """The FE law as a plugin of ``python -m mdr apparatus --law fem`` (``common.plugins``)."""
 
     help = ("the axisymmetric FE model (fem.law.FEContact with displacement='contact'; adds dofs, mesh, "
             "solver and runtime_s {setup, cycles, total} to the JSON)")
@@ -215,5 +215,5 @@ class _FEApparatusLaw:
         return fem_apparatus_law(profile, materials, mu, F_max, **dict(opts, h_contact=opts["h_contact"] * coarsen))
 
 
-#: entry point ``fem`` of the group ``fretting.contact_laws`` (pyproject.toml)
+#: the FE law of ``python -m mdr apparatus/study --law fem`` (``studies.cli.contact_laws``)
 FE_LAW = _FEApparatusLaw()

@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from mdr.errors import ConvergenceError
+from common.errors import ConvergenceError
 from mdr.solve import regula_falsi_increasing
 
 from .solvers import blas_threads

@@ -20,7 +20,7 @@ from __future__ import annotations
 import time
 
 from mdr.drive import check_loading, last_peak, run_contact
-from mdr.errors import InputError, in_range
+from common.errors import InputError, in_range
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
@@ -115,10 +115,10 @@ HARDLY_DISSIPATES = 0.01
 def settled(W, tol, gross=0.0) -> bool:
     """Whether a run's dissipation per cycle ``W`` has settled: its last change at most ``tol`` of
     the last cycle's, or of ``HARDLY_DISSIPATES`` x ``gross`` (4 mu F0 u_A) where that is larger,
-    and still contracting (``mdr.ladder.contracting``: a drift that no longer shrinks has not
-    settled, unless below ``mdr.ladder.NEGLIGIBLE`` of the tolerance); an exactly repeating cycle,
+    and still contracting (``common.ladder.contracting``: a drift that no longer shrinks has not
+    settled, unless below ``common.ladder.NEGLIGIBLE`` of the tolerance); an exactly repeating cycle,
     also of zero dissipation, has."""
-    from mdr.ladder import NEGLIGIBLE, contracting
+    from common.ladder import NEGLIGIBLE, contracting
 
     if len(W) < 2:
         return False

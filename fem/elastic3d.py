@@ -21,7 +21,7 @@ import numpy as np
 from skfem import Basis, ElementTetP2, ElementVector, FacetBasis, LinearForm, asm
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from mdr.errors import InputError, in_range, positive
+from common.errors import InputError, in_range, positive
 
 from .solvers import blas_threads, factorize
 

@@ -49,7 +49,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
-from mdr.errors import ConvergenceError
+from common.errors import ConvergenceError
 from mdr.solve import regula_falsi_increasing
 
 DEFAULT_FRICTION_AL_TOL = 1e-7

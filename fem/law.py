@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mdr.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
+from common.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
 from mdr.law import History, StepResult
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile

@@ -59,7 +59,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from mdr.errors import ConvergenceError, InputError, nonnegative, positive
+from common.errors import ConvergenceError, InputError, nonnegative, positive
 from mdr.normal import moment_radius
 from mdr.law import History, StepResult
 from mdr.materials import Materials
@@ -783,7 +783,7 @@ class FEContact3D:
         """The stick-zone keys (``CYCLE_KEYS``) at the peak of F_x of every full cycle of the last run
         (cycles of ``steps`` steps from its first sample; a run from rest or from the normal ramp's
         state), lists over the cycles: how the last cycle's values of :meth:`result_keys` settled
-        (``mdr.ladder.settling_error``). Empty where the last run kept no tractions."""
+        (``common.ladder.settling_error``). Empty where the last run kept no tractions."""
         run = self.last_run
         if not run or not run["q"]:
             return {}

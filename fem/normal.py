@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
-from mdr.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
+from common.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
 from mdr.normal import moment_radius
 
 from .bulk import normal_indentation

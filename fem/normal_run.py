@@ -12,7 +12,7 @@ from __future__ import annotations
 import time
 import warnings
 
-from mdr.errors import ConvergenceError, in_range, positive
+from common.errors import ConvergenceError, in_range, positive
 from mdr.materials import Materials
 from mdr.profiles import make_profile
 from mdr.reference import hertz, truncated_contact_radius

@@ -29,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from mdr.errors import InputError
+from common.errors import InputError
 
 BACKENDS = ("cholmod", "pardiso", "superlu")
 

@@ -5,10 +5,11 @@ Public API::
     from mdr import Materials, Sphere, TruncatedSphere, FlatPunch, GeneralProfile, MDRContact
 
 The contact-law protocol every law follows (``MDRContact`` here, ``fem.law.FEContact``)
-is ``mdr.protocol.ContactLaw``. ``mdr`` is the ground floor of the project: it imports
-no other package of it (``meshes``, ``fem`` and ``validation`` build on it).
+is ``mdr.protocol.ContactLaw``. ``mdr`` is physics: it imports only ``common`` (errors, io, the CLI
+parser); ``meshes``, ``fem``, ``studies`` (the paper's studies and this package's command) and
+``validation`` build on it.
 """
-from .errors import ConvergenceError, InputError
+from common.errors import ConvergenceError, InputError
 from .law import LawState, MDRContact, StepResult
 from .materials import Materials
 from .profiles import FlatPunch, GeneralProfile, Sphere, TruncatedSphere, make_profile

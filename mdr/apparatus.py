@@ -102,7 +102,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 
 from . import kernels as _kernels
-from .errors import InputError, nonnegative, positive
+from common.errors import InputError, nonnegative, positive
 from .drive import check_harmonic_load
 from .law import MDRContact
 from .loops import analyse_cycles, slip_index

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from .errors import InputError, finite, nonnegative, positive, positive_int
+from common.errors import InputError, finite, nonnegative, positive, positive_int
 from .grid import DEFAULT_CELLS
 from .law import MDRContact
 from .loops import analyse_cycles, loop_integral, slip_index

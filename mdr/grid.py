@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, positive, positive_int
+from common.errors import InputError, positive, positive_int
 from .profiles import FlatPunch, Profile
 
 #: default number of cells; gives < 1e-4 relative error in the dissipation (see

@@ -34,7 +34,7 @@ import os
 
 import numpy as np
 
-from .errors import ConvergenceError, InputError
+from common.errors import ConvergenceError, InputError
 from .profiles import TruncatedSphere
 from .solve import MAX_ITER
 from .stick import AT_LIMIT

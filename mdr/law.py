@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import kernels
-from .errors import InputError, finite, nonnegative, positive
+from common.errors import InputError, finite, nonnegative, positive
 from .grid import DEFAULT_CELLS, SpringGrid, make_grid
 from .materials import Materials
 from .normal import approach_from_force

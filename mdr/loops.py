@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError, positive_int
+from common.errors import InputError, positive_int
 
 
 #: a loop integral below this fraction of its loop's box (max |F_x| x the du range) is round-off,

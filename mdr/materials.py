@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .errors import in_range, positive
+from common.errors import in_range, positive
 
 STEEL_E = 200e9
 STEEL_NU = 0.29

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import kernels
-from .errors import ConvergenceError, finite, nonnegative
+from common.errors import ConvergenceError, finite, nonnegative
 from .materials import Materials
 from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
 

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from .errors import InputError, nonnegative, positive, positive_int
+from common.errors import InputError, nonnegative, positive, positive_int
 from .solve import bisect_increasing
 
 # 8-point Gauss-Legendre rule on [0, 1]

@@ -13,8 +13,8 @@ Tangential load: ``u`` (total relative displacement) or ``Fx`` (force, |Fx| < mu
 trials' force and slope (there is no step-only fallback).
 
 Also here: :class:`LawPlugin`, what a package registers under the entry-point
-group ``fretting.contact_laws`` (``mdr.plugins``) to offer its law to
-``python -m mdr apparatus --law NAME``.
+group ``fretting.contact_laws`` (``common.plugins``) to offer its law to
+``python -m mdr apparatus --law NAME`` (the MDR and FE laws are built in).
 """
 from __future__ import annotations
 
@@ -81,7 +81,7 @@ class ContactLaw(Protocol):
 @runtime_checkable
 class LawPlugin(Protocol):
     """A contact law offered to ``python -m mdr apparatus --law NAME`` and
-    ``python -m mdr study fig8|fig9 --law NAME`` (``mdr.plugins``)."""
+    ``python -m mdr study fig8|fig9 --law NAME`` (``common.plugins``)."""
 
     help: str
 

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ConvergenceError
+from common.errors import ConvergenceError
 
 
 #: iteration limit of ``solve_increasing`` (also of its compiled copies in ``mdr.kernels``)

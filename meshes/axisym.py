@@ -57,8 +57,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from mdr.errors import InputError, in_range, nonnegative, positive
-from mdr.io import check_output_path
+from common.errors import InputError, in_range, nonnegative, positive
+from common.io import check_output_path
 
 PROFILES = ("sphere", "truncated", "flat")
 BODIES = ("indenter", "block")

@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.errors import InputError
-from mdr.io import write_bytes_atomic
+from common.errors import InputError
+from common.io import write_bytes_atomic
 
 from .axisym import BODIES, MESH_FORMAT_VERSION, AxisymMesh, AxisymMeshParams, build_mesh
 

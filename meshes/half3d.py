@@ -55,7 +55,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.errors import InputError
+from common.errors import InputError
 
 from .axisym import GMSH_LOCK, ContactZoneParams
 from .cache import _gmsh_version, cached_artifact, read_verified, write_verified

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mdr.errors import InputError, positive, positive_int
-from mdr.ladder import GCI_SAFETY, ladder_error
+from common.errors import InputError, positive, positive_int
+from common.ladder import GCI_SAFETY, ladder_error
 
 from .surfaces import MIN_PIXELS, HeightMap, require_tamaas
 
@@ -94,7 +94,7 @@ PERIOD_ORDER = 3
 
 def grid_ladder(profile, materials, F, period, ns=(128, 256, 512), keys=("pressure_radius", "p_max")) -> dict:
     """The smooth indenter on one period at the pixel counts ``ns`` (coarse to fine): each key's
-    values and its error bar (``mdr.ladder.ladder_error`` over the pixel size), which holds the
+    values and its error bar (``common.ladder.ladder_error`` over the pixel size), which holds the
     pixel's error only."""
     runs = [normal_contact(profile, materials, F, Grid(period, n)) for n in ns]
     return {k: {"values": [x[k] for x in runs], **ladder_error([period / n for n in ns], [x[k] for x in runs])}

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.errors import InputError, in_range, positive, positive_int
+from common.errors import InputError, in_range, positive, positive_int
 
 #: the smallest map side (pixels) a contact computation can use
 MIN_PIXELS = 8

@@ -24,7 +24,7 @@ from fem.normal import solve_normal
 from fem.normal_run import run_normal
 from mdr import FlatPunch, GeneralProfile, InputError, Materials, MDRContact, Sphere, TruncatedSphere, make_profile
 from mdr.apparatus import Apparatus, apparatus_result, run_apparatus
-from mdr.cli import main as mdr_main
+from studies.cli import main as mdr_main
 from mdr.drive import run_contact
 from mdr.normal import approach_from_force, normal_energy, pressure
 from meshes import AxisymMeshParams, cached_mesh

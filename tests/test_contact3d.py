@@ -13,7 +13,7 @@ from fem.contact3d import RelativeFlexibility, solve_normal3d, solve_tangential3
 from fem.elastic3d import stiffness3d
 from fem.interface3d import contact_flexibility, mortar_flexibility, mortar_interface
 from mdr import reference as ref
-from mdr.errors import ConvergenceError, InputError
+from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from meshes.half3d import Half3DMeshParams, build_mesh3d
 
@@ -466,13 +466,13 @@ def test_pressure_radius_holds_mdr_where_the_edge_read_falls_inside(tmp_path):
     second-moment radius (measured: sphere h = a/5, a/7, a/10, a/14 +0.25, -0.15, -0.10, -0.05 %;
     truncated sphere b = 20 um h = a/5, a/7, a/10 -0.13, +0.03, -0.06 %; bounds 0.5 % at a/5 of
     the sphere, 0.3 % elsewhere) is near MDR's on every level, and the error bar of its ladder over
-    the three finest (mdr.ladder: no observed order, the spread) holds MDR's value; the contact
+    the three finest (common.ladder: no observed order, the spread) holds MDR's value; the contact
     edge read from the vertices (contact_radius) stays inside MDR's contact radius by 1.1-3.4 % on
     the same meshes, since a vertex whose hat straddles the edge carries no pressure. On the ring
     mesh of h = a/5 with h/2 over 0.72-1.08 a the edge read is still 0.9 % inside, the pressure
     radius -0.02 % off (bound 0.06 %)."""
     from fem.law3d import FEContact3D
-    from mdr.ladder import ladder_error
+    from common.ladder import ladder_error
     from mdr.normal import approach_from_force, contact_radius, pressure_radius
     from mdr.profiles import Sphere, TruncatedSphere
 

@@ -1,4 +1,4 @@
-"""Where the work runs (mdr.executors): serial, --jobs N processes, --scheduler ADDRESS on Dask.
+"""Where the work runs (common.executors): serial, --jobs N processes, --scheduler ADDRESS on Dask.
 
 The scene results must not depend on where they ran: a Dask worker's result equals the
 in-process one to round-off. A task that fails (an exception, a killed worker) leaves its
@@ -20,8 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from mdr.errors import InputError
-from mdr.executors import check_choice, executor_for, worker_id
+from common.errors import InputError
+from common.executors import check_choice, executor_for, worker_id
 from validation import compare
 from validation.scenes import CATALOGUE
 
@@ -86,7 +86,7 @@ def test_scheduler_and_jobs_exclude_each_other(tmp_path, capsys):
                          "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--scheduler" in err[0] and "--jobs" in err[0]
-    from mdr.cli import main as mdr_main
+    from studies.cli import main as mdr_main
 
     assert mdr_main(["study", "fig9", "--jobs", "2", "--scheduler", "tcp://127.0.0.1:8786",
                      "--out", str(tmp_path / "s")]) == 2
@@ -102,7 +102,7 @@ def test_scheduler_without_dask_says_how_to_install(monkeypatch):
 
 
 def test_unreachable_scheduler_is_bad_input(monkeypatch):
-    import mdr.executors as ex
+    import common.executors as ex
 
     monkeypatch.setattr(ex, "CONNECT_TIMEOUT_S", 1.0)
     with pytest.raises(InputError, match="tcp://127.0.0.1:9.*cannot be reached.*dask scheduler"):
@@ -112,7 +112,7 @@ def test_unreachable_scheduler_is_bad_input(monkeypatch):
 
 def test_mdr_and_compare_import_no_dask():
     """Dask is optional and slow to import: no module imports it at import time."""
-    code = ("import sys, mdr, mdr.cli, mdr.study, mdr.executors, validation.compare; "
+    code = ("import sys, mdr, studies.cli, studies.study, common.executors, validation.compare; "
             "bad = [m for m in ('dask', 'distributed') if m in sys.modules]; assert not bad, bad")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     subprocess.run([sys.executable, "-c", code], check=True, env=env, cwd=ROOT)
@@ -179,7 +179,7 @@ def test_compare_cli_with_scheduler_records_executor(tmp_path, inproc_cluster, m
 
 
 def test_study_on_a_dask_worker_equals_the_serial_run(tmp_path, inproc_cluster):
-    from mdr.study import run_studies
+    from studies.study import run_studies
 
     a = run_studies(["fig9"], tmp_path / "serial")
     b = run_studies(["fig9"], tmp_path / "dask", scheduler=inproc_cluster.scheduler_address)

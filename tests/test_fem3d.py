@@ -10,7 +10,7 @@ import pytest
 
 from fem.elastic3d import (boundary_nodes3d, dirichlet_dofs, node_coords3d, node_dofs3d, pressure_load,
                            solve_dirichlet, stiffness3d)
-from mdr.errors import InputError
+from common.errors import InputError
 from meshes.half3d import Half3DMeshParams, build_mesh3d, cached_mesh3d
 
 E, NU, P = 200e9, 0.3, 1e8

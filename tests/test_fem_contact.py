@@ -17,7 +17,7 @@ import pytest
 
 from fem.law import FEContact
 from mdr.drive import run_contact
-from mdr.errors import InputError
+from common.errors import InputError
 from mdr.law import MDRContact, StepResult
 from mdr.loops import loop_integral
 from mdr.materials import Materials

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from skfem import FacetBasis, LinearForm, MeshTri1, asm, condense, solve
 
-from mdr.errors import InputError
+from common.errors import InputError
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure_radius
 from mdr.profiles import TruncatedSphere

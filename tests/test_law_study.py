@@ -1,4 +1,4 @@
-"""python -m mdr study fig8|fig9 --law NAME: the studies with a plugin law beside MDR (mdr.law_study).
+"""python -m mdr study fig8|fig9 --law NAME: the studies with a plugin law beside MDR (studies.law_study).
 
 The plumbing is checked against an existing path: with the MDR law itself as the plugin, the
 study points equal the vectorised MDR study to round-off. The FE law is reused from its rest
@@ -15,10 +15,10 @@ import json
 import numpy as np
 import pytest
 
-from mdr.cli import build_parser, main as mdr_main
+from studies.cli import build_parser, main as mdr_main
 from mdr.law import MDRContact
-from mdr.law_study import law_study, pick, study_points
-from mdr.study import R_IND, RES, TABLE2, fig9, run_studies
+from studies.law_study import law_study, pick, study_points
+from studies.study import R_IND, RES, TABLE2, fig9, run_studies
 
 
 class MDRPlugin:
@@ -58,7 +58,7 @@ def test_plugin_points_equal_the_vectorised_mdr_study(threads):
     assert len(out) == 6 and len(tasks) == 6 and all(t["points"] == 2 for t in tasks)
     assert sorted({r["kx"] for r in out}) == pick([r["kx"] for r in rows], 2)
     batch = {(r["b"], r["kx"]): r["delta_truncated"] for r in rows}
-    from mdr import study
+    from studies import study
 
     half = dict(RES, n=RES["n"] // 2)
     b = np.array([r["b"] for r in out])
@@ -129,7 +129,7 @@ def test_fe_backed_fig9_agrees_with_mdr_and_is_the_same_on_dask(tmp_path):
     processes gives the rows of --jobs 2 (the same law, other processes)."""
     from distributed import LocalCluster
 
-    from mdr.plugins import law_plugins
+    from fem.cli import FE_LAW
     from validation.scenes import TOLERANCES
 
     argv = ["study", "fig9", "--law", "fem", "--h-contact", "0.1", "--points", "3"]
@@ -147,7 +147,7 @@ def test_fe_backed_fig9_agrees_with_mdr_and_is_the_same_on_dask(tmp_path):
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         args = build_parser().parse_args(argv)
         dask = run_studies(["fig9"], tmp_path / "dask", scheduler=cluster.scheduler_address, law="fem",
-                           plugin=law_plugins()["fem"], law_args=args, points=3)
+                           plugin=FE_LAW, law_args=args, points=3)
     assert dask[0]["executor"].startswith("dask:") and len({t["worker"] for t in dask[0]["tasks"]}) == 2
     for a, b in zip(rows, dask[0]["rows"]):
         assert set(a) == set(b)

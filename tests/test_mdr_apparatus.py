@@ -84,7 +84,7 @@ G = 9.81
 
 @pytest.fixture(scope="module")
 def sens():
-    from mdr.study import sensitivity
+    from studies.study import sensitivity
 
     rows = sensitivity()
     return {(r["quantity"], r["value"], r["point"]): r for r in rows}
@@ -156,7 +156,7 @@ def _stroke_budget(case, kx, app=Apparatus()):
     own Cattaneo-Mindlin gross-slip displacement u* at F0 (exact for dF = 0)."""
     from mdr.normal import approach_from_force
     from mdr.reference import gross_slip_displacement
-    from mdr.study import R_IND, TABLE1_B
+    from studies.study import R_IND, TABLE1_B
 
     kind, F0_, ua, mu1, mu2 = case
     prof = Sphere(R_IND) if kind == "sphere" else TruncatedSphere(R_IND, TABLE1_B)
@@ -165,7 +165,7 @@ def _stroke_budget(case, kx, app=Apparatus()):
 
 
 def test_figs_6_7_truncated_sphere_is_in_gross_slip():
-    from mdr.study import LOOP_CASES, loops
+    from studies.study import LOOP_CASES, loops
 
     out = loops(res=LOOP_TEST_RES, cases=("fig6", "fig7"))
     for name, d in out.items():
@@ -181,7 +181,7 @@ def test_figs_4_5_sphere_regime_follows_the_stroke_budget():
     reaches the friction limit over part of the cycle (mixed regime). With k_x low enough
     that the axis and plates alone absorb the stroke below the friction limit, the same
     cases are partial slip with a clear margin."""
-    from mdr.study import LOOP_CASES, _slip_index, loops
+    from studies.study import LOOP_CASES, _slip_index, loops
 
     app = Apparatus()
     out = loops(res=LOOP_TEST_RES, cases=("fig4", "fig5"))

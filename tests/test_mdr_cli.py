@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from mdr import reference as ref
-from mdr.cli import main
+from studies.cli import main
 
 from conftest import STEEL
 
@@ -123,7 +123,7 @@ def test_apparatus_fem_bad_input_exit_2_before_setup(extra, word, tmp_path, caps
 
 def test_studies_in_parallel_processes_equal_sequential(tmp_path):
     """python -m mdr study fig9,sensitivity --jobs 2: same rows as one process, both files written."""
-    from mdr.study import run_studies, study_names
+    from studies.study import run_studies, study_names
 
     par = run_studies("fig9,sensitivity", tmp_path / "par", jobs=2)
     seq = run_studies(["fig9", "sensitivity"], tmp_path / "seq", jobs=1)

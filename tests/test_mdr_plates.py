@@ -156,7 +156,7 @@ C_FX = 0.5e-6  # compliance on F_x alone (not a reading), in series with the axi
 
 @pytest.fixture(scope="module")
 def table():
-    from mdr.study import R_IND, _slip_index, loops
+    from studies.study import R_IND, _slip_index, loops
 
     pm = np.array([r[0] for r in READINGS] + ["axial"])
     Rb = np.array([r[1] for r in READINGS] + [5e-3])
@@ -222,7 +222,7 @@ def test_plate_model_input():
 def test_cli_plate_model_reaches_the_apparatus(tmp_path):
     import json
 
-    from mdr.cli import main
+    from studies.cli import main
 
     path = tmp_path / "a.json"
     rc = main(["apparatus", "--profile", "sphere", "--R", str(R), "--mu", str(MU), "--F0", str(F0), "--ua", "150e-9",

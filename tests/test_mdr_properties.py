@@ -73,7 +73,7 @@ def test_arbitrary_history_respects_coulomb_and_dissipates(prof, mu, seed):
 def test_regula_falsi_increasing_finds_the_root_and_expands_its_bracket():
     import pytest
 
-    from mdr.errors import ConvergenceError
+    from common.errors import ConvergenceError
     from mdr.solve import regula_falsi_increasing
 
     calls = []

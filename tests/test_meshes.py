@@ -8,7 +8,7 @@ import meshio
 import numpy as np
 import pytest
 
-from mdr.errors import InputError
+from common.errors import InputError
 from meshes import AxisymMeshParams, build_mesh, cached_mesh, export_vtu, from_meshio, generate_meshio, load_mesh
 from meshes.cache import CacheError, mesh_key
 

@@ -20,7 +20,7 @@ import pytest
 from fem.law3d import FEContact3D
 from mdr import normal as mn
 from mdr import reference as ref
-from mdr.errors import InputError
+from common.errors import InputError
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, TruncatedSphere
 
@@ -514,7 +514,7 @@ def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
     h = 0.25 * a
     assert abs(keys["contact_x_min"] - (shift - a)) < h and abs(keys["contact_x_max"] - (shift + a)) < h
     # a tilt that moves the contact off the meshed disk is refused, never truncated
-    from mdr.errors import ConvergenceError
+    from common.errors import ConvergenceError
 
     with pytest.raises(ConvergenceError, match="rim"):
         law.variant(tilt=1e-3).normal(F_N=F)
@@ -522,7 +522,7 @@ def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
 
 @pytest.mark.slow
 def test_tilted_face_in_the_apparatus_fig6():
-    """The experiment of Fig. 6 (``mdr.study.LOOP_CASES``: b = 0.6 mm, F0 = 0.31 N, dF = 0.2 F0,
+    """The experiment of Fig. 6 (``studies.study.LOOP_CASES``: b = 0.6 mm, F0 = 0.31 N, dF = 0.2 F0,
     u_A = 90 nm, mu1 = 0.2, mu2 = 0.1, k_x = 1.9 N/um; 3 cycles of 80 steps) in the apparatus with the
     3D law through its trial steps, aligned and tilted on the same mesh (h = 0.3, 0.2 b;
     benchmarks/bench_tilt_apparatus.py prints the table). Aligned, the slip index is the MDR law's within
@@ -533,7 +533,7 @@ def test_tilted_face_in_the_apparatus_fig6():
 
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.law import MDRContact
-    from mdr.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
+    from studies.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
     from validation.scenes import tilt_critical
 
     _, F0, ua, mu1, mu2 = LOOP_CASES["fig6"]
@@ -565,7 +565,7 @@ def test_banded_face_in_the_apparatus_fig6_at_the_paper_tilt():
     import warnings
 
     from mdr.apparatus import Apparatus, run_apparatus
-    from mdr.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
+    from studies.study import LOOP_CASES, R_IND, TABLE1_B, TABLE1_KX
 
     _, F0, ua, mu1, mu2 = LOOP_CASES["fig6"]
     prof, app = TruncatedSphere(R_IND, TABLE1_B), Apparatus(kx=TABLE1_KX, mu2=mu2)

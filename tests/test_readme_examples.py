@@ -61,7 +61,7 @@ def test_examples_write_under_results(section, cmd):
 
 def test_example_creates_its_missing_results_directory(tmp_path, monkeypatch):
     """The README's first MDR example, run in an empty directory: results/ is created."""
-    from mdr.cli import main
+    from studies.cli import main
 
     cmd = next(c for _, c in COMMANDS if c.startswith("python -m mdr normal") and "results/" in c)
     monkeypatch.chdir(tmp_path)
@@ -72,7 +72,7 @@ def test_example_creates_its_missing_results_directory(tmp_path, monkeypatch):
 
 
 def test_unwritable_results_path_fails_with_one_line(tmp_path, monkeypatch, capsys):
-    from mdr.cli import main
+    from studies.cli import main
 
     monkeypatch.chdir(tmp_path)
     (tmp_path / "results").write_text("a file where the directory should be")

@@ -17,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mdr.io import dumps_json
+from common.io import dumps_json
 from validation import report, runner
 from validation.scenes import CATALOGUE
 

@@ -4,7 +4,7 @@ nothing, the paper's roughness (rms 1 um) spreads a smaller real contact area ov
 import numpy as np
 import pytest
 
-from mdr.errors import InputError
+from common.errors import InputError
 
 from mdr.materials import Materials
 from mdr.profiles import make_profile

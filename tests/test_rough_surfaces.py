@@ -5,7 +5,7 @@ whitespace text with their pixel size; bad parameters and bad maps are one line 
 import numpy as np
 import pytest
 
-from mdr.errors import InputError
+from common.errors import InputError
 from rough.surfaces import RoughnessParams, generate, load_height_map, radial_psd
 
 pytest.importorskip("tamaas", reason="rough surfaces need tamaas: pip install tamaas")

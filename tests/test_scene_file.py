@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from mdr import Materials, reference as ref
-from mdr.errors import InputError
+from common.errors import InputError
 from validation import compare
 from validation.scene_file import load_scene_file
 

@@ -1,4 +1,4 @@
-"""The settling of the cycles towards the stationary one (``mdr.ladder.settling_error``) and the 3D
+"""The settling of the cycles towards the stationary one (``common.ladder.settling_error``) and the 3D
 runs that go on until they settle (``fem.contact_run.drive_3d``'s ``settle``).
 
 Truths: a geometric sequence's limit (closed form); a continued history equals one long run; the
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from mdr.ladder import SETTLED, SETTLING_RATIO_MAX, settling_error
+from common.ladder import SETTLED, SETTLING_RATIO_MAX, settling_error
 
 
 def geometric(x_star, C, r, n):
@@ -60,7 +60,7 @@ def test_round_off_changes_are_settled():
     NEGLIGIBLE of the floor they count as settled, in ``settling_error`` and in ``settled``; above it
     a change that does not contract does not."""
     from fem.contact_run import settled
-    from mdr.ladder import NEGLIGIBLE
+    from common.ladder import NEGLIGIBLE
 
     xs = [1.0, 1.0 + 1e-21, 1.0 + 1e-21 + 1e-20]
     assert settling_error(xs, floor=1e-12)["status"] == "stationary"

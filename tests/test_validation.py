@@ -190,7 +190,7 @@ def test_catalogue_covers_the_issue():
 
 
 def test_scene_bad_input():
-    from mdr.errors import InputError
+    from common.errors import InputError
 
     with pytest.raises(InputError, match="profile"):
         Scene("x", "x", "cone")

@@ -88,8 +88,8 @@ from fem.bulk import boussinesq_axis
 from fem.normal_run import mesh_params, run_normal
 from meshes import AxisymMeshParams
 from meshes.axisym import GMSH_LOCK, contact_size_field  # gmsh's state is global: one mesher at a time
-from mdr.errors import ConvergenceError, InputError, positive
-from mdr.io import check_output_path, write_json
+from common.errors import ConvergenceError, InputError, positive
+from common.io import check_output_path, write_json
 from mdr.materials import Materials
 from mdr.reference import hertz
 
@@ -723,7 +723,7 @@ def main(argv=None) -> int:
     table to stdout (about 5 min of CalculiX at the default levels)."""
     import argparse
 
-    from mdr.cliutil import OneLineParser
+    from common.cli import OneLineParser
 
     ap = OneLineParser(prog="python -m validation.calculix", description=__doc__.splitlines()[0])
     ap.add_argument("--levels", type=_level, nargs="+", default=list(LEVELS), metavar="H[:GROWTH]",

@@ -9,7 +9,7 @@ Usage::
     python -m validation.compare --scheduler tcp://HOST:8786   # on a Dask cluster
 
 Where the scenes run: in this process (default), ``--jobs N`` local processes, or
-``--scheduler ADDRESS`` the workers of a running Dask scheduler (``mdr.executors``);
+``--scheduler ADDRESS`` the workers of a running Dask scheduler (``common.executors``);
 results.json records the ``executor`` and each scene the ``worker`` that computed it.
 
 Each scene is written to ``OUT/scenes/NAME/`` atomically when it finishes
@@ -37,11 +37,11 @@ import time
 import traceback
 from pathlib import Path
 
-from mdr.cliutil import OneLineParser, run_command
-from mdr.errors import ConvergenceError, InputError
+from common.cli import OneLineParser, run_command
+from common.errors import ConvergenceError, InputError
 
 from . import report
-from mdr.executors import check_choice, executor_for, worker_id
+from common.executors import check_choice, executor_for, worker_id
 
 from .store import install_scene_files, load_scene, scene_files, write_scene
 from .scenes import CATALOGUE, code_version, select
@@ -189,7 +189,7 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
     """Run the scenes (skipping unchanged stored ones); returns {name: "ok"|"skipped"|error text}.
 
     ``executor``: any ``concurrent.futures.Executor`` (e.g. the executor of a Dask client,
-    ``mdr.executors.executor_for``); default: in-process for ``jobs == 1``, else a
+    ``common.executors.executor_for``); default: in-process for ``jobs == 1``, else a
     ``ProcessPoolExecutor(jobs)`` of spawned processes. On an executor each scene runs in a
     directory local to its worker and comes back as files, stored here atomically. A scene
     whose task fails (an exception, a lost worker) is reported failed and the others go on;
@@ -279,7 +279,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """The command line: exit 0, 1 if a scene failed, 2 on bad input (``mdr.cliutil.run_command``)."""
+    """The command line: exit 0, 1 if a scene failed, 2 on bad input (``common.cli.run_command``)."""
     return run_command(build_parser(), argv, write_result=False)
 
 
@@ -306,7 +306,7 @@ def compare(args) -> int:
             require_ccx()
         except MissingDependency as exc:
             raise InputError(f"--witness: {exc}") from None
-    out = Path(args.out)  # --out and --json were checked writable before the run (mdr.cliutil.run_command)
+    out = Path(args.out)  # --out and --json were checked writable before the run (common.cli.run_command)
     t0 = time.perf_counter()
     # progress goes to stderr when the JSON goes to stdout
     stream = sys.stderr if args.json == "-" else sys.stdout

@@ -146,7 +146,7 @@ def main(argv=None) -> int:
             print(d)
         print(f"{len(diffs)} difference(s) between the docs' generated tables and {path}")
         return 1 if diffs else 0
-    from mdr.io import write_files_atomic
+    from common.io import write_files_atomic
 
     files = {}
     for page in sorted(DOCS.glob("*.md")):

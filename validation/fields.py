@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.io import write_bytes_atomic
+from common.io import write_bytes_atomic
 
 os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
 

@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mdr.io import write_bytes_atomic  # noqa: E402
+from common.io import write_bytes_atomic  # noqa: E402
 from mdr.reference import flat_punch_pressure  # noqa: E402
 
 C_MDR, C_FE, C_CF = "tab:blue", "tab:red", "k"

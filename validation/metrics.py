@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-# the error bar of a refinement ladder lives in mdr.ladder (python -m mdr study --law uses it too)
-from mdr.ladder import BOUNDED, GCI_SAFETY, ORDER_RANGE, ladder_error  # noqa: F401
+# the error bar of a refinement ladder lives in common.ladder (python -m mdr study --law uses it too)
+from common.ladder import BOUNDED, GCI_SAFETY, ORDER_RANGE, ladder_error  # noqa: F401
 from mdr.loops import loop_integral
 
 _trapz = getattr(np, "trapezoid", None) or np.trapz  # numpy < 2 has only trapz
@@ -143,7 +143,7 @@ def effect_verdict(effect, ladder: dict, tolerance, *, error=_LADDERS, bounded=N
 
 def with_settling(v: dict, settle: dict | None) -> dict:
     """An effect verdict (``effect_verdict``) with the settling of its quantity towards the stationary
-    cycle (``mdr.ladder.settling_error``; None: no quantity of the cycles) added to its error bar:
+    cycle (``common.ladder.settling_error``; None: no quantity of the cycles) added to its error bar:
     errors summed, boundedness of both, regraded; the settling kept under ``settling``."""
     if settle is None:
         return {**v, "settling": None}

@@ -16,7 +16,7 @@ import platform
 import sys
 from pathlib import Path
 
-from mdr.io import json_bytes, write_files_atomic
+from common.io import json_bytes, write_files_atomic
 
 from . import families, figures
 from .metrics import scene_grade
@@ -255,10 +255,10 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
                  executor: str | None = None, hard_cases_note: str | None = None, witness=None) -> Path:
     """Build report.md, results.json and the summary figures from the stored scenes.
 
-    ``executor``: where this run's scenes ran (``mdr.executors.executor_for`` label); each
+    ``executor``: where this run's scenes ran (``common.executors.executor_for`` label); each
     stored scene keeps the ``worker`` that computed it. The report is rendered in full before any
     file is written; then the summary figures, and report.md, results.json and ``json_path`` are
-    staged and renamed into place together (``mdr.io.write_files_atomic``, report.md last): a failure
+    staged and renamed into place together (``common.io.write_files_atomic``, report.md last): a failure
     while rendering leaves the previous report and its figures intact."""
     out = Path(out)
     results = {}
@@ -328,7 +328,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
              "monotonically with 0.5 <= p <= 4: an upper bound; the spread of the levels where they do not: "
              "no bound), plus, on the dissipation and the slip index, the time step's error bar (the finest "
              "level at 1, 2 and 4 times the steps) and the cycles' settling towards the stationary cycle "
-             "(`mdr.ladder.settling_error`). The *tolerance* is what \"MDR holds\" claims beyond both "
+             "(`common.ladder.settling_error`). The *tolerance* is what \"MDR holds\" claims beyond both "
              "error bars (`validation/scenes.py`, `TOLERANCES`; marked *floor* where the resolution floor "
              "of the dissipation, 1e-4 x 4 mu F0 u_A, exceeds it). Grades: **holds** when "
              "|MDR - FE| <= FE error + MDR error + tolerance and every error bar is an upper bound; "

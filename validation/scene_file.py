@@ -30,7 +30,7 @@ import tomllib
 from dataclasses import fields
 from pathlib import Path
 
-from mdr.errors import InputError
+from common.errors import InputError
 
 from .scenes import Scene
 

@@ -30,7 +30,7 @@ mu1 = 0.2, mu2 = 0.1, u_A = 150 nm):
   compares nothing but mu);
 - apparatus k_x series: truncated sphere b = 10 um (Fig. 9's first profile)
   at the Table 2 point;
-- Figs. 4-7: the four experiments of ``mdr.study.LOOP_CASES`` (k_x = 1.9 N/um,
+- Figs. 4-7: the four experiments of ``studies.study.LOOP_CASES`` (k_x = 1.9 N/um,
   b = 0.6 mm from Table 1, dF = 0.1 F0 / 0.5 N);
 - half-space validity: the sphere under the closed-form load case with the
   block and the indenter cap shrunk towards the contact radius.
@@ -43,8 +43,8 @@ import math
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
-from mdr.errors import InputError
-from mdr.study import LOOP_CASES
+from common.errors import InputError
+from studies.study import LOOP_CASES
 
 R_IND = 6e-3
 STEEL = {"E1": 200e9, "nu1": 0.29, "E2": 200e9, "nu2": 0.29}
@@ -61,7 +61,7 @@ FE_LEVELS_3D = (0.2, 0.14, 0.1)
 #: the 3D families run each 3D run past its scene's cycles until its dissipation settles to this
 #: fraction per cycle, at most ``SETTLE_MAX_CYCLES`` (``fem.contact_run.drive_3d``'s ``settle``): the
 #: 3D cycles settle geometrically, the coupled steel/aluminium pair over ~15-20 cycles
-#: (``mdr.ladder.settling_error`` turns the last change into the error bar of the stationary cycle)
+#: (``common.ladder.settling_error`` turns the last change into the error bar of the stationary cycle)
 SETTLE_TOL_3D = 1e-4
 SETTLE_MAX_CYCLES = 24
 FE_MODELS = ("axisym", "3d")
@@ -250,7 +250,7 @@ class Scene:
         check("amplitude", lambda v: fin(v) and v > 0, "> 0 (N for drive 'force', m otherwise)")
         check("cycles", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 3,
               "an integer >= 3 (two closed cycles after the one from rest: the last is compared with the one "
-              "before, mdr.ladder.settling_error)")
+              "before, common.ladder.settling_error)")
         check("steps", lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 8 and v % 4 == 0,
               "a multiple of 4, >= 8 (steps per cycle: the load reversals are sampled)")
         if self.drive == "force":

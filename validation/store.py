@@ -9,7 +9,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from mdr.io import DIR_MODE, write_json
+from common.io import DIR_MODE, write_json
 
 from .scenes import Scene, code_version
 

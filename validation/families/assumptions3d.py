@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.ladder import settling_error
+from common.ladder import settling_error
 from mdr.normal import approach_from_force
 
 from .. import metrics
@@ -53,7 +53,7 @@ def _per_cycle(run: dict, q: str):
 def effect_settling(on: dict, off: dict, q: str, kind: str, floor: float = 0.0) -> dict | None:
     """How the effect ``q`` (``EFFECTS_3D``) of two 3D runs settles over their cycles: the effect of
     every closed cycle (on minus off, relative to off or to off's contact radius) through
-    ``mdr.ladder.settling_error`` (``floor``: the change below which the runs count as settled); its
+    ``common.ladder.settling_error`` (``floor``: the change below which the runs count as settled); its
     error, the distance from the last cycle to the stationary one, joins the effect's error bar.
     The two runs ran the same cycles (``fem.contact_run.drive_3d_together``). None where ``q`` is no quantity of the cycles; a run without the
     per-cycle values gives an undetermined settling (error None)."""
@@ -180,7 +180,7 @@ def table(res) -> list:
              "vertices): 3D / MDR - 1 +- its ladder's error bar. *Cycles*: the 3D cycles settle geometrically, "
              "so the two runs of a pair go on together past the scene's cycles until each run's dissipation "
              "changes by at most 1e-4 per cycle, contracting (fem.contact_run.drive_3d_together); the cycles "
-             "run at the finest level, and the dissipation effect's settling error (mdr.ladder.settling_error: "
+             "run at the finest level, and the dissipation effect's settling error (common.ladder.settling_error: "
              "the distance to the stationary cycle, part of the error bars above; bounded only once settled).", "",
              "| variant | FE DOFs | dissipation | first cycle | stick axis x | stick axis y | stick centre x "
              "| pressure centre x | largest traction angle | assumption holds? | pressure radius, 3D / MDR - 1 "

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.ladder import settling_error
+from common.ladder import settling_error
 from mdr.loops import STATIONARY_TOL
 
 from .. import metrics
@@ -98,7 +98,7 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
         ml = metrics.ladder_error(md_h, mv, floor=ZERO * scale)
         V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
 
-    # each side's settling ("cycles"): ``mdr.ladder.settling_error`` of the finest level's dissipation
+    # each side's settling ("cycles"): ``common.ladder.settling_error`` of the finest level's dissipation
     # over its closed cycles (J), two cycles repeating within ``mdr.loops.STATIONARY_TOL`` being stationary
     settling = {}
     for side, res in (("mdr", mdr), ("fem", fe)):

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mdr.ladder import settling_error
+from common.ladder import settling_error
 
 from .. import metrics
 from . import result_of
@@ -61,7 +61,7 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
     cycles (the cycle from rest left out; the 3D runs of a level ran the same cycles,
     ``fem.contact_run.drive_3d_together``; a reference without ``ref_cycles``, MDR's, is taken as
     stationary):
-    ``mdr.ladder.settling_error`` of the dissipation and slip-index effects cycle by cycle
+    ``common.ladder.settling_error`` of the dissipation and slip-index effects cycle by cycle
     (each cycle's dissipation over 4 mu F0 u_A of the last), with the floor the runs settled to
     (``SETTLE_TOL_3D`` of each run's dissipation or of 1 % of 4 mu F0 u_A, ``fem.contact_run.settled``,
     in the effect's unit); the loop distance, whose loops are kept for the last cycle only, gets
@@ -70,7 +70,7 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
     dissipation has settled), which bound nothing; the contact area is no quantity of the cycles
     (None)."""
     from fem.contact_run import HARDLY_DISSIPATES
-    from mdr.ladder import SETTLING_RATIO_MAX as r
+    from common.ladder import SETTLING_RATIO_MAX as r
 
     W = list(run.get("dissipation_per_cycle") or [])[1:]
     W0 = list(ref.get("dissipation_per_cycle") or [])[1:] if ref_cycles else [float(ref["dissipation"])] * len(W)
@@ -250,7 +250,7 @@ def table(res) -> list:
              "The aligned answer holds where |effect| <= error + the catalogue's tolerance on dissipation, "
              "slip index and loop. Every run of a level goes on past the scene's cycles until each run's "
              "dissipation changes by at most 1e-4 per cycle (or 1e-4 of 1 % of 4 mu F0 u_A), contracting; "
-             "the error bars hold the settling to the stationary cycle (mdr.ladder.settling_error).", ""]
+             "the error bars hold the settling to the stationary cycle (common.ladder.settling_error).", ""]
 
     def eff(x, digits=2):
         if x is None or x["effect"] is None:

@@ -1,7 +1,7 @@
 """Atomic file output: a reader never sees half a file.
 
-Shared by every package of the project (``mdr`` is the ground floor of the
-layers ``mdr`` -> ``meshes`` -> ``fem`` -> ``validation``, so this is its one home)."""
+Shared by every package of the project (``common`` is the ground floor of the
+layers ``common`` -> ``mdr`` -> ``meshes`` -> ``fem`` -> ``studies`` -> ``validation``, so this is its one home)."""
 from __future__ import annotations
 
 import json

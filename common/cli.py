@@ -1,7 +1,6 @@
 """The command-line convention of every ``python -m`` command of the project (one home).
 
-``mdr`` is the ground floor of the layers (``mdr`` -> ``meshes`` -> ``fem`` ->
-``validation``), so the shared CLI pieces live here and ``python -m mdr``,
+``common`` is the ground floor of the layers (``common`` -> ``mdr`` -> ``meshes`` -> ``fem`` -> ``studies`` -> ``validation``), so the shared CLI pieces live here and ``python -m mdr``,
 ``python -m fem`` and ``python -m validation.compare`` use them:
 
 - :class:`OneLineParser`: argparse whose usage errors are one line on stderr,

@@ -1,7 +1,7 @@
 """Input validation shared by every package of the project.
 
-Its one home is here because ``mdr`` is the ground floor of the layers
-(``mdr`` -> ``meshes`` -> ``fem`` -> ``validation``): every package may import it.
+Its one home is here because ``common`` is the ground floor of the layers
+(``common`` -> ``mdr`` -> ``meshes`` -> ``fem`` -> ``studies`` -> ``validation``): every package may import it.
 
 Every public function checks its arguments with these helpers, so that bad
 input fails early with one clear message that names the parameter and the

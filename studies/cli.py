@@ -3,7 +3,7 @@
 Flags are shared with ``python -m fem`` through ``add_profile_args``,
 ``add_material_args`` and ``add_contact_args``; the parser class and the exit
 codes (bad input 2, a solver that does not converge 3, one line on stderr)
-are those of ``mdr.cliutil``. All values SI.
+are those of ``common.cli``. All values SI.
 """
 from __future__ import annotations
 
@@ -12,56 +12,18 @@ import time
 
 import numpy as np
 
-from .apparatus import PLATE_MODELS
-from .cliutil import OneLineParser, add_output_args, run_command
-from .errors import InputError
-from .materials import STEEL_E, STEEL_NU, Materials
-from .plugins import GROUP, law_plugins
-from .profiles import make_profile
-
-
-def add_profile_args(p):
-    g = p.add_argument_group("indenter profile (SI units)")
-    g.add_argument("--profile", choices=["sphere", "truncated", "flat"], required=True,
-                   help="sphere (parabolic), truncated sphere (flat face of radius b), flat punch (radius b)")
-    g.add_argument("--R", type=float, default=None, help="sphere radius R in m (sphere, truncated)")
-    g.add_argument("--b", type=float, default=None, help="flat-face / punch radius b in m (truncated, flat)")
-    g.add_argument("--exact-cap", action="store_true",
-                   help="exact spherical cap instead of the parabolic approximation (sphere, truncated)")
-
-
-def add_material_args(p):
-    g = p.add_argument_group("materials: indenter 1, block 2 (Pa)")
-    g.add_argument("--E1", type=float, default=STEEL_E, help="Young's modulus of the indenter (default 200e9)")
-    g.add_argument("--nu1", type=float, default=STEEL_NU, help="Poisson ratio of the indenter (default 0.29)")
-    g.add_argument("--E2", type=float, default=STEEL_E, help="Young's modulus of the block (default 200e9)")
-    g.add_argument("--nu2", type=float, default=STEEL_NU, help="Poisson ratio of the block (default 0.29)")
-
-
-def add_contact_args(p):
-    g = p.add_argument_group("fretting load: F_N = F0 + dF sin(2 pi t + alpha); u = ua sin(2 pi t) or F_x = fa sin(2 pi t)")
-    g.add_argument("--mu", type=float, required=True, help="coefficient of friction (>= 0)")
-    g.add_argument("--F0", type=float, required=True, help="mean normal force in N (> 0)")
-    g.add_argument("--dF", type=float, default=0.0, help="normal force amplitude in N (0 <= dF <= F0)")
-    g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
-    drive = g.add_mutually_exclusive_group(required=True)
-    drive.add_argument("--ua", type=float, help="tangential displacement amplitude in m (displacement control)")
-    drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
-    g.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
-    g.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
-
-
-def profile_from_args(args):
-    return make_profile(args.profile, R=args.R, b=args.b, exact=getattr(args, "exact_cap", False))
-
-
-def materials_from_args(args):
-    return Materials(args.E1, args.nu1, args.E2, args.nu2)
+from mdr.apparatus import PLATE_MODELS
+from common.cli import OneLineParser, add_output_args, run_command
+from common.errors import InputError
+from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
+                       profile_from_args)
+from common.plugins import GROUP, law_plugins
+from fem.cli import FE_LAW
 
 
 def _cmd_normal(args):
-    from .normal import approach_from_force, contact_radius, pressure, pressure_radius
-    from .errors import positive
+    from mdr.normal import approach_from_force, contact_radius, pressure, pressure_radius
+    from common.errors import positive
 
     t0 = time.perf_counter()
     prof = profile_from_args(args)
@@ -69,7 +31,7 @@ def _cmd_normal(args):
     F = positive("F", args.F)
     d = float(approach_from_force(prof, mat, F))
     a = float(contact_radius(prof, d))
-    from .errors import positive_int
+    from common.errors import positive_int
 
     n = positive_int("points", args.points, minimum=8)
     # radii avoid r = a (and r = b) where the pressure may be singular
@@ -83,7 +45,7 @@ def _cmd_normal(args):
 
 
 def _cmd_contact(args):
-    from .drive import run_contact
+    from mdr.drive import run_contact
 
     prof = profile_from_args(args)
     mat = materials_from_args(args)
@@ -92,12 +54,12 @@ def _cmd_contact(args):
 
 
 def _cmd_apparatus(args):
-    from .apparatus import Apparatus, apparatus_result
+    from mdr.apparatus import Apparatus, apparatus_result
 
     app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
                     bedding=not args.no_bedding)
     prof, mat = profile_from_args(args), materials_from_args(args)
-    if args.law != "mdr":  # a plugin law (mdr.plugins), e.g. the FE law of fem.apparatus
+    if args.law != "mdr":  # a plugin law (common.plugins), e.g. the FE law of fem.apparatus
         return args.law_plugins[args.law].apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
                                                          args.cycles, args.steps, args)
     return apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles,
@@ -127,6 +89,12 @@ def _cmd_study(args):
 PLATE_HELP = ("brass plates: axial = loaded along their length (default), bending = bent across their thickness, "
               "inplane = bent in their plane, rigid, tilt = axial with the block tilting on its bedding, "
               "parallel = parallelogram at the block's bottom and top, block tilting (mdr/apparatus.py, A3)")
+
+
+def contact_laws() -> dict:
+    """{name: law} of the laws besides MDR that ``--law`` offers: the FE law (``fem``, built in) and
+    any third-party law registered under the entry-point group ``common.plugins.GROUP``."""
+    return {"fem": FE_LAW, **law_plugins(builtin=("mdr", "fem"))}
 
 
 def build_parser():
@@ -175,11 +143,11 @@ def build_parser():
     g.add_argument("--plate-model", choices=list(PLATE_MODELS), default="axial",
                    help=PLATE_HELP)
     g.add_argument("--no-bedding", action="store_true", help="frictionless bedding (no bedding contacts)")
-    plugins = law_plugins()
+    plugins = contact_laws()
     pa.add_argument("--law", choices=["mdr", *plugins], default="mdr",
                     help="contact law of the fretting contact: mdr (default)"
                          + "".join(f"; {name}: {p.help}" for name, p in plugins.items())
-                         + " (further laws are plugins of the entry-point group " + GROUP + ", see mdr.plugins)")
+                         + " (further laws: plugins of the entry-point group " + GROUP + ", see common.plugins)")
     pa.add_argument("--cells", type=int, default=400, help="spring cells of the MDR grid (--law mdr)")
     for plugin in plugins.values():
         plugin.add_arguments(pa)
@@ -207,7 +175,7 @@ def build_parser():
     ps.add_argument("--json", default=None, metavar="PATH", help="also write the rows as JSON")
     ps.add_argument("--law", choices=["mdr", *plugins], default="mdr",
                     help="mdr (default), or a plugin law run beside MDR at --points points per curve of fig8/fig9 "
-                         "(writes NAME_LAW.csv/png; see mdr/law_study.py)")
+                         "(writes NAME_LAW.csv/png; see studies/law_study.py)")
     ps.add_argument("--points", type=int, default=None, metavar="N",
                     help="with --law: points per curve, evenly spread, ends included (default 5)")
     ps.add_argument("--levels", type=int, default=None, metavar="L",

@@ -23,12 +23,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .apparatus import Apparatus, run_apparatus
-from .errors import InputError
-from .io import dumps_json, write_bytes_atomic
-from .law import MDRContact
-from .materials import Materials
-from .profiles import FlatPunch, Sphere, TruncatedSphere
+from mdr.apparatus import Apparatus, run_apparatus
+from common.errors import InputError
+from common.io import dumps_json, write_bytes_atomic
+from mdr.law import MDRContact
+from mdr.materials import Materials
+from mdr.profiles import FlatPunch, Sphere, TruncatedSphere
 
 TABLE2 = dict(F0=0.5, dF=0.1, mu1=0.2, mu2=0.1, ua=150e-9)
 R_IND = 6e-3
@@ -375,7 +375,7 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from .executors import worker_id
+    from common.executors import worker_id
 
     files, fig = {}, None
     t0 = time.perf_counter()
@@ -455,7 +455,7 @@ def study_names(names) -> list:
 def run_studies(names, out_dir, jobs: int = 1, app_kw=None, scheduler: str | None = None, *, law: str = "mdr",
                 plugin=None, law_args=None, points=None, levels=None, log=None) -> list:
     """Run several studies, each one batch pass, in up to ``jobs`` spawned processes or on
-    the workers of the Dask scheduler at ``scheduler`` (``mdr.executors``).
+    the workers of the Dask scheduler at ``scheduler`` (``common.executors``).
 
     The studies are independent and each is already one batch pass over its points,
     so the second core is used by running two studies at once. With the compiled loops
@@ -466,9 +466,9 @@ def run_studies(names, out_dir, jobs: int = 1, app_kw=None, scheduler: str | Non
 
     ``law`` other than "mdr": fig8/fig9 with that plugin law (``plugin``, its parsed flags
     ``law_args``) beside MDR at ``points`` points per curve on ``levels`` mesh levels
-    (``mdr.law_study``); its (geometry, level) tasks are what the processes or workers share.
+    (``studies.law_study``); its (geometry, level) tasks are what the processes or workers share.
     """
-    from .executors import check_choice, executor_for
+    from common.executors import check_choice, executor_for
 
     names = study_names(names)
     jobs = check_choice(jobs, scheduler)
@@ -497,8 +497,8 @@ def run_studies(names, out_dir, jobs: int = 1, app_kw=None, scheduler: str | Non
 
 
 def _run_law_studies(names, out_dir, jobs, scheduler, law, plugin, law_args, points, levels, log) -> list:
-    """fig8/fig9 with a plugin law beside MDR (``mdr.law_study``): CSV + PNG ``NAME_LAW.*``."""
-    from .executors import executor_for
+    """fig8/fig9 with a plugin law beside MDR (``studies.law_study``): CSV + PNG ``NAME_LAW.*``."""
+    from common.executors import executor_for
     from .law_study import DEFAULT_LEVELS, DEFAULT_POINTS, LAW_STUDIES, check_law_study, law_figure, law_study
 
     bad = [n for n in names if n not in LAW_STUDIES]

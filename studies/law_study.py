@@ -2,11 +2,11 @@
 
 ``python -m mdr study fig8|fig9 --law NAME [--points N] [--levels L] [law flags]``
 (e.g. ``--law fem --h-contact 0.1``: the FE law of ``python -m mdr apparatus --law
-fem``, found through ``mdr.plugins``). The MDR curves are the full studies of
-``mdr.study``; the plugin law runs at a subset of their points, ``N`` values per curve
+fem``, found through ``common.plugins``). The MDR curves are the full studies of
+``studies.study``; the plugin law runs at a subset of their points, ``N`` values per curve
 evenly spread over the curve's grid (both ends included; fig8: N flat-face radii b, each
 with the four k_x; fig9: N stiffnesses k_x for each of the three b), at the study
-resolution (3 cycles x 120 steps) and Table 2 load (``mdr.study`` passes them). Fig. 8's flat punch
+resolution (3 cycles x 120 steps) and Table 2 load (``studies.study`` passes them). Fig. 8's flat punch
 stays MDR only.
 
 Cost: the law depends on the geometry (b), the materials, mu1 and F_max, not on k_x, mu2
@@ -16,7 +16,7 @@ tasks spread over ``--jobs`` processes or the workers of ``--scheduler``.
 
 Own error of the plugin law: each geometry runs at ``L`` levels of its discretisation,
 coarsened by 2^(L-1) .. 2, 1 (``LawPlugin.make_law(coarsen=...)``; for the FE law the
-element size), and the error bar of the finest value is ``mdr.ladder.ladder_error`` over
+element size), and the error bar of the finest value is ``common.ladder.ladder_error`` over
 them (two levels: the last difference; three: Richardson where the order is observed).
 Rows: b, kx, delta_mdr, delta_<law> (finest level), <law>_error, difference (law - MDR),
 <law>_status (the ladder status) and delta_<law>_c<k> at each coarsening k.
@@ -29,11 +29,11 @@ import time
 
 import numpy as np
 
-from .apparatus import Apparatus, run_apparatus
-from .errors import InputError
-from .ladder import ladder_error
-from .materials import Materials
-from .profiles import TruncatedSphere
+from mdr.apparatus import Apparatus, run_apparatus
+from common.errors import InputError
+from common.ladder import ladder_error
+from mdr.materials import Materials
+from mdr.profiles import TruncatedSphere
 
 LAW_STUDIES = ("fig8", "fig9")
 #: points per curve and mesh levels when not given
@@ -61,7 +61,7 @@ def study_points(name: str, rows: list, points: int) -> dict:
 
 def check_law_study(law_name: str, plugin, points, levels) -> tuple[int, int]:
     """Validated (points, levels); InputError naming the bad one (before any costly run)."""
-    from .errors import positive_int
+    from common.errors import positive_int
 
     points = positive_int("points", points)
     levels = positive_int("levels", levels)
@@ -78,7 +78,7 @@ def geometry_task(plugin, args, b: float, kxs, coarsen: float, R: float, load: d
     law set up once, then every apparatus point k_x of ``kxs`` from its rest state (``load``:
     F0, dF, mu1, mu2, ua; ``res``: cycles, steps; top level: picklable for any executor).
     Returns {b, coarsen, kx, delta, setup_s, runtime_s, worker}."""
-    from .executors import worker_id
+    from common.executors import worker_id
 
     t0 = time.perf_counter()
     F0, dF, mu1 = load["F0"], load["dF"], load["mu1"]

@@ -1,11 +1,10 @@
-"""Contact laws beyond MDR, found as plugins (entry points), so ``mdr`` imports no package above it.
-
-A package that provides a contact law for ``python -m mdr apparatus --law NAME``
-registers an object under the entry-point group :data:`GROUP` in its
-``pyproject.toml``::
+"""Third-party contact laws, found as plugins (entry points): the MDR and FE laws are built into
+``python -m mdr`` (``studies.cli.contact_laws``); another package offers its own law to
+``python -m mdr apparatus --law NAME`` and ``study --law NAME`` by registering an object under the
+entry-point group :data:`GROUP` in its ``pyproject.toml``::
 
     [project.entry-points."fretting.contact_laws"]
-    fem = "fem.cli:FE_LAW"
+    mylaw = "mypackage.cli:MY_LAW"
 
 The object (see :class:`mdr.protocol.LawPlugin`) has ``help`` (one line for the
 ``--law`` help), ``add_arguments(parser)`` (its own flags, added to the
@@ -22,14 +21,15 @@ from importlib.metadata import entry_points
 GROUP = "fretting.contact_laws"
 
 
-def law_plugins() -> dict:
-    """{name: plugin object} of the installed contact-law plugins, sorted by name.
+def law_plugins(builtin=("mdr",)) -> dict:
+    """{name: plugin object} of the installed contact-law plugins, sorted by name; names in
+    ``builtin`` (the command's own laws) are not overridden.
 
     A plugin that cannot be imported is left out with a warning (it must not break
     the commands that do not use it)."""
     found = {}
     for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
-        if ep.name in found or ep.name == "mdr":  # the MDR law is built in
+        if ep.name in found or ep.name in builtin:
             continue
         try:
             found[ep.name] = ep.load()
