@@ -15,6 +15,7 @@ import argparse
 import json
 import subprocess
 import sys
+from mdr.loading import Loading
 
 
 R, F0, MU = 6e-3, 0.5, 0.2
@@ -37,9 +38,7 @@ def one(h, steps, model="3d", ring=None):
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 
-    out = run_fem_contact(Sphere(R), Materials(), MU, F0, fa=0.5 * MU * F0, cycles=3, steps=steps, h_contact=h,
-                          model=model, displacement="plate",
-                          **({} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)}))
+    out = run_fem_contact(Sphere(R), Materials(), MU, Loading.of(F0, fa=0.5 * MU * F0, cycles=3, steps=steps), h_contact=h, model=model, displacement="plate", **{} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)})
     if model != "3d":
         return {k: out[k] for k in ("dissipation", "dofs", "runtime_s")}
     keys = ("contact_radius", "pressure_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x",

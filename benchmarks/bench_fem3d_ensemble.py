@@ -38,6 +38,7 @@ import time
 
 import numpy as np
 from bench_fem3d_contact import F0, MU, R, md_references  # the same loading and closed forms
+from mdr.loading import Loading
 
 RING_WIDTH = 0.18
 
@@ -53,7 +54,7 @@ def member(h, ring_r, steps):
                       displacement="plate")
     out = {}
     for side, v in (("free", law.variant(traction="free")), ("x", law.variant(traction="x"))):
-        o = drive_3d(v, MU, F0, 0.0, 0.0, None, 0.5 * MU * F0, 3, steps)
+        o = drive_3d(v, Loading.of(F0, dF=0.0, alpha=0.0, fa=0.5 * MU * F0, cycles=3, steps=steps))
         out[side] = {k: o[k] for k in ("dissipation", "stick_axis_x", "stick_axis_y", "stick_radius_x",
                                        "stick_radius_y", "stick_fit_x", "stick_fit_y", "stick_axis_quantum",
                                        "contact_radius", "traction_angle_max")}

@@ -37,6 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a ch
 from studies.cli import build_parser
 from fem.cli import FE_LAW
 from studies.study import R_IND, RES, TABLE2, run_studies
+from mdr.loading import Loading
 
 
 class _Timed:
@@ -69,8 +70,7 @@ def point_breakdown(law, app, repeat):
         bed = lambda *a: _Timed(_mdr_bedding(*a), clock, "bedding")  # noqa: E731
         n0 = dict(law.stats)
         c0 = time.process_time()
-        out = run_apparatus(_Timed(law, clock, "fe"), app, TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"], 0.0,
-                            TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"], bed_law_factory=bed)
+        out = run_apparatus(_Timed(law, clock, "fe"), app, Loading.apparatus(TABLE2["F0"], dF=TABLE2["dF"], alpha=0.0, ua=TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"]), bed_law_factory=bed)
         total = time.process_time() - c0
         counts = {k: law.stats[k] - n0[k] for k in ("steps", "trial_solves", "newton", "al")}
         runs.append((total, dict(clock, rest=total - clock["fe"] - clock["bedding"]), counts, out))
@@ -119,8 +119,8 @@ def main(argv=None):
         t_mdr = time.perf_counter() - t0
         t0 = time.perf_counter()
         one = fe.apparatus_result(TruncatedSphere(R_IND, 50e-6), Materials(), Apparatus(kx=2e6, mu2=TABLE2["mu2"]),
-                                  TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"], 0.0, TABLE2["ua"], RES["cycles"],
-                                  RES["steps"], law_args)
+                                  TABLE2["mu1"], Loading.apparatus(TABLE2["F0"], TABLE2["dF"], 0.0, TABLE2["ua"],
+                                                                   cycles=RES["cycles"], steps=RES["steps"]), law_args)
         t_one = time.perf_counter() - t0
         # the same point with and without the plugin's session (one BLAS thread)
         import contextlib
@@ -131,8 +131,7 @@ def main(argv=None):
         for name, ctx in (("without", contextlib.nullcontext), ("with", fe.session)):
             c0 = time.process_time()
             with ctx():
-                run_apparatus(law, Apparatus(kx=2e6, mu2=TABLE2["mu2"]), TABLE2["mu1"], TABLE2["F0"], TABLE2["dF"],
-                              0.0, TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"])
+                run_apparatus(law, Apparatus(kx=2e6, mu2=TABLE2["mu2"]), Loading.apparatus(TABLE2["F0"], dF=TABLE2["dF"], alpha=0.0, ua=TABLE2["ua"], cycles=RES["cycles"], steps=RES["steps"]))
             cpu[name] = time.process_time() - c0
         t0 = time.perf_counter()
         out = run_studies(["fig8", "fig9"], tmp, jobs=1 if args.scheduler else args.jobs, scheduler=args.scheduler,

@@ -97,13 +97,14 @@ t0 = time.perf_counter()
 import numpy as np
 from mdr import Materials, MDRContact, TruncatedSphere
 from mdr.apparatus import Apparatus, run_apparatus
+from mdr.loading import Loading
 t1 = time.perf_counter()
 t = np.arange(1201) / 400
 law = MDRContact(TruncatedSphere(6e-3, 20e-6), Materials(), 0.2, F_max=0.6, F_min=0.4)
 law.run(u=150e-9 * np.sin(2 * np.pi * t), F_N=0.5 + 0.1 * np.sin(2 * np.pi * t))
 law.run(Fx=0.06 * np.sin(2 * np.pi * t), F_N=0.5)
 run_apparatus(MDRContact(TruncatedSphere(6e-3, 50e-6), Materials(), 0.2, F_max=0.6, F_min=0.4, n=100),
-              Apparatus(kx=2e6), 0.2, 0.5, 0.1, 0.0, 150e-9, cycles=3, steps=120)
+              Apparatus(kx=2e6), Loading.apparatus(0.5, 0.1, 0.0, 150e-9, cycles=3, steps=120))
 t2 = time.perf_counter()
 print(f"{t1 - t0:.3f} {t2 - t1:.3f}")
 """

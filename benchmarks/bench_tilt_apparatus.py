@@ -18,6 +18,7 @@ import time
 import warnings
 
 import numpy as np
+from mdr.loading import Loading
 
 
 def main(argv=None):
@@ -54,8 +55,7 @@ def main(argv=None):
     thc = tilt_critical(F0, TABLE1_B, mat.E_star)
     tilts = [0.0] + [r * thc for r in args.ratios if r * thc < TILT_BOUND] + [TILT_BOUND]
     t0 = time.perf_counter()
-    d_md = float(run_apparatus(MDRContact(prof, mat, mu1, F_max=F0 + dF, F_min=F0 - dF, n=400), app, mu1, F0,
-                               **kw)["slip_index"])
+    d_md = float(run_apparatus(MDRContact(prof, mat, mu1, F_max=F0 + dF, F_min=F0 - dF, n=400), app, Loading.apparatus(F0, **kw))["slip_index"])
     print(f"{args.case}: b = {TABLE1_B * 1e3:g} mm, F0 = {F0} N, u_A = {ua * 1e9:g} nm, mu1 = {mu1}, mu2 = {mu2}, "
           f"k_x = {TABLE1_KX / 1e6:g} N/um; theta_c = {thc:.3g} rad; {args.cycles} cycles x {args.steps} steps")
     print(f"MDR (aligned): slip index {d_md:.5f} ({time.perf_counter() - t0:.1f} s)")
@@ -70,7 +70,7 @@ def main(argv=None):
             t1 = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
-                out = run_apparatus(lt, app, mu1, F0, **kw)
+                out = run_apparatus(lt, app, Loading.apparatus(F0, **kw))
             d = float(out["slip_index"])
             d0 = d if th == 0.0 else d0
             nv = int(lt.contact_mask(lt.normal(F_N=F0).p).sum())

@@ -8,8 +8,8 @@ entry-point group :data:`GROUP` in its ``pyproject.toml``::
 
 The object (see :class:`mdr.protocol.LawPlugin`) has ``help`` (one line for the
 ``--law`` help), ``add_arguments(parser)`` (its own flags, added to the
-apparatus command) and ``apparatus_result(profile, materials, app, mu, F0, dF,
-alpha, ua, cycles, steps, args)`` (the result dict of the command). The entry
+apparatus command) and ``apparatus_result(profile, materials, app, mu, loading,
+args)`` (the result dict of the command; ``loading`` a ``mdr.loading.Loading``). The entry
 points are read from the installed package metadata: after adding one, run
 ``pip install -e .`` again.
 """

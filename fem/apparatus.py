@@ -10,7 +10,8 @@ import time
 
 import numpy as np
 
-from mdr.apparatus import Apparatus, apparatus_result, check_load
+from mdr.apparatus import Apparatus, apparatus_result
+from mdr.loading import Loading
 from common.errors import InputError, in_range, nonnegative, positive
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
@@ -45,23 +46,21 @@ def fem_apparatus_law(profile, materials, mu, F_max, *, h_contact=H_CONTACT_DEFA
                      cache_dir=cache_dir, backend=backend, displacement="contact")
 
 
-def fem_apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                         steps=200, **fe_options) -> dict:
+def fem_apparatus_result(profile, materials, app: Apparatus, mu, loading: Loading, **fe_options) -> dict:
     """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
 
-    The law is :func:`fem_apparatus_law` with ``F_max = F0 + dF`` (``fe_options``: its
+    The law is :func:`fem_apparatus_law` with ``F_max = F0 + dF`` of ``loading`` (``Loading.apparatus``) (``fe_options``: its
     keyword arguments). Keys: those of :func:`apparatus_result` (with
     ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
     ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.
-    Input is validated before the (costly) FE set-up.
+    The load is checked (a ``Loading``) before the (costly) FE set-up.
     """
-    check_load(F0, dF, alpha, ua, cycles, steps)
     t0 = time.perf_counter()
     with blas_threads(1):  # once for the whole run: the law's steps are many small dense solves
-        law = fem_apparatus_law(profile, materials, mu, F0 + dF, **fe_options)
+        law = fem_apparatus_law(profile, materials, mu, loading.F_max, **fe_options)
         t1 = time.perf_counter()
-        out = apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, law=law)
+        out = apparatus_result(law, app, loading)
     t2 = time.perf_counter()
-    out.update(law.result_keys(F0, t0, t1, t2))
+    out.update(law.result_keys(loading.F0, t0, t1, t2))
     out["inputs"]["law"] = law.describe()
     return out

@@ -18,6 +18,7 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
 
 from .friction import DEFAULT_FRICTION_AL_TOL
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from mdr.loading import Loading
 
 
 def add_fe_options(c, friction: bool = True):
@@ -154,16 +155,14 @@ def _contact(args) -> dict:
     elif args.tilt != 0:
         raise InputError(f"--tilt applies to --model 3d only, got --tilt {args.tilt!r}")
     disp = args.displacement or "contact"
-    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, args.F0, args.dF,
-                           args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps,
-                           **opts, displacement=disp, model=args.model, vtu=args.vtu)
+    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, Loading.of(args.F0, dF=args.dF, alpha=args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps), displacement=disp, model=args.model, vtu=args.vtu, **opts)
 
 
 def _normal(args) -> dict:
     from .normal_run import run_normal
 
     out, model, res = run_normal(
-        args.profile, R=args.R, b=0.0 if args.b is None else args.b, F=args.F, exact=args.exact_cap,
+        args.profile, R=args.R, b=0.0 if args.b is None else args.b, F=args.F, exact=args.exact_cap, fillet=args.fillet,
         materials=materials_from_args(args), return_model=True,
         **{k: v for k, v in fe_options(args).items() if k != "friction_al_tol"})
     if args.vtu:
@@ -193,11 +192,10 @@ class _FEApparatusLaw:
     add_arguments = staticmethod(add_fe_options)
 
     @staticmethod
-    def apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles, steps, args) -> dict:
+    def apparatus_result(profile, materials, app, mu, loading, args) -> dict:
         from .apparatus import fem_apparatus_result  # the FE model's imports only when it is used
 
-        return fem_apparatus_result(profile, materials, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps,
-                                    **fe_options(args))
+        return fem_apparatus_result(profile, materials, app, mu, loading, **fe_options(args))
 
     @staticmethod
     def session():

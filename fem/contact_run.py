@@ -19,7 +19,10 @@ from __future__ import annotations
 
 import time
 
-from mdr.drive import check_loading, last_peak, run_contact
+from dataclasses import replace
+
+from mdr.drive import run_contact
+from mdr.loading import Loading, gross_slip_work
 from common.errors import InputError, in_range
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
@@ -28,12 +31,13 @@ from .law import FEContact
 from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 
 
-def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=None, cycles=3, steps=400, *,
+def run_fem_contact(profile, materials, mu, loading: Loading, *,
                     h_contact=H_CONTACT_DEFAULT, contact_extent=None, block_size=None, penalty=DEFAULT_PENALTY,
                     al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
                     backend=None, displacement="contact", return_law=False, model="axisym", traction=None,
                     tilt=0.0, ring=None, vtu=None):
-    """FE fretting run; returns the result dict (and the law if ``return_law``). ``model``:
+    """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``); returns the result
+    dict (and the law if ``return_law``). ``model``:
     ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
     in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``; ``tilt`` of the flat
@@ -42,11 +46,11 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     axisymmetric model): the fields at the peak of the drive in the last cycle, in the x-z plane
     (``fem.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
     traction, stick/slip status and slip), written after the run; its path is the key ``vtu``."""
-    check_loading(F0, dF, alpha, mu, ua, fa, cycles, steps)  # validate before the costly set-up
+    loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
     if vtu is not None and model == "3d":
         raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
     if model == "3d":
-        return _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, h_contact=h_contact,
+        return _run_3d(profile, materials, mu, loading, h_contact=h_contact,
                        contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
                        displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt,
                        ring=ring)
@@ -61,13 +65,13 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
     contact_extent = 1.25 if contact_extent is None else contact_extent
     in_range("h_contact", h_contact, *H_CONTACT_RANGE)
     t0 = time.perf_counter()
-    law = FEContact(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+    F0 = loading.F0
+    law = FEContact(profile, materials, mu, F_max=loading.F_max, h_contact=h_contact, contact_extent=contact_extent,
                     block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
                     cache_dir=cache_dir, backend=backend, displacement=displacement)
     t1 = time.perf_counter()
-    k, FN_peak = last_peak(F0, dF, alpha, cycles, steps)
-    res = run_contact(profile, materials, mu, F0, dF, alpha, ua=ua, fa=fa, cycles=cycles, steps=steps, law=law,
-                      state_at=k if vtu is not None else None)  # the state at the peak only for the fields
+    k, FN_peak = loading.last_peak()
+    res = run_contact(law, loading, state_at=k if vtu is not None else None)  # the state at the peak: the fields
     out, st = res if vtu is not None else (res, None)
     t2 = time.perf_counter()
     if vtu is not None:
@@ -86,18 +90,18 @@ def run_fem_contact(profile, materials, mu, F0, dF=0.0, alpha=0.0, ua=None, fa=N
 RAMP_STEPS = 20
 
 
-def _run_3d(profile, materials, mu, F0, dF, alpha, ua, fa, cycles, steps, *, h_contact, contact_extent, block_size,
+def _run_3d(profile, materials, mu, loading, *, h_contact, contact_extent, block_size,
             cache_dir, backend, displacement, return_law, traction, tilt, ring=None):
     import resource
 
     from .law3d import FEContact3D
 
     t0 = time.perf_counter()
-    law = FEContact3D(profile, materials, mu, F_max=F0 + dF, h_contact=h_contact, contact_extent=contact_extent,
+    law = FEContact3D(profile, materials, mu, F_max=loading.F_max, h_contact=h_contact, contact_extent=contact_extent,
                       block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
                       traction=traction, tilt=tilt, ring=ring)
     t1 = time.perf_counter()
-    out = drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t1 - t0)
+    out = drive_3d(law, loading, t_setup=t1 - t0)
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
     return (out, law) if return_law else out
 
@@ -126,8 +130,9 @@ def settled(W, tol, gross=0.0) -> bool:
     return change <= allowed and (contracting(W) or change <= NEGLIGIBLE * allowed)
 
 
-def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, state_at=None, settle=None):
-    """A fretting run of a built 3D law (``fem.law3d.FEContact3D``): the normal load applied in
+def drive_3d(law, loading: Loading, *, t_setup=0.0, state_at=None, settle=None):
+    """A fretting run of a built 3D law (``fem.law3d.FEContact3D``) under ``loading`` (``Loading.of``):
+    the normal load applied in
     ``RAMP_STEPS`` steps with friction active (with coupling, slip during the normal loading locks
     traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from
     that state. Returns the result dict with the law's 3D keys (and the state at step
@@ -137,17 +142,17 @@ def drive_3d(law, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, stat
     if settle is not None and state_at is not None:
         raise ValueError("give at most one of state_at and settle")
     if state_at is None:
-        return drive_3d_together([law], mu, F0, dF, alpha, ua, fa, cycles, steps, t_setup=t_setup, settle=settle)[0]
-    run = _Run3D(law, mu, F0, dF, alpha, ua, fa, steps, t_setup)
-    out, st_at = run.start(cycles, state_at=state_at)
+        return drive_3d_together([law], loading, t_setup=t_setup, settle=settle)[0]
+    run = _Run3D(law, loading, t_setup)
+    out, st_at = run.start(state_at=state_at)
     return run.finish(out), st_at
 
 
-def drive_3d_together(laws, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup=0.0, settle=None) -> list:
+def drive_3d_together(laws, loading: Loading, *, t_setup=0.0, settle=None) -> list:
     """``drive_3d`` of several 3D laws in lockstep (the two runs of an effect, or a tilt sweep and
     its aligned face): every run the same cycles, so that their differences compare cycle by cycle.
 
-    ``settle`` = (tol, max_cycles): after ``cycles``, all go on ``SETTLE_BLOCK`` cycles at a time
+    ``settle`` = (tol, max_cycles): after the loading's ``cycles``, all go on ``SETTLE_BLOCK`` cycles at a time
     until the dissipation of every run settles (``settled``: its last change at most ``tol`` of it,
     and contracting) or ``max_cycles`` have run. The 3D cycles settle over many cycles where
     Masing's rule fails at the mesh scale (the coupled steel/aluminium pair: by ~1e-3 per cycle
@@ -155,9 +160,9 @@ def drive_3d_together(laws, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup
     same history as one long run (every cycle starts at the same phase; ``tests/test_settling.py``).
     Each result's last-cycle keys are those of the last cycle run; ``cycles_run`` says how many,
     ``settled`` whether the tolerance was met (None without ``settle``)."""
-    runs = [_Run3D(law, mu, F0, dF, alpha, ua, fa, steps, t_setup) for law in laws]
-    outs = [r.start(cycles) for r in runs]
-    done = cycles
+    runs = [_Run3D(law, loading, t_setup) for law in laws]
+    outs = [r.start() for r in runs]
+    done = loading.cycles
     if settle is not None:
         tol, max_cycles = float(settle[0]), int(settle[1])
         while not all(r.settled(o, tol) for r, o in zip(runs, outs)) and done < max_cycles:
@@ -171,38 +176,35 @@ def drive_3d_together(laws, mu, F0, dF, alpha, ua, fa, cycles, steps, *, t_setup
 class _Run3D:
     """One 3D run of ``drive_3d_together``: started, continued block by block, finished."""
 
-    def __init__(self, law, mu, F0, dF, alpha, ua, fa, steps, t_setup):
-        self.law, self.steps, self.t_setup = law, steps, t_setup
-        self.load = dict(mu=mu, F0=F0, dF=dF, alpha=alpha, ua=ua, fa=fa)
+    def __init__(self, law, loading, t_setup):
+        self.law, self.loading, self.steps, self.t_setup = law, loading, loading.steps, t_setup
         self.elapsed = 0.0  # this run's own time (the runs of a lockstep interleave)
 
-    def start(self, cycles, state_at=None):
+    def start(self, state_at=None):
         import numpy as np
 
         t = time.perf_counter()
-        law, ld = self.law, self.load
+        law, ld = self.law, self.loading
         st = law.rest_state()
-        for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * (ld["F0"] + ld["dF"] * np.sin(ld["alpha"])):
+        for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * float(ld.normal_force(0.0)):
             _, st = law.step(st, Fx=0.0, F_N=f)
-        out, self.state = run_contact(law.profile, law.materials, **ld, cycles=cycles, steps=self.steps, law=law,
-                                      state0=st, state_at=state_at, return_state=state_at is None)
+        out, self.state = run_contact(law, ld, state0=st, state_at=state_at, return_state=state_at is None)
         self.per_cycle = law.cycle_keys(self.steps) if state_at is None else None
         # the centres are taken at the first peak of F_x of the first run (the first loading)
         self.centres = law.first_loading_keys()
-        self.done = cycles
+        self.done = ld.cycles
         self.elapsed += time.perf_counter() - t
         return (out, self.state) if state_at is not None else out
 
     def settled(self, out, tol) -> bool:
-        gross = 4.0 * self.load["mu"] * self.load["F0"] * float(out["displacement_amplitude"])
+        gross = gross_slip_work(self.law.mu, self.loading.F0, float(out["displacement_amplitude"]))
         return settled(out["dissipation_per_cycle"], tol, gross)
 
     def more(self, out, block) -> dict:
         """``block`` more cycles from the last state; the result of the whole history."""
         t = time.perf_counter()
         law = self.law
-        nxt, self.state = run_contact(law.profile, law.materials, **self.load, cycles=block, steps=self.steps, law=law,
-                                      state0=self.state, return_state=True)
+        nxt, self.state = run_contact(law, replace(self.loading, cycles=block), state0=self.state, return_state=True)
         for k, v in law.cycle_keys(self.steps).items():
             self.per_cycle[k] += v
         self.done += block
@@ -212,7 +214,7 @@ class _Run3D:
                 list(nxt["dissipation_per_cycle"]), "inputs": {**nxt["inputs"], "cycles": self.done}}
 
     def finish(self, out) -> dict:
-        F0, dF = self.load["F0"], self.load["dF"]
+        F0, dF = self.loading.F0, self.loading.dF
         out.update(self.law.result_keys(F0, -self.t_setup, 0.0, self.elapsed, F_peak=F0 + abs(dF)))
         out.update(self.centres)
         if self.per_cycle is not None:  # one history: its cycles are the law's runs

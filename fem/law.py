@@ -142,7 +142,7 @@ class FEContact:
                              f"0.8 * body height / a_ref)), got {bulk_probe_depth!r}")
         self.bulk_probe_depth = float(bulk_probe_depth)
         desc = profile.describe()
-        kind = desc["profile"]
+        kind = "truncated" if desc["profile"] == "rounded" else desc["profile"]  # a rounded kink: the sharp cap's mesh
         R, b = desc.get("R"), float(desc.get("b") or 0.0)
         if isinstance(profile, FlatPunch):
             F_ref = 1.0 if F_max is None else F_max

@@ -55,13 +55,17 @@ def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=H_CONTACT_D
 
 def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None, h_contact=H_CONTACT_DEFAULT,
                block_size=None, contact_extent=1.25, penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL,
-               cache_dir=None, backend=None, rigid_indenter=False, return_model=False, exact=False, **mesh_kw):
+               cache_dir=None, backend=None, rigid_indenter=False, return_model=False, exact=False, fillet=None,
+               **mesh_kw):
     """FE normal contact at force F; returns the result dict of ``python -m fem normal``.
 
     ``exact``: the exact spherical cap instead of the parabola (sphere, truncated; the
-    ``--exact-cap`` of the commands; the mesh is the same)."""
+    ``--exact-cap`` of the commands; the mesh is the same). ``fillet`` (m, truncated): the kink rounded
+    (``mdr.profiles.RoundedTruncatedSphere``; the gap of the contact pairs, on the sharp cap's mesh:
+    the fillet changes the surface by at most w b / (2R), nanometres, far below an element)."""
     materials = materials or Materials()
-    make_profile(profile, R, b)  # validates names and rejects conflicting parameters (b of a sphere, R of a flat punch)
+    # validates names and rejects conflicting parameters (b of a sphere, R of a flat punch, a fillet without a kink)
+    prof = make_profile(profile, R, b, exact=exact, fillet=fillet)
     if profile == "sphere":
         b = 0.0
     t0 = time.perf_counter()
@@ -69,7 +73,7 @@ def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None,
                          contact_extent=contact_extent, **mesh_kw)
     amesh = cached_mesh(params, cache_dir)
     t1 = time.perf_counter()
-    model = build_model(amesh, materials, make_profile(profile, R, b, exact=exact), backend=backend,
+    model = build_model(amesh, materials, prof, backend=backend,
                         rigid_indenter=rigid_indenter)
     t2 = time.perf_counter()
     res = solve_normal(model, force=F, penalty=penalty, al_tol=al_tol)

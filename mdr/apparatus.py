@@ -103,8 +103,9 @@ import numpy as np
 
 from . import kernels as _kernels
 from common.errors import InputError, nonnegative, positive
-from .drive import check_harmonic_load
+from .drive import mdr_law
 from .law import MDRContact
+from .loading import Loading
 from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .profiles import Sphere
@@ -240,38 +241,30 @@ class Apparatus:
         return N1, N2
 
 
-def check_load(F0, dF, alpha, ua, cycles, steps):
-    """Validate the apparatus load (dF, alpha may be batch arrays; ``mdr.drive.check_harmonic_load``
-    plus the piezo amplitude ua); returns them normalised."""
-    F0, dF, alpha, cycles, steps = check_harmonic_load(F0, dF, alpha, cycles, steps)
-    return F0, dF, alpha, positive("ua", ua), cycles, steps
+def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_factory=None, xtol=1e-15,
+                  state_at=None):
+    """Run the apparatus with contact law ``law`` (``mdr.protocol.ContactLaw``, batch allowed; its ``mu``
+    is the friction of the slip index too) under ``loading`` (drive ``"apparatus"``: the piezo
+    amplitude, ``Loading.apparatus``).
 
-
-def run_apparatus(law: ContactLaw, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4, steps=200,
-                  bed_law_factory=None, xtol=1e-15, state_at=None):
-    """Run the apparatus with contact law ``law`` (``mdr.protocol.ContactLaw``, batch allowed).
-
-    ``dF``, ``alpha`` and the array fields of ``app`` may be batch arrays (one
-    value per scene of the law's batch); ``F0`` and ``ua`` are scalars.
+    The loading's ``dF`` and ``alpha`` and the array fields of ``app`` may be batch arrays (one
+    value per scene of the law's batch).
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed; ub and tilt:
     bedding-plane displacement and tilt of the block, A3) and the
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle);
     ``state_at`` (a step index): also the law's state after that step, as
     ``out["state_at"]``.
     """
-    F0, dF, alpha, ua, cycles, steps = check_load(F0, dF, alpha, ua, cycles, steps)
-    mu = nonnegative("mu", mu)
-    if not np.allclose(np.asarray(law.mu, dtype=float), mu, rtol=1e-12, atol=0.0):
-        # the law's mu sets the physics, this mu the slip index: they must agree
-        raise InputError(f"mu={mu!r} conflicts with the contact law's mu={law.mu!r}; give the same value")
+    if loading.drive != "apparatus":
+        raise InputError(f"the apparatus is driven by its piezo (Loading.apparatus), got drive {loading.drive!r}")
+    mu = loading.check_friction(law.mu)
+    F0, dF, ua, cycles, steps = loading.F0, loading.dF, loading.amplitude, loading.cycles, loading.steps
     batch = law.batch
-    t = np.arange(cycles * steps + 1) / steps
+    t = loading.times()
     if state_at is not None and not 0 <= int(state_at) < t.size:
         raise InputError(f"state_at must be a step index in [0, {t.size - 1}], got {state_at!r}")
-    FN = F0 + np.asarray(dF)[..., None] * np.sin(2 * np.pi * t + np.asarray(alpha)[..., None])
-    if FN.ndim > 1:
-        FN = np.broadcast_to(FN, batch + t.shape)
-    u3 = ua * np.sin(2 * np.pi * t)
+    FN = np.broadcast_to(loading.normal_force(), batch + t.shape)
+    u3 = loading.tangential()
     cx = 0.0 if np.all(np.isinf(app.kx)) else 1.0 / np.asarray(app.kx, dtype=float)
     pt = app.plate_terms(F0)
     cp, zbar = pt["cp"], pt["zbar"]
@@ -403,18 +396,19 @@ def _mdr_bedding(app: Apparatus, Wmax, batch=()):
     return MDRContact(Sphere(per_sphere(app.R_bed)), mat, per_sphere(app.mu2), F_max=per_sphere(Wmax), n=100)
 
 
-def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=4,
-                     steps=200, n=400, law=None, state_at=None):
+def mdr_apparatus_result(profile, materials, app: Apparatus, mu, loading: Loading, n=400, state_at=None):
+    """``apparatus_result`` of the MDR law of ``n`` cells sized for the load (``python -m mdr apparatus``)."""
+    return apparatus_result(mdr_law(profile, materials, mu, loading, n), app, loading, state_at=state_at)
+
+
+def apparatus_result(law: ContactLaw, app: Apparatus, loading: Loading, state_at=None):
     """One apparatus scene as the JSON dict of ``python -m mdr apparatus`` (keys of ``contact``).
 
     ``state_at`` (a step index): return ``(result, state of the law after that step)``."""
 
     t0 = time.perf_counter()
-    mu = nonnegative("mu", mu)
-    if law is None:
-        law = MDRContact(profile, materials, mu, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None, n=n)
-    out = run_apparatus(law, app, mu, F0, dF, alpha, ua, cycles=cycles, steps=steps, state_at=state_at)
-    last = slice(cycles * steps - steps, cycles * steps + 1)
+    out = run_apparatus(law, app, loading, state_at=state_at)
+    F0, mu, last = loading.F0, law.mu, loading.last_cycle
     cyc = out["cycles"]
     delta = float(out["slip_index"])
     result = {
@@ -429,8 +423,7 @@ def apparatus_result(profile, materials, app: Apparatus, mu, F0, dF=0.1, alpha=0
         "runtime_s": time.perf_counter() - t0,
         "loop": {k: out[src][last].tolist() for k, src in
                  (("t", "t"), ("du", "du"), ("Fx", "Fx"), ("FN", "FN"), ("u1", "u1"), ("u2", "u2"), ("u3", "u3"))},
-        "inputs": {**profile.describe(), **materials.as_dict(), "mu": mu, "F0": F0, "dF": dF, "alpha": alpha,
-                   "ua": ua, "cycles": cycles, "steps": steps,
+        "inputs": {**law.profile.describe(), **law.materials.as_dict(), "mu": mu, **loading.as_inputs(),
                    "apparatus": {k: (None if isinstance(v, float) and not np.isfinite(v) else v)
                                  for k, v in asdict(app).items()},
                    "k_plates": app.k_plates},

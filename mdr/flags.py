@@ -15,6 +15,9 @@ def add_profile_args(p):
     g.add_argument("--b", type=float, default=None, help="flat-face / punch radius b in m (truncated, flat)")
     g.add_argument("--exact-cap", action="store_true",
                    help="exact spherical cap instead of the parabolic approximation (sphere, truncated)")
+    g.add_argument("--fillet", type=float, default=None, metavar="W",
+                   help="truncated: the kink at r = b rounded by a circular fillet of radial width W in m "
+                        "(mdr.profiles.RoundedTruncatedSphere; default: the sharp kink)")
 
 
 def add_material_args(p):
@@ -39,7 +42,8 @@ def add_contact_args(p):
 
 
 def profile_from_args(args):
-    return make_profile(args.profile, R=args.R, b=args.b, exact=getattr(args, "exact_cap", False))
+    return make_profile(args.profile, R=args.R, b=args.b, exact=getattr(args, "exact_cap", False),
+                        fillet=getattr(args, "fillet", None))
 
 
 def materials_from_args(args):

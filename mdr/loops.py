@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from common.errors import InputError, positive_int
+from .loading import gross_slip_work
 
 
 #: a loop integral below this fraction of its loop's box (max |F_x| x the du range) is round-off,
@@ -116,7 +117,7 @@ def analyse_cycles(du, Fx, steps: int, mu, F0, tol: float = STATIONARY_TOL, *, d
 
 
 def slip_index(dW, mu, u_A, F0):
-    """delta = dW / (4 mu u_A F0); NaN where mu u_A F0 = 0 (undefined)."""
-    den = 4.0 * np.asarray(mu, dtype=float) * np.asarray(u_A, dtype=float) * np.asarray(F0, dtype=float)
+    """delta = dW / (4 mu u_A F0) (``mdr.loading.gross_slip_work``); NaN where mu u_A F0 = 0 (undefined)."""
+    den = gross_slip_work(mu, F0, u_A)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(den > 0, np.asarray(dW, dtype=float) / np.where(den > 0, den, 1.0), np.nan)

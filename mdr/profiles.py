@@ -202,6 +202,80 @@ class TruncatedSphere(Profile):
                 "R": self.R, "b": self.b, "exact_cap": self.exact}
 
 
+class RoundedTruncatedSphere(Profile):
+    """Truncated sphere whose kink at r = b is rounded by a circular fillet of radial width ``w``
+    (parabolic approximation, like ``TruncatedSphere``): the flat face f = 0 for r <= r1, the fillet
+    f = (r - r1)^2 / (2 rho) for r1 < r < r2, the sphere f = (r^2 - b^2) / (2R) beyond r2.
+
+    The fillet is tangent to the flat face at r1 and to the sphere at r2 = r1 + w, and lies between
+    the face's plane and the sphere (rounding an edge removes material: f >= the sharp profile's),
+    which fixes r2 = (w + sqrt(w^2 + 4 b^2)) / 2 and rho = w R / r2. w -> 0 is the sharp kink. With
+    f' = 0, (r - r1)/rho and r/R on the three pieces, the MDR transform is closed:
+
+        g(x) = (x / rho) [s(r1) - s(m) - r1 (asin(m/x) - asin(r1/x))] + (x / R) s(r2) [x > r2],
+
+    s(r) = sqrt(x^2 - r^2), m = min(x, r2). The sharp kink's pressure is log-singular at r = b;
+    the fillet bounds it. One scene (no batch arrays).
+    """
+
+    name = "rounded"
+
+    def __init__(self, R, b, w):
+        self.R = float(positive("R", R))
+        self.b = float(positive("b", b))
+        self.w = float(positive("fillet", w))
+        if np.ndim(R) or np.ndim(b) or np.ndim(w):
+            raise InputError("a rounded truncated sphere is one scene: R, b and fillet must be numbers")
+        self.r2 = 0.5 * (self.w + np.sqrt(self.w**2 + 4.0 * self.b**2))
+        self.r1 = self.r2 - self.w
+        self.rho = self.w * self.R / self.r2
+        if self.r2 >= self.R:
+            raise InputError(f"b + fillet must stay well inside the sphere (r2 < R), got b={b!r}, fillet={w!r}, R={R!r}")
+
+    @property
+    def kinks(self):
+        return (self.r1, self.r2)
+
+    def f(self, r):
+        r = np.asarray(r, dtype=float)
+        fil = (r - self.r1) ** 2 / (2.0 * self.rho)
+        sph = (r**2 - self.b**2) / (2.0 * self.R)
+        return np.where(r <= self.r1, 0.0, np.where(r < self.r2, fil, sph))
+
+    def _parts(self, x):
+        x = np.abs(np.asarray(x, dtype=float))
+        r1, r2 = self.r1, self.r2
+        xs = np.maximum(x, 1e-300)
+        s1 = np.sqrt(np.maximum(x**2 - r1**2, 0.0))
+        s2 = np.sqrt(np.maximum(x**2 - r2**2, 0.0))
+        m = np.minimum(x, r2)
+        with np.errstate(invalid="ignore"):
+            asin = lambda v: np.arcsin(np.clip(v / xs, -1.0, 1.0))  # noqa: E731
+            sm = np.sqrt(np.maximum(x**2 - m**2, 0.0))
+            I = (s1 - sm - r1 * (asin(m) - asin(r1))) / self.rho + np.where(x > r2, s2 / self.R, 0.0)
+        return x, s1, s2, np.where(x > r1, I, 0.0)
+
+    def g(self, x):
+        x, _, _, I = self._parts(x)
+        return x * I
+
+    def dg(self, x):
+        # g = x I(x): I' = s1 / (rho x) on the fillet, s1 / (rho x) - r1 s2 / (w R x) beyond (the 1/s2 terms
+        # of the two pieces cancel: f' is continuous at r2)
+        x, s1, s2, I = self._parts(x)
+        val = I + s1 / self.rho - np.where(x > self.r2, self.r1 * s2 / (self.w * self.R), 0.0)
+        return np.where(x > self.r1, val, 0.0)
+
+    def g_inv(self, d, hi=None):
+        d = np.asarray(d, dtype=float)
+        if hi is None:  # beyond the root: the sphere's g from r2 on alone, x s(r2) / R, reaches d there
+            hi = np.sqrt(0.5 * (self.r2**2 + np.sqrt(self.r2**4 + 4.0 * self.R**2 * d**2))) * (1 + 1e-12) + 1e-300
+        return super().g_inv(d, hi=hi)
+
+    def describe(self):
+        return {"profile": "rounded", "R": self.R, "b": self.b, "fillet": self.w}
+
+
 class Sphere(TruncatedSphere):
     """Parabolic sphere f = r^2/(2R): g(x) = x^2/R (Hertz)."""
 
@@ -366,8 +440,10 @@ class GeneralProfile(Profile):
         return {"profile": "general", "r_max": float(self._r[-1]), "samples": int(self._r.size)}
 
 
-def make_profile(kind: str, R=None, b=None, exact: bool = False) -> Profile:
-    """Build a profile from a command-line style name: sphere, truncated or flat.
+def make_profile(kind: str, R=None, b=None, exact: bool = False, fillet=None) -> Profile:
+    """Build a profile from a command-line style name: sphere, truncated or flat; ``fillet`` (m, > 0,
+    truncated only): the kink rounded by a circular fillet of that radial width
+    (``RoundedTruncatedSphere``; 0 or None: the sharp kink).
 
     Parameters that the named profile does not use are conflicting input and
     rejected (b for the sphere unless 0, R and the exact cap for the flat punch),
@@ -382,6 +458,14 @@ def make_profile(kind: str, R=None, b=None, exact: bool = False) -> Profile:
         raise InputError(f"R is not a parameter of profile 'flat' (got R={R!r}); the flat punch has radius b only")
     if kind == "flat" and exact:
         raise InputError("exact (the exact spherical cap) does not apply to profile 'flat'")
+    if fillet is not None and fillet != 0:
+        if kind != "truncated":
+            raise InputError(f"fillet (the rounded kink) applies to profile 'truncated' only, got profile {kind!r}")
+        if exact:
+            raise InputError("fillet (the rounded kink) is parabolic: not with exact (the exact spherical cap)")
+        if R is None or b is None:
+            raise InputError("R and b must be given for profile 'truncated' (R > 0, 0 < b < R)")
+        return RoundedTruncatedSphere(R, b, fillet)
     if kind == "sphere":
         if R is None:
             raise InputError("R must be given (> 0) for profile 'sphere'")

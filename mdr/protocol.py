@@ -88,8 +88,9 @@ class LawPlugin(Protocol):
     def add_arguments(self, parser) -> None:
         """Add the law's own flags to the apparatus and study commands' parsers."""
 
-    def apparatus_result(self, profile, materials, app, mu, F0, dF, alpha, ua, cycles, steps, args) -> dict:
-        """The result dict of the apparatus command with this law (``args``: the parsed flags)."""
+    def apparatus_result(self, profile, materials, app, mu, loading, args) -> dict:
+        """The result dict of the apparatus command with this law under ``loading``
+        (``mdr.loading.Loading.apparatus``; ``args``: the parsed flags)."""
 
     def make_law(self, profile, materials, mu, F_max, args, coarsen: float = 1.0) -> ContactLaw:
         """The law (one scene, reusable from its ``rest_state``) for the apparatus, as

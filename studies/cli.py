@@ -15,6 +15,7 @@ import numpy as np
 from mdr.apparatus import PLATE_MODELS
 from common.cli import OneLineParser, add_output_args, run_command
 from common.errors import InputError
+from mdr.loading import Loading
 from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
                        profile_from_args)
 from common.plugins import GROUP, law_plugins
@@ -45,25 +46,22 @@ def _cmd_normal(args):
 
 
 def _cmd_contact(args):
-    from mdr.drive import run_contact
+    from mdr.drive import run_mdr_contact
 
-    prof = profile_from_args(args)
-    mat = materials_from_args(args)
-    return run_contact(prof, mat, args.mu, args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa,
-                       cycles=args.cycles, steps=args.steps, n=args.cells)
+    loading = Loading.of(args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps)
+    return run_mdr_contact(profile_from_args(args), materials_from_args(args), args.mu, loading, n=args.cells)
 
 
 def _cmd_apparatus(args):
-    from mdr.apparatus import Apparatus, apparatus_result
+    from mdr.apparatus import Apparatus, mdr_apparatus_result
 
     app = Apparatus(kx=args.kx, mu2=args.mu2, R_bed=args.R_bed, plate_model=args.plate_model,
                     bedding=not args.no_bedding)
     prof, mat = profile_from_args(args), materials_from_args(args)
-    if args.law != "mdr":  # a plugin law (common.plugins), e.g. the FE law of fem.apparatus
-        return args.law_plugins[args.law].apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua,
-                                                         args.cycles, args.steps, args)
-    return apparatus_result(prof, mat, app, args.mu, args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles,
-                            steps=args.steps, n=args.cells)
+    loading = Loading.apparatus(args.F0, args.dF, args.alpha, args.ua, cycles=args.cycles, steps=args.steps)
+    if args.law != "mdr":  # the FE law (fem.cli.FE_LAW) or a third-party one (common.plugins)
+        return args.law_plugins[args.law].apparatus_result(prof, mat, app, args.mu, loading, args)
+    return mdr_apparatus_result(prof, mat, app, args.mu, loading, n=args.cells)
 
 
 def _cmd_study(args):

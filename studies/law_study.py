@@ -34,6 +34,7 @@ from common.errors import InputError
 from common.ladder import ladder_error
 from mdr.materials import Materials
 from mdr.profiles import TruncatedSphere
+from mdr.loading import Loading
 
 LAW_STUDIES = ("fig8", "fig9")
 #: points per curve and mesh levels when not given
@@ -86,8 +87,7 @@ def geometry_task(plugin, args, b: float, kxs, coarsen: float, R: float, load: d
     with session() if session is not None else contextlib.nullcontext():
         law = plugin.make_law(TruncatedSphere(R, b), Materials(), mu1, F0 + dF, args, coarsen=coarsen)
         t1 = time.perf_counter()
-        deltas = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), mu1, F0, dF, 0.0, load["ua"],
-                                      cycles=res["cycles"], steps=res["steps"])["slip_index"]) for kx in kxs]
+        deltas = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), Loading.apparatus(F0, dF=dF, alpha=0.0, ua=load["ua"], cycles=res["cycles"], steps=res["steps"]))["slip_index"]) for kx in kxs]
     return {"b": b, "coarsen": coarsen, "kx": list(kxs), "delta": deltas, "setup_s": t1 - t0,
             "runtime_s": time.perf_counter() - t0, "worker": worker_id()}
 

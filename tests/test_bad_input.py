@@ -23,14 +23,17 @@ from fem.law import FEContact
 from fem.normal import solve_normal
 from fem.normal_run import run_normal
 from mdr import FlatPunch, GeneralProfile, InputError, Materials, MDRContact, Sphere, TruncatedSphere, make_profile
-from mdr.apparatus import Apparatus, apparatus_result, run_apparatus
+from mdr.apparatus import Apparatus, run_apparatus
 from studies.cli import main as mdr_main
 from mdr.drive import run_contact
 from mdr.normal import approach_from_force, normal_energy, pressure
 from meshes import AxisymMeshParams, cached_mesh
-from meshes.cache import CacheError, load_mesh, save_mesh
+from meshes.cache import CacheError, load_mesh
 
 from conftest import F0, MU, R, STEEL
+from mdr.apparatus import mdr_apparatus_result
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 NAN, INF = float("nan"), float("inf")
 
@@ -333,17 +336,21 @@ API_CASES = [
     (lambda: pressure(SPHERE, STEEL, -1e-9, [0.0]), "d"),
     (lambda: pressure(SPHERE, STEEL, NAN, [0.0]), "d"),
     (lambda: normal_energy(SPHERE, STEEL, NAN), "d"),
-    (lambda: run_contact(SPHERE, STEEL, MU, -F0, ua=1e-8), "F0"),
-    (lambda: run_contact(SPHERE, STEEL, MU, F0, dF=-0.1, ua=1e-8), "dF"),
-    (lambda: run_contact(SPHERE, STEEL, MU, F0, ua=1e-8, fa=0.01), "ua"),
-    (lambda: run_contact(SPHERE, STEEL, 0.0, F0, fa=0.01), "mu"),
-    (lambda: run_contact(SPHERE, STEEL, MU, F0, ua=1e-8, law=MDRContact(SPHERE, STEEL, 0.5, F_max=F0)), "mu"),
+    (lambda: run_mdr_contact(SPHERE, STEEL, MU, Loading.of(-F0, ua=1e-8)), "F0"),
+    (lambda: run_mdr_contact(SPHERE, STEEL, MU, Loading.of(F0, dF=-0.1, ua=1e-8)), "dF"),
+    (lambda: run_mdr_contact(SPHERE, STEEL, MU, Loading.of(F0, ua=1e-8, fa=0.01)), "ua"),
+    (lambda: run_mdr_contact(SPHERE, STEEL, 0.0, Loading.of(F0, fa=0.01)), "mu"),
+    (lambda: run_contact(_law(), Loading.apparatus(F0)), "drive"),  # the apparatus's load on a contact driven directly
+    (lambda: Loading(F0, 1e-8, drive="sideways"), "drive"),
+    (lambda: Loading(F0, 1e-8, drive="displacement", steps=42), "steps"),
+    (lambda: Loading(F0, -1e-8, drive="displacement"), "ua"),
+    (lambda: Loading(F0, -0.01, drive="force"), "fa"),
     (lambda: Apparatus(kx=-1e6), "kx"),
     (lambda: Apparatus(mu2=NAN), "mu2"),
     (lambda: Apparatus(t=0.0), "t"),
     (lambda: Apparatus(plate_model="glued"), "plate_model"),
-    (lambda: run_apparatus(_law(), Apparatus(), MU, -F0, ua=1e-7, cycles=2, steps=40), "F0"),
-    (lambda: apparatus_result(SPHERE, STEEL, Apparatus(), -MU, F0, ua=1e-7, cycles=2, steps=40), "mu"),
+    (lambda: run_apparatus(_law(), Apparatus(), Loading.apparatus(-F0, ua=1e-7, cycles=2, steps=40)), "F0"),
+    (lambda: mdr_apparatus_result(SPHERE, STEEL, Apparatus(), -MU, Loading.apparatus(F0, ua=1e-7, cycles=2, steps=40)), "mu"),
 ]
 
 
@@ -358,16 +365,16 @@ def test_apparatus_loading_bad_input():
     for kw, word in ((dict(cycles=0, steps=40), "cycles"), (dict(cycles=2, steps=0), "steps"),
                      (dict(alpha=NAN, cycles=2, steps=40), "alpha")):
         with pytest.raises(InputError, match=word):
-            run_apparatus(_law(), Apparatus(), MU, F0, ua=1e-7, **kw)
+            run_apparatus(_law(), Apparatus(), Loading.apparatus(F0, ua=1e-7, **kw))
 
 
-API_MU = [
-    (lambda: run_apparatus(_law(), Apparatus(), NAN, F0, ua=1e-7, cycles=2, steps=40), "mu"),
-    (lambda: run_apparatus(_law(), Apparatus(), 0.5, F0, ua=1e-7, cycles=2, steps=40), "mu"),  # law has mu = 0.2
+API_MU = [  # the friction is the law's alone (no second copy beside it to disagree)
+    (lambda: run_apparatus(MDRContact(SPHERE, STEEL, NAN, F_max=0.6, n=50), Apparatus(), Loading.apparatus(F0)), "mu"),
+    (lambda: run_apparatus(_law(), Apparatus(), Loading.of(F0, ua=1e-7)), "drive"),  # a contact's load, no piezo
 ]
 
 
-@pytest.mark.parametrize("call,word", API_MU, ids=["mu-nan", "mu-conflict"])
+@pytest.mark.parametrize("call,word", API_MU, ids=["mu-nan", "drive"])
 def test_apparatus_api_mu(call, word):
     with pytest.raises(InputError, match=word):
         call()

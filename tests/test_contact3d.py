@@ -16,6 +16,7 @@ from mdr import reference as ref
 from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from meshes.half3d import Half3DMeshParams, build_mesh3d
+from mdr.loading import Loading
 
 MAT = Materials()
 R, F, MU = 6e-3, 0.5, 0.2
@@ -283,11 +284,11 @@ def test_law3d_in_the_apparatus_like_mdr():
 
     prof = TruncatedSphere(R, 20e-6)
     kw = dict(dF=0.1, alpha=0.0, ua=150e-9, cycles=2, steps=60)
-    d_md = float(run_apparatus(MDRContact(prof, MAT, MU, F_max=0.6, n=2000), Apparatus(), MU, F, **kw)["slip_index"])
+    d_md = float(run_apparatus(MDRContact(prof, MAT, MU, F_max=0.6, n=2000), Apparatus(), Loading.apparatus(F, **kw))["slip_index"])
     d = []
     for h in (0.3, 0.2):
         law = FEContact3D(prof, MAT, MU, F_max=0.6, h_contact=h, displacement="contact")
-        out = run_apparatus(law, Apparatus(), MU, F, **kw)
+        out = run_apparatus(law, Apparatus(), Loading.apparatus(F, **kw))
         assert out["evaluations_per_step"] < 6
         d.append(float(out["slip_index"]))
     step = abs(d[1] - d[0])
@@ -300,9 +301,8 @@ def test_law3d_fretting_run(law3d):
     zone is a centred disk (x and y extents agree within one element, centre on the axis within
     round-off of the mesh's asymmetry), the stationary cycle closes and dissipates."""
     from mdr.drive import run_contact
-    from mdr.profiles import Sphere
 
-    out = run_contact(Sphere(R), MAT, MU, F, fa=0.5 * MU * F, cycles=3, steps=24, law=law3d)
+    out = run_contact(law3d, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=24))
     keys = law3d.result_keys(F, 0.0, 1.0, 2.0)
     h = 0.25 * A_H
     assert out["stationary"] and out["dissipation"] > 0
@@ -511,8 +511,7 @@ def test_convergence_ladder(tmp_path):
     c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
     rows = []
     for h in (0.2, 0.14, 0.1):
-        out = run_fem_contact(Sphere(R), MAT, MU, F, fa=0.5 * MU * F, cycles=3, steps=40, h_contact=h, model="3d",
-                              displacement="plate", cache_dir=tmp_path)
+        out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), h_contact=h, model="3d", displacement="plate", cache_dir=tmp_path)
         rows.append(out)
         assert abs(out["stick_radius_x"] - c) < 1.5 * h * A_H and abs(out["stick_radius_y"] - c) < 1.5 * h * A_H
         assert abs(out["contact_radius"] / A_H - 1) < 0.03
@@ -538,8 +537,7 @@ def test_ring_ladder(ring_pair, tmp_path):
     us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
     W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us)
     dw = {(h, 100): ring_pair(h, 0.9)["free"]["dissipation"] / W_md - 1 for h in (0.2, 0.14)}
-    out = run_fem_contact(Sphere(R), MAT, MU, F, fa=0.5 * MU * F, cycles=3, steps=40, h_contact=0.14,
-                          model="3d", displacement="plate", ring=(0.9, 0.18, 0.07), cache_dir=tmp_path)
+    out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), h_contact=0.14, model="3d", displacement="plate", ring=(0.9, 0.18, 0.07), cache_dir=tmp_path)
     dw[0.14, 40] = out["dissipation"] / W_md - 1
     assert dw[0.2, 100] > dw[0.14, 100] and 0.005 < dw[0.2, 100] < 0.05, dw
     assert abs(dw[0.14, 100]) < 0.003, dw
@@ -558,11 +556,9 @@ def ring_pair(tmp_path_factory):
 
     def pair(h, r):
         if (h, r) not in cache:
-            out, law = run_fem_contact(Sphere(R), MAT, MU, F, fa=0.5 * MU * F, cycles=3, steps=100, h_contact=h,
-                                       model="3d", displacement="plate", ring=(r, 0.18, h / 2), cache_dir=tmp,
-                                       traction="x", return_law=True)
+            out, law = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=100), h_contact=h, model="3d", displacement="plate", ring=(r, 0.18, h / 2), cache_dir=tmp, traction="x", return_law=True)
             free = law.variant(traction="free")
-            res = drive_3d(free, MU, F, 0.0, 0.0, None, 0.5 * MU * F, 3, 100)
+            res = drive_3d(free, Loading.of(F, dF=0.0, alpha=0.0, fa=0.5 * MU * F, cycles=3, steps=100))
             res.update(free.result_keys(F, 0.0, 1.0, 2.0))
             cache[h, r] = {"x": out, "free": res}
         return cache[h, r]
@@ -682,13 +678,12 @@ def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
     mu = 0.2: 1.12-1.14; here mu = 0.5, a/4) and moves the pressure centre off the axis at the first
     peak of F_x. Every coupled assertion fails with the coupling off."""
     from mdr.drive import run_contact
-    from mdr.profiles import Sphere
 
     def run(law):
         st = law.rest_state()
         for f in np.linspace(0.05, 1.0, 8) * F:
             _, st = law.step(st, Fx=0.0, F_N=f)
-        out = run_contact(Sphere(R), ALU, 0.5, F, fa=0.25 * F, cycles=6, steps=16, law=law, state0=st)
+        out = run_contact(law, Loading.of(F, fa=0.25 * F, cycles=6, steps=16), state0=st)
         return out, law.result_keys(F, 0.0, 1.0, 2.0)
 
     coupled, keys = run(law_alu)

@@ -26,6 +26,8 @@ from mdr.profiles import make_profile
 from mdr.reference import (cattaneo_mindlin_force, cattaneo_mindlin_stick_radius, gross_slip_displacement,
                            hertz, mindlin_deresiewicz_dissipation, mindlin_deresiewicz_dissipation_force,
                            mindlin_deresiewicz_loop)
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 MAT = Materials()
 R, F, MU = 6e-3, 0.5, 0.2
@@ -165,8 +167,8 @@ def test_gross_slip_dissipation_at_the_contact_amplitude(sphere):
 
 
 def _force_loops(law, prof, F0, dF, alpha, FA, steps, mdr_steps=None):
-    fe = run_contact(prof, MAT, MU, F0, dF, alpha, fa=FA, cycles=3, steps=steps, law=law)
-    md = run_contact(prof, MAT, MU, F0, dF, alpha, fa=FA, cycles=3, steps=mdr_steps or steps, n=2000)
+    fe = run_contact(law, Loading.of(F0, dF=dF, alpha=alpha, fa=FA, cycles=3, steps=steps))
+    md = run_mdr_contact(prof, MAT, MU, Loading.of(F0, dF=dF, alpha=alpha, fa=FA, cycles=3, steps=mdr_steps or steps), n=2000)
     return fe, md
 
 
@@ -216,11 +218,11 @@ def test_varying_normal_force_against_mdr_and_energy(sphere, alpha):
     extrapolated from 200 and 800 steps per cycle."""
     dF, FA = 0.1, 0.6 * MU * (F - 0.1)
     fe, md = _force_loops(sphere, SPHERE, F, dF, alpha, FA, 100, mdr_steps=200)
-    md4 = run_contact(SPHERE, MAT, MU, F, dF, alpha, fa=FA, cycles=3, steps=800, n=2000)
+    md4 = run_mdr_contact(SPHERE, MAT, MU, Loading.of(F, dF=dF, alpha=alpha, fa=FA, cycles=3, steps=800), n=2000)
     dW_mdr = (4 * md4["dissipation"] - md["dissipation"]) / 3
     assert abs(fe["dissipation"] / dW_mdr - 1) < 5e-3
     e100 = fe["friction_work"] / fe["dissipation"] - 1
-    fe2 = run_contact(SPHERE, MAT, MU, F, dF, alpha, fa=FA, cycles=3, steps=200, law=sphere)
+    fe2 = run_contact(sphere, Loading.of(F, dF=dF, alpha=alpha, fa=FA, cycles=3, steps=200))
     e200 = fe2["friction_work"] / fe2["dissipation"] - 1
     assert abs(e200) < 5e-3
     assert abs(e200) < 0.6 * abs(e100) or abs(e200) < 1e-4
@@ -440,9 +442,8 @@ def test_fe_law_runs_inside_the_apparatus_like_mdr(cache):
 
     prof = make_profile("truncated", R, 20e-6)
     law = FEContact(prof, MAT, MU, F_max=0.6, h_contact=1 / 40, cache_dir=cache, displacement="contact")
-    r_fe = run_apparatus(law, Apparatus(), MU, F, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=100)
-    r_md = run_apparatus(MDRContact(prof, MAT, MU, F_max=0.6, n=2000), Apparatus(), MU, F, dF=0.1, alpha=0.0,
-                         ua=150e-9, cycles=3, steps=100)
+    r_fe = run_apparatus(law, Apparatus(), Loading.apparatus(F, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=100))
+    r_md = run_apparatus(MDRContact(prof, MAT, MU, F_max=0.6, n=2000), Apparatus(), Loading.apparatus(F, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=100))
     assert abs(float(r_fe["slip_index"]) / float(r_md["slip_index"]) - 1) < 5e-3
 
 
@@ -528,10 +529,9 @@ def test_a_run_of_the_fe_law_reports_the_fe_contact_not_the_half_space_one(cache
     own = law.contact_at(0.5)
     hz = hertz(0.5, R, MAT.E_star)
     assert abs(own["contact_radius"] / hz["a"] - 1) > 1e-4  # the FE's edge, not Hertz's
-    out = run_contact(SPHERE, MAT, MU, 0.5, fa=0.05, cycles=3, steps=20, law=law)
-    app = apparatus_result(SPHERE, MAT, Apparatus(kx=2e6, mu2=0.1), MU, 0.5, 0.0, 0.0, 150e-9, cycles=3, steps=20,
-                           law=law)
+    out = run_contact(law, Loading.of(0.5, fa=0.05, cycles=3, steps=20))
+    app = apparatus_result(law, Apparatus(kx=2e6, mu2=0.1), Loading.apparatus(0.5, dF=0.0, alpha=0.0, ua=150e-9, cycles=3, steps=20))
     for res in (out, app):
         assert res["contact_radius"] == own["contact_radius"] and res["indentation"] == own["indentation"]
-    mdr = run_contact(SPHERE, MAT, MU, 0.5, fa=0.05, cycles=3, steps=20)
+    mdr = run_mdr_contact(SPHERE, MAT, MU, Loading.of(0.5, fa=0.05, cycles=3, steps=20))
     assert mdr["contact_radius"] == pytest.approx(hz["a"], rel=1e-12)

@@ -19,6 +19,7 @@ from studies.cli import build_parser, main as mdr_main
 from mdr.law import MDRContact
 from studies.law_study import law_study, pick, study_points
 from studies.study import R_IND, RES, TABLE2, fig9, run_studies
+from mdr.loading import Loading
 
 
 class MDRPlugin:
@@ -106,7 +107,7 @@ def test_the_fe_law_is_reused_from_its_rest_state():
     F0, dF, mu = TABLE2["F0"], TABLE2["dF"], TABLE2["mu1"]
 
     def run(law, kx):
-        return run_apparatus(law, Apparatus(kx=kx, mu2=0.1), mu, F0, dF, 0.0, TABLE2["ua"], cycles=2, steps=40)
+        return run_apparatus(law, Apparatus(kx=kx, mu2=0.1), Loading.apparatus(F0, dF=dF, alpha=0.0, ua=TABLE2["ua"], cycles=2, steps=40))
 
     make = lambda: FE_LAW.make_law(TruncatedSphere(R_IND, 10e-6), Materials(), mu, F0 + dF, args)  # noqa: E731
     with FE_LAW.session():
@@ -172,8 +173,7 @@ def test_fe_apparatus_point_equals_the_classical_augmented_lagrangian(kx):
     F0, dF, mu = TABLE2["F0"], TABLE2["dF"], TABLE2["mu1"]
     prof = TruncatedSphere(R_IND, 10e-6)
     kw = dict(F_max=F0 + dF, h_contact=0.2, displacement="contact")
-    new, ref = (run_apparatus(law, Apparatus(kx=kx, mu2=TABLE2["mu2"]), mu, F0, dF, 0.0, TABLE2["ua"], cycles=2,
-                              steps=60, xtol=1e-19)
+    new, ref = (run_apparatus(law, Apparatus(kx=kx, mu2=TABLE2["mu2"]), Loading.apparatus(F0, dF=dF, alpha=0.0, ua=TABLE2["ua"], cycles=2, steps=60), xtol=1e-19)
                 for law in (FEContact(prof, Materials(), mu, **kw),
                             FEContact(prof, Materials(), mu, friction_al_tol=1e-12, friction_exact_start=False,
                                       **kw)))

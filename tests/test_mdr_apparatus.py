@@ -4,16 +4,18 @@ import pytest
 
 from mdr import FlatPunch, InputError, MDRContact, Sphere, TruncatedSphere
 from mdr.apparatus import Apparatus, apparatus_result, run_apparatus
-from mdr.drive import run_contact
 
 from conftest import F0, MU, R, STEEL
+from mdr.apparatus import mdr_apparatus_result
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 
 def test_stiff_frictionless_apparatus_reduces_to_direct_drive():
     prof = TruncatedSphere(R, 20e-6)
     app = Apparatus(kx=np.inf, plate_model="rigid", bedding=False)
-    res = apparatus_result(prof, STEEL, app, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
-    direct = run_contact(prof, STEEL, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
+    res = mdr_apparatus_result(prof, STEEL, app, MU, Loading.apparatus(F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200))
+    direct = run_mdr_contact(prof, STEEL, MU, Loading.of(F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200))
     assert res["dissipation"] == pytest.approx(direct["dissipation"], rel=1e-9, abs=0)
     np.testing.assert_allclose(res["loop"]["Fx"], direct["loop"]["Fx"], rtol=0, atol=1e-12 * MU * F0)
     np.testing.assert_allclose(res["loop"]["du"], direct["loop"]["du"], atol=1e-18)
@@ -22,7 +24,7 @@ def test_stiff_frictionless_apparatus_reduces_to_direct_drive():
 def test_equilibrium_and_coulomb_bounds_hold_every_step():
     law = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
     app = Apparatus(kx=2e6)
-    out = run_apparatus(law, app, MU, F0, 0.1, 0.0, 150e-9, cycles=3, steps=80)
+    out = run_apparatus(law, app, Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=80))
     # indenter: F_x = kx u1; block: plates carry contact + bedding forces
     np.testing.assert_allclose(out["Fx"], app.kx * out["u1"], rtol=1e-12)
     np.testing.assert_allclose(app.k_plates * (out["u3"] - out["u2"]), out["Fx"] + out["Fbed"], atol=1e-9)
@@ -40,11 +42,11 @@ def test_profile_transition_sphere_below_10um_flat_punch_above_30um():
     for kx in (2e6, 10e6):
         kw = dict(cycles=3, steps=120)
         trunc = MDRContact(TruncatedSphere(np.full(b.size, R), b), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
-        d_tr = run_apparatus(trunc, Apparatus(kx=kx), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
+        d_tr = run_apparatus(trunc, Apparatus(kx=kx), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"]
         flat = MDRContact(FlatPunch(b), STEEL, MU, n=8)
-        d_fl = run_apparatus(flat, Apparatus(kx=kx), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
+        d_fl = run_apparatus(flat, Apparatus(kx=kx), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"]
         sph = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
-        d_sp = float(run_apparatus(sph, Apparatus(kx=kx), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"])
+        d_sp = float(run_apparatus(sph, Apparatus(kx=kx), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"])
         np.testing.assert_allclose(d_tr[:3], d_sp, rtol=8e-3)
         np.testing.assert_allclose(d_tr[3], d_fl[3], rtol=3e-2)
         np.testing.assert_allclose(d_tr[4:], d_fl[4:], rtol=5e-3)
@@ -56,7 +58,7 @@ def test_slip_index_rises_with_apparatus_stiffness_and_vanishes_when_soft():
     deltas = []
     for k in kx:
         law = MDRContact(TruncatedSphere(R, 50e-6), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
-        deltas.append(float(run_apparatus(law, Apparatus(kx=k), MU, F0, 0.1, 0.0, 150e-9, cycles=3, steps=120)["slip_index"]))
+        deltas.append(float(run_apparatus(law, Apparatus(kx=k), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=3, steps=120))["slip_index"]))
     assert np.all(np.diff(deltas) > 0)
     # well below k_c = mu F0 / u_A the contact sticks (the axis follows the block)
     assert deltas[0] < 0.02 < deltas[2]
@@ -73,9 +75,9 @@ def test_bad_apparatus_input(kw, word):
 def test_bad_load_input():
     law = MDRContact(Sphere(R), STEEL, MU, F_max=0.6)
     with pytest.raises(InputError, match="ua"):
-        run_apparatus(law, Apparatus(), MU, F0, 0.1, 0.0, -1e-9)
+        run_apparatus(law, Apparatus(), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=-1e-9))
     with pytest.raises(InputError, match="dF"):
-        run_apparatus(law, Apparatus(), MU, F0, 0.6, 0.0, 1e-7)
+        run_apparatus(law, Apparatus(), Loading.apparatus(F0, dF=0.6, alpha=0.0, ua=1e-7))
 
 
 # --------------------------------------------------------------- sensitivity (issue 3)
@@ -136,12 +138,12 @@ def test_with_rigid_plates_the_bedding_friction_has_no_effect_and_bedding_off_is
     mu2 = np.array([0.0, 0.05, 0.2])
     law = MDRContact(TruncatedSphere(np.full(3, R), np.full(3, 50e-6)), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
     kw = dict(cycles=3, steps=80)
-    d = run_apparatus(law, Apparatus(kx=2e6, mu2=mu2, plate_model="rigid"), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
+    d = run_apparatus(law, Apparatus(kx=2e6, mu2=mu2, plate_model="rigid"), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"]
     np.testing.assert_allclose(d, d[0], rtol=1e-9)
     # a batch scene with mu2 = 0 is the apparatus without bedding contacts
-    d_axial = run_apparatus(law, Apparatus(kx=2e6, mu2=mu2), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
+    d_axial = run_apparatus(law, Apparatus(kx=2e6, mu2=mu2), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"]
     one = MDRContact(TruncatedSphere(R, 50e-6), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
-    d_off = run_apparatus(one, Apparatus(kx=2e6, bedding=False), MU, F0, 0.1, 0.0, 150e-9, **kw)["slip_index"]
+    d_off = run_apparatus(one, Apparatus(kx=2e6, bedding=False), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))["slip_index"]
     assert d_axial[0] == pytest.approx(float(d_off), rel=1e-9)
     assert np.all(np.diff(d_axial) < 0)
 
@@ -211,15 +213,15 @@ def test_the_mdr_law_follows_the_protocol_and_the_apparatus_returns_the_state_at
     assert isinstance(law, ContactLaw) and isinstance(law.prepare(law.rest_state(), F_N=F0), ContactTrial)
     kw = dict(cycles=2, steps=40)
     k = 50
-    out = run_apparatus(law, Apparatus(), MU, F0, **kw, state_at=k)
+    out = run_apparatus(law, Apparatus(), Loading.apparatus(F0, **kw), state_at=k)
     st = out["state_at"]
     assert float(st.u) == out["du"][k] and float(st.d) == pytest.approx(float(law.approach(out["FN"][k])), rel=1e-12)
-    plain = run_apparatus(law, Apparatus(), MU, F0, **kw)
+    plain = run_apparatus(law, Apparatus(), Loading.apparatus(F0, **kw))
     assert np.array_equal(plain["Fx"], out["Fx"]) and "state_at" not in plain
-    res, st2 = apparatus_result(Sphere(R), STEEL, Apparatus(), MU, F0, law=law, state_at=k, **kw)
+    res, st2 = apparatus_result(law, Apparatus(), Loading.apparatus(F0, **kw), state_at=k)
     assert np.array_equal(st2.v, st.v) and res["dissipation"] == float(plain["dissipation"])
     with pytest.raises(InputError):
-        run_apparatus(law, Apparatus(), MU, F0, **kw, state_at=81)
+        run_apparatus(law, Apparatus(), Loading.apparatus(F0, **kw), state_at=81)
 
 
 # ------------------------------------------------------------------ FE law (issue 5)
@@ -238,10 +240,10 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
 
     steps, cycles = 40, 3
     kw = dict(cycles=cycles, steps=steps)
-    fe = fem_apparatus_result(Sphere(R), STEEL, Apparatus(), MU, F0, 0.1, 0.0, 150e-9, h_contact=h,
-                              cache_dir=tmp_path, **kw)
+    fe = fem_apparatus_result(Sphere(R), STEEL, Apparatus(), MU, Loading.apparatus(F0, 0.1, 0.0, 150e-9, **kw),
+                              h_contact=h, cache_dir=tmp_path)
     mlaw = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=2000)
-    md = run_apparatus(mlaw, Apparatus(), MU, F0, 0.1, 0.0, 150e-9, **kw)
+    md = run_apparatus(mlaw, Apparatus(), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))
     assert fe["stationary"] and fe["dofs"] > 0 and set(fe["runtime_s"]) == {"setup", "cycles", "total"}
     err_app = fe["slip_index"] / float(md["slip_index"]) - 1
 

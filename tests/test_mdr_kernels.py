@@ -23,6 +23,7 @@ from mdr.grid import make_grid
 from mdr.normal import approach_from_force
 
 from conftest import F0, MU, R, STEEL, harmonic
+from mdr.loading import Loading
 
 pytestmark = pytest.mark.skipif(not kernels.enabled(), reason="compiled loops off (numba missing or MDR_PURE_PYTHON=1)")
 
@@ -152,8 +153,8 @@ def same_apparatus(fast, slow):
 def test_apparatus_equals_the_python_step_loop(prof, app, monkeypatch):
     law = MDRContact(prof, STEEL, MU, F_max=0.6, F_min=0.4, n=100) if not isinstance(prof, FlatPunch) \
         else MDRContact(prof, STEEL, MU, n=8)
-    kw = dict(dF=0.1, alpha=0.3, ua=150e-9, cycles=3, steps=120, state_at=200)
-    fast, slow = both(lambda: run_apparatus(law, app, MU, F0, **kw), monkeypatch)
+    kw = dict(dF=0.1, alpha=0.3, ua=150e-9, cycles=3, steps=120)
+    fast, slow = both(lambda: run_apparatus(law, app, Loading.apparatus(F0, **kw), state_at=200), monkeypatch)
     same_apparatus(fast, slow)
     # an iteration count is a discrete diagnostic: round-off may stop a bracketing search one
     # evaluation earlier or later, so it is compared as a count, not to the bit
@@ -174,7 +175,7 @@ def test_apparatus_batch_with_per_scene_fields_equals_the_python_step_loop(monke
                     plate_model=np.array([["axial", "bending", "rigid"]] * 2))
     dF = np.array([0.0, 0.1, 0.2]) * np.ones(shape)
     kw = dict(dF=dF, alpha=np.array([0.0, 1.0, 3.0]) * np.ones(shape), ua=150e-9, cycles=3, steps=80)
-    fast, slow = both(lambda: run_apparatus(law, app, MU, F0, **kw), monkeypatch)
+    fast, slow = both(lambda: run_apparatus(law, app, Loading.apparatus(F0, **kw)), monkeypatch)
     same_apparatus(fast, slow)
 
 
@@ -185,7 +186,7 @@ def test_apparatus_lift_off_error_is_the_same(monkeypatch):
     for enabled in (True, False):
         monkeypatch.setattr(kernels, "ENABLED", enabled)
         with pytest.raises(InputError, match="lifts off") as err:
-            run_apparatus(law, app, MU, F0, 0.1, 0.0, 300e-9, cycles=2, steps=40)
+            run_apparatus(law, app, Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=300e-9, cycles=2, steps=40))
         msgs.append(str(err.value))
     assert msgs[0] == msgs[1]
 
@@ -218,12 +219,13 @@ import sys
 import numpy as np
 from mdr import MDRContact, TruncatedSphere, Materials, kernels
 from mdr.apparatus import Apparatus, run_apparatus
+from mdr.loading import Loading
 assert not kernels.enabled()
 t = np.arange(241) / 120
 law = MDRContact(TruncatedSphere(6e-3, 20e-6), Materials(), 0.2, F_max=0.6, F_min=0.4, n=100)
 H = law.run(u=150e-9 * np.sin(2 * np.pi * t), F_N=0.5 + 0.1 * np.sin(2 * np.pi * t))
 G = law.run(Fx=0.05 * np.sin(2 * np.pi * t), F_N=0.5)
-o = run_apparatus(law, Apparatus(kx=2e6), 0.2, 0.5, 0.1, 0.0, 150e-9, cycles=2, steps=60)
+o = run_apparatus(law, Apparatus(kx=2e6), Loading.apparatus(0.5, 0.1, 0.0, 150e-9, cycles=2, steps=60))
 np.save(sys.argv[1], np.concatenate([H.Fx, H.work, G.u, o["Fx"], o["du"]]))
 """
 
@@ -240,7 +242,7 @@ def test_without_numba_everything_runs_through_the_step_api(block, tmp_path):
     law = MDRContact(TruncatedSphere(6e-3, 20e-6), STEEL, 0.2, F_max=0.6, F_min=0.4, n=100)
     H = law.run(u=150e-9 * np.sin(2 * np.pi * t), F_N=0.5 + 0.1 * np.sin(2 * np.pi * t))
     G = law.run(Fx=0.05 * np.sin(2 * np.pi * t), F_N=0.5)
-    o = run_apparatus(law, Apparatus(kx=2e6), 0.2, 0.5, 0.1, 0.0, 150e-9, cycles=2, steps=60)
+    o = run_apparatus(law, Apparatus(kx=2e6), Loading.apparatus(0.5, dF=0.1, alpha=0.0, ua=150e-9, cycles=2, steps=60))
     slow = np.load(out)
     parts = np.cumsum([H.Fx.size, H.work.size, G.u.size, o["Fx"].size])
     for fast_part, slow_part in zip((H.Fx, H.work, G.u, o["Fx"], o["du"]), np.split(slow, parts)):

@@ -4,11 +4,13 @@ import numpy as np
 import pytest
 
 from mdr import MDRContact, Materials, Sphere, TruncatedSphere
-from mdr.apparatus import PLATE_MODELS, TILT_MODELS, Apparatus, apparatus_result, run_apparatus
-from mdr.drive import run_contact
+from mdr.apparatus import PLATE_MODELS, TILT_MODELS, Apparatus, run_apparatus
 from mdr.normal import approach_from_force, force_from_approach
 
 from conftest import F0, MU, R, STEEL
+from mdr.apparatus import mdr_apparatus_result
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 G = 9.81
 FINITE = [pm for pm in PLATE_MODELS if pm != "rigid"]
@@ -28,8 +30,8 @@ def test_rigid_plates_drive_the_block_directly(pm):
     prof = TruncatedSphere(R, 20e-6)
     app = Apparatus(kx=np.inf, plate_model="rigid", bedding=False) if pm == "rigid" else \
         _scaled(pm, 5e15, kx=np.inf, bedding=False, h2=19e-3 if pm == "tilt" else 38e-3)
-    res = apparatus_result(prof, STEEL, app, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
-    direct = run_contact(prof, STEEL, MU, F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200)
+    res = mdr_apparatus_result(prof, STEEL, app, MU, Loading.apparatus(F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200))
+    direct = run_mdr_contact(prof, STEEL, MU, Loading.of(F0, dF=0.1, alpha=0.3, ua=40e-9, cycles=3, steps=200))
     assert res["dissipation"] == pytest.approx(direct["dissipation"], rel=1e-5)
     np.testing.assert_allclose(res["loop"]["Fx"], direct["loop"]["Fx"], rtol=0, atol=1e-6 * MU * F0)
 
@@ -46,7 +48,7 @@ def test_very_soft_plates_leave_every_contact_sticking_as_the_linear_spring_netw
     kx = 2e6
     app = _scaled(pm, 1e3, kx=kx)
     law = MDRContact(Sphere(R), STEEL, MU, F_max=F0, n=400)
-    out = run_apparatus(law, app, MU, F0, 0.0, 0.0, 150e-9, cycles=2, steps=80)
+    out = run_apparatus(law, app, Loading.apparatus(F0, dF=0.0, alpha=0.0, ua=150e-9, cycles=2, steps=80))
     assert float(out["slip_index"]) < 1e-6
     assert np.max(np.abs(out["Fx"] + out["Fbed"])) <= 1e3 * 150e-9 * (1 + 1e-9)
     # the linear network
@@ -79,7 +81,7 @@ def test_the_block_is_in_equilibrium_at_every_step(pm):
     plus the closed-form stroke loss u3 - u2 = A F_x + Bc F_bed at every step."""
     law = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=100)
     app = Apparatus(kx=2e6, plate_model=pm, R_bed=2e-3)
-    out = run_apparatus(law, app, MU, F0, 0.1, 0.3, 150e-9, cycles=3, steps=80)
+    out = run_apparatus(law, app, Loading.apparatus(F0, dF=0.1, alpha=0.3, ua=150e-9, cycles=3, steps=80))
     Fx, Fb, u3, ub, th = out["Fx"], out["Fbed"], out["u3"], out["ub"], out["tilt"]
     np.testing.assert_allclose(Fx, app.kx * out["u1"], rtol=1e-12)
     np.testing.assert_allclose(out["du"], out["u2"] - out["u1"], atol=1e-20)
@@ -230,6 +232,5 @@ def test_cli_plate_model_reaches_the_apparatus(tmp_path):
                "--json", str(path)])
     assert rc == 0
     got = json.loads(path.read_text())
-    ref = apparatus_result(Sphere(R), STEEL, Apparatus(plate_model="parallel", R_bed=2e-3), MU, F0, cycles=2, steps=40,
-                           n=100)
+    ref = mdr_apparatus_result(Sphere(R), STEEL, Apparatus(plate_model="parallel", R_bed=2e-3), MU, Loading.apparatus(F0, cycles=2, steps=40), n=100)
     assert got["dissipation"] == ref["dissipation"] and got["inputs"]["apparatus"]["plate_model"] == "parallel"

@@ -4,7 +4,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from mdr import FlatPunch, Materials, MDRContact, Sphere, TruncatedSphere
-from mdr.drive import run_contact
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 SETTINGS = dict(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -21,7 +22,7 @@ materials = st.builds(Materials, st.floats(50e9, 400e9), st.floats(0.0, 0.45), s
        alpha=st.floats(0, 2 * np.pi), ua=st.floats(1e-9, 3e-7))
 def test_harmonic_fretting_invariants(prof, mat, mu, F0, q, alpha, ua):
     steps, cycles = 80, 4
-    res = run_contact(prof, mat, mu, F0, dF=q * F0, alpha=alpha, ua=ua, cycles=cycles, steps=steps, n=120)
+    res = run_mdr_contact(prof, mat, mu, Loading.of(F0, dF=q * F0, alpha=alpha, ua=ua, cycles=cycles, steps=steps), n=120)
     Fx, FN = np.array(res["loop"]["Fx"]), np.array(res["loop"]["FN"])
     assert np.all(np.abs(Fx) <= mu * FN * (1 + 1e-9) + 1e-15)
     assert res["dissipation"] >= 0 and all(w >= 0 for w in res["dissipation_per_cycle"])
@@ -37,7 +38,7 @@ def test_harmonic_fretting_invariants(prof, mat, mu, F0, q, alpha, ua):
 @given(prof=profiles, mu=st.floats(0.05, 0.8), F0=st.floats(0.1, 2.0), ua=st.floats(2e-9, 2e-7))
 def test_constant_load_loop_is_point_symmetric(prof, mu, F0, ua):
     steps = 80
-    res = run_contact(prof, Materials(), mu, F0, ua=ua, cycles=3, steps=steps, n=120)
+    res = run_mdr_contact(prof, Materials(), mu, Loading.of(F0, ua=ua, cycles=3, steps=steps), n=120)
     Fx, du = np.array(res["loop"]["Fx"]), np.array(res["loop"]["du"])
     half = steps // 2
     np.testing.assert_allclose(Fx[half:], -Fx[: half + 1], atol=1e-9 * mu * F0)
@@ -50,7 +51,7 @@ def test_constant_load_loop_is_point_symmetric(prof, mu, F0, ua):
        ua=st.floats(2e-9, 2e-7))
 def test_independent_of_spring_count(prof, mu, F0, q, ua):
     kw = dict(dF=q * F0, ua=ua, cycles=3, steps=80)
-    W = [run_contact(prof, Materials(), mu, F0, n=n, **kw)["dissipation"] for n in (200, 800)]
+    W = [run_mdr_contact(prof, Materials(), mu, Loading.of(F0, **kw), n=n)["dissipation"] for n in (200, 800)]
     assert abs(W[0] - W[1]) <= 2e-3 * W[1] + 5e-5 * 4 * mu * F0 * ua  # or slip index to 5e-5
 
 

@@ -4,10 +4,11 @@ import pytest
 
 from mdr import FlatPunch, InputError, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
-from mdr.drive import run_contact
 from mdr.normal import approach_from_force, normal_energy
 
 from conftest import F0, MU, R, STEEL, harmonic
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 ES, GS = STEEL.E_star, STEEL.G_star
 H = ref.hertz(F0, R, ES)
@@ -65,7 +66,7 @@ def test_mindlin_deresiewicz_loop_and_dissipation_displacement_control(frac, tol
     F_up = ref.mindlin_deresiewicz_loop(u[up], uA, F0, MU, USTAR, "loading")
     assert np.max(np.abs(Fx[up] - F_up)) < 1e-5 * MU * F0
     W_ref = ref.mindlin_deresiewicz_dissipation(uA, F0, MU, USTAR)
-    res = run_contact(Sphere(R), STEEL, MU, F0, ua=uA, cycles=cycles, steps=steps)
+    res = run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F0, ua=uA, cycles=cycles, steps=steps))
     assert res["dissipation"] == pytest.approx(W_ref, rel=tol_area, abs=0)
     assert res["friction_work"] == pytest.approx(W_ref, rel=tol_work, abs=0)
     assert res["stick_radius"] == pytest.approx(H["a"] * np.sqrt(1 - uA / USTAR), rel=tol_c, abs=0)
@@ -74,7 +75,7 @@ def test_mindlin_deresiewicz_loop_and_dissipation_displacement_control(frac, tol
 @pytest.mark.parametrize("q,tol", [(0.3, 5e-4), (0.8, 8e-5)])  # measured +2.1e-4, -3.0e-5
 def test_mindlin_deresiewicz_force_control(q, tol):
     FA = q * MU * F0
-    res = run_contact(Sphere(R), STEEL, MU, F0, fa=FA, cycles=3, steps=400)
+    res = run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F0, fa=FA, cycles=3, steps=400))
     W_ref = ref.mindlin_deresiewicz_dissipation_force(FA, F0, MU, USTAR)
     assert res["dissipation"] == pytest.approx(W_ref, rel=tol, abs=0)
     # measured -1.0e-7, -5.8e-7
@@ -87,7 +88,7 @@ def test_mindlin_deresiewicz_force_control(q, tol):
                          ids=["sphere", "trunc20", "trunc50", "flat"])
 def test_gross_slip_dissipation_any_profile(prof):
     uA = 150e-9
-    res = run_contact(prof, STEEL, MU, F0, ua=uA, cycles=3, steps=400)
+    res = run_mdr_contact(prof, STEEL, MU, Loading.of(F0, ua=uA, cycles=3, steps=400))
     d = approach_from_force(prof, STEEL, F0)
     U = normal_energy(prof, STEEL, d)
     W_ref = ref.gross_slip_dissipation(uA, F0, MU, U, ES, GS)
@@ -130,7 +131,7 @@ def test_step_is_pure_and_matches_run():
 
 def test_contact_lost_gives_defined_answer():
     # normal force oscillating down to zero: tangential history released, no NaN
-    res = run_contact(Sphere(R), STEEL, MU, F0, dF=F0, alpha=np.pi / 2, ua=50e-9, cycles=3, steps=400)
+    res = run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F0, dF=F0, alpha=np.pi / 2, ua=50e-9, cycles=3, steps=400))
     loop = res["loop"]
     assert np.all(np.isfinite(loop["Fx"])) and np.isfinite(res["dissipation"])
     k = int(np.argmin(loop["FN"]))
@@ -146,8 +147,8 @@ def test_convergence_under_grid_refinement_partial_slip_varying_load(prof, ua, t
     # no closed form with a varying normal force: the error against a 16x finer grid must
     # fall under refinement and the default grid must meet the 1e-4 target
     kw = dict(dF=0.1, alpha=0.0, ua=ua, cycles=3, steps=400)
-    fine = run_contact(prof, STEEL, MU, F0, n=6400, **kw)["dissipation"]
-    errs = [abs(run_contact(prof, STEEL, MU, F0, n=n, **kw)["dissipation"] / fine - 1) for n in (200, 400, 800)]
+    fine = run_mdr_contact(prof, STEEL, MU, Loading.of(F0, **kw), n=6400)["dissipation"]
+    errs = [abs(run_mdr_contact(prof, STEEL, MU, Loading.of(F0, **kw), n=n)["dissipation"] / fine - 1) for n in (200, 400, 800)]
     assert errs[0] > errs[1] > errs[2]
     assert errs[1] < tol  # the default grid; measured 7.7e-6, 7.5e-6, 4.5e-5
 
@@ -172,9 +173,9 @@ def test_bad_input_names_parameter():
     with pytest.raises(InputError, match="F_N|d"):
         law.step(law.rest_state(), 0.0)
     with pytest.raises(InputError, match="ua|fa"):
-        run_contact(Sphere(R), STEEL, MU, F0, ua=1e-9, fa=0.01)
+        run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F0, ua=1e-9, fa=0.01))
     with pytest.raises(InputError, match="dF"):
-        run_contact(Sphere(R), STEEL, MU, F0, dF=0.6, ua=1e-9)
+        run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F0, dF=0.6, ua=1e-9))
     with pytest.raises(InputError, match="grid"):
         law.step(law.rest_state(), 0.0, F_N=5.0)
 
@@ -186,12 +187,11 @@ def test_stick_radius_of_a_flat_face_reaches_its_edge():
     only the thin rim beyond b slips, so b <= c <= a on every grid (the flat face's cells
     all carry the same slack, so the stick edge cannot be extrapolated from them)."""
     from mdr import Materials
-    from mdr.drive import run_contact
     from mdr.profiles import TruncatedSphere
 
     b = 100e-6
     for n in (100, 1600):
-        r = run_contact(TruncatedSphere(6e-3, b), Materials(), 0.2, 0.5, 0.1, 0.0, fa=0.06, cycles=3, steps=80, n=n)
+        r = run_mdr_contact(TruncatedSphere(6e-3, b), Materials(), 0.2, Loading.of(0.5, dF=0.1, alpha=0.0, fa=0.06, cycles=3, steps=80), n=n)
         assert b * (1 - 1e-9) <= r["stick_radius"] <= r["contact_radius"], n
 
 

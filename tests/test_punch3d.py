@@ -23,6 +23,7 @@ from mdr import reference as ref
 from common.errors import InputError
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, TruncatedSphere
+from mdr.loading import Loading
 
 MAT = Materials()
 ES = MAT.E_star
@@ -246,7 +247,7 @@ def _tilt_run(law, theta, steps=20):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a sticking punch's cycles are "not stationary" at 1e-26 J
-        out = drive_3d(law.variant(tilt=theta), MU, F0_T, DF_T, 0.0, None, FA_T, 3, steps)
+        out = drive_3d(law.variant(tilt=theta), Loading.of(F0_T, dF=DF_T, alpha=0.0, fa=FA_T, cycles=3, steps=steps))
     return out["dissipation"] / (4 * MU * F0_T * out["displacement_amplitude"]), out
 
 
@@ -289,8 +290,7 @@ def test_tilt_zero_is_the_aligned_punch(punch):
     d3, o3 = _tilt_run(l3, 0.0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        ax = run_contact(FlatPunch(B_F), MAT, MU, F0_T, DF_T, 0.0, fa=FA_T, cycles=3, steps=20,
-                         law=FEContact(FlatPunch(B_F), MAT, MU, h_contact=1 / 20, displacement="contact"))
+        ax = run_contact(FEContact(FlatPunch(B_F), MAT, MU, h_contact=1 / 20, displacement="contact"), Loading.of(F0_T, dF=DF_T, alpha=0.0, fa=FA_T, cycles=3, steps=20))
     assert d3 < 1e-4 and ax["dissipation"] / (4 * MU * F0_T * ax["displacement_amplitude"]) < 1e-4
     assert abs(o3["displacement_amplitude"] / ax["displacement_amplitude"] - 1) < 0.03
 
@@ -540,14 +540,13 @@ def test_tilted_face_in_the_apparatus_fig6():
     prof, app = TruncatedSphere(R_IND, TABLE1_B), Apparatus(kx=TABLE1_KX, mu2=mu2)
     kw = dict(dF=0.2 * F0, alpha=0.0, ua=ua, cycles=3, steps=80)
     thc = tilt_critical(F0, TABLE1_B, ES)
-    d_md = float(run_apparatus(MDRContact(prof, MAT, mu1, F_max=1.2 * F0, F_min=0.8 * F0, n=400), app, mu1, F0,
-                               **kw)["slip_index"])
+    d_md = float(run_apparatus(MDRContact(prof, MAT, mu1, F_max=1.2 * F0, F_min=0.8 * F0, n=400), app, Loading.apparatus(F0, **kw))["slip_index"])
     eff = {}
     for h in (0.3, 0.2):
         law = FEContact3D(prof, MAT, mu1, F_max=1.2 * F0, h_contact=h, displacement="contact")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            d = [float(run_apparatus(law.variant(tilt=k * thc), app, mu1, F0, **kw)["slip_index"]) for k in (0.0, 1.0, 3.0)]
+            d = [float(run_apparatus(law.variant(tilt=k * thc), app, Loading.apparatus(F0, **kw))["slip_index"]) for k in (0.0, 1.0, 3.0)]
         assert abs(d[0] / d_md - 1) < 2e-3
         eff[h] = np.array(d[1:]) / d[0] - 1
     for e in eff.values():
@@ -575,6 +574,6 @@ def test_banded_face_in_the_apparatus_fig6_at_the_paper_tilt():
     assert int(tl.contact_mask(tl.normal(F_N=F0).p).sum()) >= 10
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        d0, d1 = (float(run_apparatus(x, app, mu1, F0, **kw)["slip_index"]) for x in (law, tl))
+        d0, d1 = (float(run_apparatus(x, app, Loading.apparatus(F0, **kw))["slip_index"]) for x in (law, tl))
     assert -0.2 < d1 / d0 - 1 < -0.05, (d0, d1)
     assert d0 - d1 > 0.02, (d0, d1)

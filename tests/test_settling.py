@@ -8,6 +8,7 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 from common.ladder import SETTLED, SETTLING_RATIO_MAX, settling_error
+from mdr.loading import Loading
 
 
 def geometric(x_star, C, r, n):
@@ -95,8 +96,7 @@ def _settled_pair(pair):
     from validation.families.assumptions3d import effect_settling
     from validation.scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D
 
-    runs = dict(zip(("on", "off"), drive_3d_together(pair, MU, F0, DF, 0.0, None, FA, 4, 40,
-                                                     settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
+    runs = dict(zip(("on", "off"), drive_3d_together(pair, Loading.of(F0, dF=DF, alpha=0.0, fa=FA, cycles=4, steps=40), settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
     s = effect_settling(runs["on"], runs["off"], "dissipation", "relative", floor=2 * SETTLE_TOL_3D)
     return runs, s
 
@@ -111,8 +111,8 @@ def test_a_continued_run_is_one_long_run(pairs):
     from fem.contact_run import drive_3d
 
     on, _ = pairs["coupling"]
-    one = drive_3d(on, MU, F0, DF, 0.0, None, FA, 8, 40)
-    cont = drive_3d(on, MU, F0, DF, 0.0, None, FA, 4, 40, settle=(0.0, 8))
+    one = drive_3d(on, Loading.of(F0, dF=DF, alpha=0.0, fa=FA, cycles=8, steps=40))
+    cont = drive_3d(on, Loading.of(F0, dF=DF, alpha=0.0, fa=FA, cycles=4, steps=40), settle=(0.0, 8))
     assert cont["cycles_run"] == 8 and cont["settled"] is False
     W1, W2 = np.array(one["dissipation_per_cycle"]), np.array(cont["dissipation_per_cycle"])
     assert W1.shape == W2.shape and np.max(np.abs(W1 - W2)) < 1e-9 * W1.max()
@@ -133,7 +133,7 @@ def test_the_settled_direction_effect_holds_the_stationary_cycle(pairs):
     assert all(r["settled"] for r in runs.values())
     assert s["status"] == "stationary" and s["bounded"]
     n = max(r["cycles_run"] for r in runs.values()) + 8
-    long = {k: drive_3d(v, MU, F0, DF, 0.0, None, FA, n, 40) for k, v in zip(("on", "off"), pairs["direction"])}
+    long = {k: drive_3d(v, Loading.of(F0, dF=DF, alpha=0.0, fa=FA, cycles=n, steps=40)) for k, v in zip(("on", "off"), pairs["direction"])}
     assert abs(_effect(long) - _effect(runs)) <= s["error"]
 
 
@@ -147,7 +147,7 @@ def test_the_coupled_pair_settles_slowly_and_its_bar_holds_it(pairs):
     runs, s = _settled_pair(pairs["coupling"])
     assert s["status"] == "stationary" and s["bounded"]
     n = max(r["cycles_run"] for r in runs.values()) + 20
-    long = {k: drive_3d(v, MU, F0, DF, 0.0, None, FA, n, 40) for k, v in zip(("on", "off"), pairs["coupling"])}
+    long = {k: drive_3d(v, Loading.of(F0, dF=DF, alpha=0.0, fa=FA, cycles=n, steps=40)) for k, v in zip(("on", "off"), pairs["coupling"])}
     moved = abs(_effect(long) - _effect(runs))
     assert moved <= s["error"]
     d_last = s["error"] * (1 - SETTLING_RATIO_MAX) / SETTLING_RATIO_MAX

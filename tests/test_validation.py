@@ -13,12 +13,13 @@ import numpy as np
 import pytest
 
 from mdr import Materials, reference as ref
-from mdr.drive import run_contact
 from mdr.profiles import TruncatedSphere
 from validation import compare, metrics, runner, sides, store
 from validation.families import assumptions3d, tilt
 from validation.fields import image_is_blank
 from validation.scenes import CATALOGUE, Scene, code_version, select
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 CONTRACT_KEYS = ("contact_radius", "indentation", "stick_radius", "dissipation", "slip_index", "runtime_s", "loop")
 
@@ -203,8 +204,8 @@ def test_scene_bad_input():
 def test_state_at_splits_history_exactly():
     p, m = TruncatedSphere(6e-3, 20e-6), Materials()
     for kw in ({"fa": 0.06}, {"ua": 50e-9}):
-        a = run_contact(p, m, 0.2, 0.5, 0.1, 0.3, cycles=3, steps=40, **kw)
-        b, st = run_contact(p, m, 0.2, 0.5, 0.1, 0.3, cycles=3, steps=40, state_at=50, **kw)
+        a = run_mdr_contact(p, m, 0.2, Loading.of(0.5, dF=0.1, alpha=0.3, cycles=3, steps=40, **kw))
+        b, st = run_mdr_contact(p, m, 0.2, Loading.of(0.5, dF=0.1, alpha=0.3, cycles=3, steps=40, **kw), state_at=50)
         assert a["dissipation"] == b["dissipation"] and a["loop"] == b["loop"]
         assert a["stick_radius"] == b["stick_radius"]
         assert st is not None
@@ -504,8 +505,7 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     # the runner's coarse level is the direct call
     law = FEContact3D(TruncatedSphere(s.R, s.b), Materials(s.E1, s.nu1, s.E2, s.nu2), s.mu, F_max=s.F0 + s.dF,
                       h_contact=0.3, displacement="contact")
-    out = run_apparatus(law, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha, s.amplitude,
-                        cycles=s.cycles, steps=s.steps)
+    out = run_apparatus(law, Apparatus(kx=s.kx, mu2=s.mu2), Loading.apparatus(s.F0, dF=s.dF, alpha=s.alpha, ua=s.amplitude, cycles=s.cycles, steps=s.steps))
     coarse = res["ladder"]["fem"][0]
     for k in ("slip_index", "dissipation", "stick_radius"):
         assert coarse[k] == pytest.approx(float(out[k]), rel=1e-12, abs=0), k

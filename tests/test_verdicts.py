@@ -15,10 +15,11 @@ import pytest
 
 from mdr import Materials, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
-from mdr.drive import harmonic_history, run_contact
 from mdr.stick import stick_radius
 from validation import metrics
 from validation.report import verdict as scene_verdict
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 H3 = [1 / 20, 1 / 40, 1 / 80]
 
@@ -147,7 +148,7 @@ def test_mdr_stick_radius_matches_cattaneo_mindlin():
     c_cm = float(ref.cattaneo_mindlin_stick_radius(0.05, 0.5, 0.2, a))
     errs = {}
     for n in (100, 400):
-        out = run_contact(Sphere(6e-3), m, 0.2, 0.5, fa=0.05, cycles=3, steps=200, n=n)
+        out = run_mdr_contact(Sphere(6e-3), m, 0.2, Loading.of(0.5, fa=0.05, cycles=3, steps=200), n=n)
         errs[n] = out["stick_radius"] / c_cm - 1
     # measured: 3.0e-5 at n = 100, 6.9e-6 at n = 400
     assert abs(errs[100]) < 1e-4 and abs(errs[400]) < 2e-5
@@ -158,11 +159,12 @@ def test_mdr_stick_radius_converges_under_varying_normal_force():
     the estimator used to jump by 17 % between grids (cells exactly at their slip limit
     counted as sticking); now the ladder 100 / 400 / 1600 cells converges."""
     prof, m = TruncatedSphere(6e-3, 5e-6), Materials()
-    t, FN = harmonic_history(0.5, 0.1, 0.0, 3, 200)
+    load = Loading(0.5, 0.06, "force", 0.1, 0.0, 3, 200)
+    t, FN = load.times(), load.normal_force()
     c = []
     for n in (100, 400, 1600):
         law = MDRContact(prof, m, 0.2, F_max=0.6, F_min=0.4, n=n)
-        H = law.run(Fx=0.06 * np.sin(2 * np.pi * t), F_N=FN, record_from=400)
+        H = law.run(Fx=load.tangential(), F_N=FN, record_from=400)
         c.append(float(H.window_stick_radius(law)))
     le = metrics.ladder_error([1 / 100, 1 / 400, 1 / 1600], c)
     # measured: 16.0534, 16.0528, 16.0528 um; error bar 2e-7 of c

@@ -43,9 +43,11 @@ import numpy as np
 
 from mdr import ConvergenceError, FlatPunch, Materials, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
-from mdr.drive import run_contact
+
 from mdr.loops import loop_integral
 from mdr.normal import approach_from_force, pressure
+from mdr.drive import run_mdr_contact
+from mdr.loading import Loading
 
 R, F, MU = 6e-3, 0.5, 0.2
 ROUNDOFF = 1.3e-15  # tolerance of the rows that are exact up to rounding (measured 2.8e-16, 4.4e-16)
@@ -235,7 +237,7 @@ def case_truncated_edge(quick=True, cache_dir=None):
         err = max(abs(float(prof.g_inv(d)) / a_t - 1), abs(d / d_t - 1))
         # gross slip at 3 u*: dW = 4 mu F u_A - 8 mu^2 (E*/G*) U (any profile)
         ua = 3 * MU * STEEL.E_star * d / STEEL.G_star
-        res = run_contact(prof, STEEL, MU, F, ua=ua, cycles=3, steps=400)
+        res = run_mdr_contact(prof, STEEL, MU, Loading.of(F, ua=ua, cycles=3, steps=400))
         U = ref.truncated_energy(a_t, R, b, STEEL.E_star)
         e_w = abs(res["friction_work"] / ref.gross_slip_dissipation(ua, F, MU, U, STEEL.E_star, STEEL.G_star) - 1)
         rows.append(_row(f"truncated b = {q:g} a: contact radius, approach, gross slip", "mdr", max(err, e_w),
@@ -274,7 +276,7 @@ def case_gross_slip_many_cycles(quick=True, cache_dir=None):
     truth = ref.mindlin_deresiewicz_dissipation(ua, F, MU, us)
     t0 = time.perf_counter()
     cycles, steps = 50, 200
-    res = run_contact(Sphere(R), STEEL, MU, F, ua=ua, cycles=cycles, steps=steps)
+    res = run_mdr_contact(Sphere(R), STEEL, MU, Loading.of(F, ua=ua, cycles=cycles, steps=steps))
     t, s = _harmonic(cycles, steps)
     H = MDRContact(Sphere(R), STEEL, MU, F_max=F).run(u=ua * s, F_N=np.full(t.size, F))
     W = np.array([np.sum(H.work[k * steps + 1:(k + 1) * steps + 1]) for k in range(cycles)])
@@ -375,7 +377,7 @@ def case_friction_extremes(quick=True, cache_dir=None):
         us = _u_star(mu=mu)
         truth = ref.mindlin_deresiewicz_dissipation(0.5 * us, F, mu, us)
         t0 = time.perf_counter()
-        res = run_contact(Sphere(R), STEEL, mu, F, ua=0.5 * us, cycles=3, steps=400)
+        res = run_mdr_contact(Sphere(R), STEEL, mu, Loading.of(F, ua=0.5 * us, cycles=3, steps=400))
         rows.append(_row(f"mu = {mu:g}", "mdr", res["dissipation"] / truth - 1, 2.5e-5,
                          "Mindlin-Deresiewicz dW at u_A = u*/2", t0))
         t0 = time.perf_counter()
@@ -388,7 +390,7 @@ def case_friction_extremes(quick=True, cache_dir=None):
                               f"stick radius {e_c:.1e} of a (Cattaneo-Mindlin)", stick_radius_error=e_c))
     t0 = time.perf_counter()
     ua0 = 50e-9
-    res = run_contact(Sphere(R), STEEL, 0.0, F, ua=ua0, cycles=2, steps=40)
+    res = run_mdr_contact(Sphere(R), STEEL, 0.0, Loading.of(F, ua=ua0, cycles=2, steps=40))
     fx = max(abs(x) for x in res["loop"]["Fx"]) / F
     dw = abs(res["dissipation"]) / (4 * F * ua0)
     rows.append(_row("mu = 0 (frictionless)", "mdr", max(fx, dw), ROUNDOFF,
@@ -534,7 +536,7 @@ def case_apparatus_stiffness(quick=True, cache_dir=None):
     cycles, steps = 3, 200
     t0 = time.perf_counter()
     law = MDRContact(Sphere(np.full(kx.size, R)), STEEL, MU, F_max=F, n=400)
-    out = run_apparatus(law, Apparatus(kx=kx), MU, F, dF=0.0, ua=150e-9, cycles=cycles, steps=steps)
+    out = run_apparatus(law, Apparatus(kx=kx), Loading.apparatus(F, dF=0.0, ua=150e-9, cycles=cycles, steps=steps))
     truth, FA = _contact_truth(out, MU, F, steps, cycles)
     dW = out["dissipation"]
     err = np.abs(dW - truth) / (4 * MU * F * 150e-9)  # as a slip-index difference (dW -> 0 when sticking)
@@ -554,7 +556,7 @@ def case_apparatus_stiffness(quick=True, cache_dir=None):
     errs, deltas, its = [], [], []
     for k in ks:
         fe = _fe(Sphere(R), h=0.05 if quick else 1 / 40, cache_dir=cache_dir, displacement="contact")
-        o = run_apparatus(fe, Apparatus(kx=k), MU, F, dF=0.0, ua=150e-9, cycles=cycles, steps=fe_steps)
+        o = run_apparatus(fe, Apparatus(kx=k), Loading.apparatus(F, dF=0.0, ua=150e-9, cycles=cycles, steps=fe_steps))
         tr, _ = _contact_truth(o, MU, F, fe_steps, cycles)
         errs.append(abs(float(o["dissipation"]) - float(tr[0])) / (4 * MU * F * 150e-9))
         deltas.append(float(o["slip_index"]))

@@ -44,6 +44,7 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from common.errors import InputError
+from mdr.loading import Loading
 from studies.study import LOOP_CASES
 
 R_IND = 6e-3
@@ -271,6 +272,12 @@ class Scene:
               and all(a >= b for a, b in zip(v, v[1:])), "a non-increasing list of element sizes / a in (0, 0.5]")
         check("mdr_cells", lambda v: len(v) >= 1 and all(isinstance(x, int) and x >= 4 for x in v)
               and all(a < b for a, b in zip(v, v[1:])), "an increasing list of integers >= 4 (MDR cells)")
+
+    @property
+    def loading(self) -> Loading:
+        """The scene's load (``mdr.loading.Loading``): F_N, the tangential amplitude in the unit of its
+        ``drive``, the time grid."""
+        return Loading(self.F0, self.amplitude, self.drive, self.dF, self.alpha, self.cycles, self.steps)
 
     def tolerances(self) -> dict:
         """The tolerance of every metric (``TOLERANCES`` with this scene's overrides)."""

@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 from mdr.apparatus import Apparatus, apparatus_result
-from mdr.drive import last_peak, run_contact
+from mdr.drive import run_contact
 from mdr.law import MDRContact
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure
@@ -34,25 +34,21 @@ def profile_of(s: Scene):
 
 def peak_index(s: Scene) -> int:
     """Step of the positive peak of the tangential drive in the last cycle."""
-    return last_peak(s.F0, s.dF, s.alpha, s.cycles, s.steps)[0]
+    return s.loading.last_peak()[0]
 
 
 def drive(s: Scene, law):
     """Run the scene's loading with ``law``; returns (result dict, state at the peak step). A 3D FE law
     driven directly gets the same frictional normal ramp as ``python -m fem contact --model 3d``
     (``fem.contact_run.drive_3d``)."""
-    prof, mat = profile_of(s), materials_of(s)
     k = peak_index(s)
     if s.drive == "apparatus":
-        return apparatus_result(prof, mat, Apparatus(kx=s.kx, mu2=s.mu2), s.mu, s.F0, s.dF, s.alpha,
-                                ua=s.amplitude, cycles=s.cycles, steps=s.steps, law=law, state_at=k)
-    kw = {"fa": s.amplitude} if s.drive == "force" else {"ua": s.amplitude}
+        return apparatus_result(law, Apparatus(kx=s.kx, mu2=s.mu2), s.loading, state_at=k)
     if s.fe_model == "3d" and hasattr(law, "cycle_keys"):  # the 3D law: its frictional normal ramp first
         from fem.contact_run import drive_3d
 
-        return drive_3d(law, s.mu, s.F0, s.dF, s.alpha, kw.get("ua"), kw.get("fa"), s.cycles, s.steps, state_at=k)
-    return run_contact(prof, mat, s.mu, s.F0, s.dF, s.alpha, cycles=s.cycles, steps=s.steps, law=law,
-                       state_at=k, **kw)
+        return drive_3d(law, s.loading, state_at=k)
+    return run_contact(law, s.loading, state_at=k)
 
 
 def _timed_median(fun, budget=0.3, repeats=5):
@@ -189,7 +185,7 @@ def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
              "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(it.n, bool)}
     if vtu_path is not None:
         if st is not None:  # modes 0 + 1 at the peak of the last cycle, in the x-z plane
-            write_fretting_vtu(law, st, last_peak(s.F0, s.dF, s.alpha, s.cycles, s.steps)[1], vtu_path)
+            write_fretting_vtu(law, st, s.loading.last_peak()[1], vtu_path)
         else:
             write_vtu(law.model, nr, vtu_path)
     return out, field

@@ -120,15 +120,12 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     for v in s.variants:
         sv = assumption_variant(s, v)
         relax = v["relax"]
-        kw = {"fa": sv.amplitude} if sv.drive == "force" else {"ua": sv.amplitude}
         levels = []
         for h in sv.fe_levels:
             law = fe_law(sv, h)
             pair = (law.variant(traction="free", coupling=True),
                     law.variant(traction="x") if relax == "direction" else law.variant(coupling=False))
-            runs = dict(zip(("on", "off"), drive_3d_together(pair, sv.mu, sv.F0, sv.dF, sv.alpha, kw.get("ua"),
-                                                             kw.get("fa"), sv.cycles, sv.steps,
-                                                             settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
+            runs = dict(zip(("on", "off"), drive_3d_together(pair, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
             a = runs["off"]["contact_radius"]
             eff = {}
             for q, (_, kind, _) in EFFECTS_3D.items():

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from common.ladder import settling_error
+from mdr.loading import gross_slip_work
 
 from .. import metrics
 from . import result_of
@@ -46,7 +47,7 @@ TILT_METRICS = {"dissipation": "dissipation", "slip_index": "slip_index", "conta
 def _tilt_effects(run, ref, relative, mu, F0) -> dict:
     """The tilt metrics (``TILT_METRICS``) of one tilted ``run`` against a reference ``ref`` (the
     aligned 3D run on the same mesh, or MDR); ``relative``: the dissipation relative to ref's."""
-    scale = 4.0 * mu * F0 * float(ref["displacement_amplitude"])
+    scale = float(gross_slip_work(mu, F0, float(ref["displacement_amplitude"])))
     W, W0 = float(run["dissipation"]), float(ref["dissipation"])
     d, d0 = run.get("slip_index"), ref.get("slip_index")
     return {"dissipation": (W - W0) / (abs(W0) if relative else scale) if (abs(W0) if relative else scale) > 0
@@ -79,11 +80,11 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
         return {"dissipation": none, "slip_index": none, "contact_area": None, "loop_du": none}
     u, u0 = float(run["displacement_amplitude"]), float(ref["displacement_amplitude"])
     si = (lambda w, ua: None if run.get("slip_index") is None or ref.get("slip_index") is None
-          else w / (4.0 * mu * F0 * ua))
+          else w / float(gross_slip_work(mu, F0, ua)))
     eff = [_tilt_effects({**run, "dissipation": w, "slip_index": si(w, u), "loop": run["loop"]},
                          {**ref, "dissipation": w0, "slip_index": si(w0, u0)}, relative, mu, F0)
            for w, w0 in zip(W, W0)]
-    S = 4.0 * mu * F0 * u0
+    S = float(gross_slip_work(mu, F0, u0))
     settled_change = SETTLE_TOL_3D * (max(abs(W[-1]), HARDLY_DISSIPATES * S) + max(abs(W0[-1]), HARDLY_DISSIPATES * S))
     floor_W = settled_change / (abs(W0[-1]) if relative and W0[-1] else S)
     changes = [((x.get("cycle_change") or {}).get("loop")) for x in (run, ref) if "cycle_change" in x]
@@ -146,8 +147,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             laws = [law.variant(tilt=th) for th in tilts]
             with warnings.catch_warnings():  # stationarity is reported per run
                 warnings.simplefilter("ignore", RuntimeWarning)
-                outs = drive_3d_together(laws, sv.mu, sv.F0, sv.dF, sv.alpha, None, sv.amplitude, sv.cycles,
-                                         sv.steps, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
+                outs = drive_3d_together(laws, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
             for th, lt, out in zip(tilts, laws, outs):
                 tk = lt.tilt_keys(sv.F0)
                 runs.append({"tilt": th, "contact_vertices": int(lt.contact_mask(lt.normal(F_N=sv.F0).p).sum()),
