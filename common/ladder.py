@@ -108,11 +108,18 @@ def _observed_order(ratio, r21, r10) -> float:
 
 def contracting(values) -> bool:
     """Whether the last change of a sequence of cycles is 0 or at most ``SETTLING_RATIO_MAX`` of the
-    one before (False with fewer than three values and a non-zero change)."""
-    d = np.diff([float(v) for v in values])
+    one before (False with fewer than three values and a non-zero change), up to the round-off of the
+    two changes: each difference of two doubles is off by up to an ulp of the larger, so a tie within
+    4 eps max |x| counts as contracting on every rounding path (a ratio at exactly the bound, read from
+    changes of 1e-8 of the values, is otherwise decided by the last bits: 2e-9 of the ratio)."""
+    x = np.array([float(v) for v in values])
+    d = np.diff(x)
     if d.size and d[-1] == 0.0:
         return True
-    return d.size >= 2 and abs(d[-1]) <= SETTLING_RATIO_MAX * abs(d[-2]) * (1.0 + 1e-9)  # round-off at a tie
+    if d.size < 2:
+        return False
+    roundoff = 4.0 * np.finfo(float).eps * float(np.max(np.abs(x[-3:])))
+    return abs(d[-1]) <= SETTLING_RATIO_MAX * abs(d[-2]) * (1.0 + 1e-12) + roundoff
 
 
 def settling_error(values, *, floor=0.0) -> dict:

@@ -5,7 +5,7 @@ Truths: a geometric sequence's limit (closed form); a continued history equals o
 stationary cycle of a coupled dissimilar 3D pair, approximated by running many more cycles."""
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 
 from common.ladder import SETTLED, SETTLING_RATIO_MAX, settling_error
 from mdr.loading import Loading
@@ -18,6 +18,9 @@ def geometric(x_star, C, r, n):
 @settings(max_examples=200, deadline=None)
 @given(r=st.floats(-SETTLING_RATIO_MAX, SETTLING_RATIO_MAX), C=st.floats(-1.0, 1.0),
        n=st.integers(3, 40), x_star=st.floats(-1.0, 1.0))
+# a ratio at the bound read from changes of 6e-8 of the values: decided by their last bits (found with
+# numpy's AVX2 kernels switched off; common.ladder.contracting's round-off allowance)
+@example(r=0.9499999999999998, C=-1.2790366919671555e-06, n=3, x_star=1.0)
 def test_a_settled_contraction_is_bounded(r, C, n, x_star):
     """x_k = x* + C r^k with |r| <= SETTLING_RATIO_MAX: once the last change is below the floor,
     the stationary value x* lies within the error bar of the last cycle."""
