@@ -101,3 +101,15 @@ def test_the_fillet_moves_the_peak_pressure_far_and_the_loop_little():
     assert abs(moved[0.5e-6][0]) < 5e-4 and abs(moved[1e-6][0]) < 2.5e-3
     assert -2e-2 < moved[3e-6][0] < -4e-3 and 4e-3 < moved[3e-6][1] < 2e-2
     assert _mdr_peak(0.5e-6) < 0.7 * _mdr_peak(None) and _mdr_peak(3e-6) < 0.5 * _mdr_peak(None)
+
+
+def test_the_commands_take_the_fillet_and_refuse_it_without_a_kink(capsys):
+    from studies.cli import main
+
+    assert main(["normal", "--profile", "sphere", "--R", "6e-3", "--fillet", "1e-6", "--F", "0.5"]) == 2
+    err = capsys.readouterr().err
+    assert "fillet" in err and err.count("\n") == 1
+    assert main(["normal", "--profile", "truncated", "--R", "6e-3", "--b", "20e-6", "--fillet", "1e-6", "--F", "0.5",
+                 "--json", "-"]) == 0
+    out = capsys.readouterr().out
+    assert '"fillet": 1e-06' in out and '"profile": "rounded"' in out
