@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from fem.elastic3d import dirichlet_dofs, pressure_load, stiffness3d
+from fem.solid3d.elastic import dirichlet_dofs, pressure_load, stiffness3d
 from fem.solvers import blas_threads, factorize
 from meshes.half3d import Half3DMeshParams, build_mesh3d
 

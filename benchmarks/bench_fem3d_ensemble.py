@@ -46,7 +46,7 @@ RING_WIDTH = 0.18
 def member(h, ring_r, steps):
     """One mesh of the ensemble: the free and the x-traction runs on it."""
     from fem.contact_run import drive_3d
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 

@@ -24,7 +24,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from fem.law import FEContact  # noqa: E402
+from fem.axisym.law import FEContact  # noqa: E402
 from common.io import write_json  # noqa: E402
 from mdr.loops import loop_integral  # noqa: E402
 from mdr.materials import Materials  # noqa: E402

@@ -24,9 +24,9 @@ from common.io import write_json  # noqa: E402
 from mdr.materials import Materials  # noqa: E402
 from mdr.reference import hertz  # noqa: E402
 from meshes import cached_mesh  # noqa: E402
-from fem.model import build_model  # noqa: E402
-from fem.normal import solve_normal  # noqa: E402
-from fem.normal_run import mesh_params  # noqa: E402
+from fem.axisym.model import build_model  # noqa: E402
+from fem.axisym.normal import solve_normal  # noqa: E402
+from fem.axisym.normal_run import mesh_params  # noqa: E402
 
 
 def main(argv=None):

@@ -1,7 +1,7 @@
 """The apparatus with the tilted 3D law: one experiment of the paper (Figs. 6, 7: truncated sphere
 b = 0.6 mm, R = 6 mm, k_x = 1.9 N/um, ``studies.study.LOOP_CASES``) read again with a misaligned face.
 
-The MDR law and the 3D law (``fem.law3d.FEContact3D``, contact measure, trial steps) in the same
+The MDR law and the 3D law (``fem.solid3d.law.FEContact3D``, contact measure, trial steps) in the same
 apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``studies.study.loops``):
 the slip index of the aligned face and of faces tilted by multiples of theta_c = F0 / (4 E* b^2)
 up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
@@ -22,7 +22,7 @@ from mdr.loading import Loading
 
 
 def main(argv=None):
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.law import MDRContact
     from mdr.materials import Materials

@@ -1,7 +1,7 @@
 """``python -m fem``: see fem.cli."""
 import sys
 
-from .cli import main
+from fem.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

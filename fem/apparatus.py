@@ -15,19 +15,19 @@ from mdr.loading import Loading
 from common.errors import InputError, in_range, nonnegative, positive
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
-from .friction import DEFAULT_FRICTION_AL_TOL
-from .law import FEContact
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-from .solvers import blas_threads
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
+from fem.axisym.law import FEContact
+from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.solvers import blas_threads
 
 
 def fem_apparatus_law(profile, materials, mu, F_max, *, h_contact=H_CONTACT_DEFAULT, contact_extent=1.25,
                       block_size=None, penalty=None, al_tol=None, friction_al_tol=None, cache_dir=None,
                       backend=None) -> FEContact:
-    """The FE law of the apparatus: ``fem.law.FEContact(..., displacement="contact")``, its
+    """The FE law of the apparatus: ``fem.axisym.law.FEContact(..., displacement="contact")``, its
     options validated before the (costly) set-up. Its displacement excludes the finite
     bodies' bulk compliance, so it stands where the half-space law stands and the apparatus
-    compliances are not counted twice (see ``fem.law``). The law is pure (explicit state):
+    compliances are not counted twice (see ``fem.axisym.law``). The law is pure (explicit state):
     one law serves every apparatus scene of its geometry, materials, mu and F_max."""
     penalty = DEFAULT_PENALTY if penalty is None else penalty
     al_tol = DEFAULT_AL_TOL if al_tol is None else al_tol

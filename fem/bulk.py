@@ -1,7 +1,7 @@
 """Half-space-comparable displacements of the FE model: the finite bodies' bulk compliance
 removed, normal and tangential (the one home of both corrections).
 
-Normal indentation (:func:`normal_indentation`, called by ``fem.normal.solve_normal``).
+Normal indentation (:func:`normal_indentation`, called by ``fem.axisym.normal.solve_normal``).
 Half-space theory (Hertz, MDR) measures the
 approach between points far inside two semi-infinite bodies. The FE bodies
 are finite, so their approach ``delta`` also contains the compliance of the
@@ -21,10 +21,10 @@ probes removes everything outside the slab |z| < z0; the Boussinesq term puts
 back what two half-spaces would add below the probes. A rigid indenter has
 w_1 = 0 and u_z,indenter = -delta.
 
-Tangential displacement (:class:`BulkProbe`, :func:`bulk_probe`, used by ``fem.law``;
+Tangential displacement (:class:`BulkProbe`, :func:`bulk_probe`, used by ``fem.axisym.law``;
 :func:`contact_from_plate` / :func:`plate_from_contact` convert between the two measures).
 The FE law's plate displacement u (indenter top plate relative to the clamped
-block bottom, ``fem.law``) contains the tangential compliance of the finite
+block bottom, ``fem.axisym.law``) contains the tangential compliance of the finite
 bodies, which a half-space law (Mindlin, MDR) does not have. As for the normal
 indentation (above: probes plus Boussinesq), it is removed with probe
 points and a half-space Green's function, never with the half-space contact
@@ -100,7 +100,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .axisym import facet_nodes, node_coords
+from fem.axisym.mode0 import facet_nodes, node_coords
 
 #: probe depth / a_ref of the tangential bulk correction (see module docstring)
 DEFAULT_PROBE_DEPTH = 1.5
@@ -115,7 +115,7 @@ def boussinesq_axis(lam, r, z, E, nu):
 
 def normal_indentation(model, lam, delta) -> tuple[float, dict]:
     """Half-space-comparable indentation d_hs (m) of a normal solution of ``model``
-    (``fem.model.TwoBodyModel``-like: probe rows ``P_blk``/``P_ind``, ``probe_depth``)
+    (``fem.axisym.model.TwoBodyModel``-like: probe rows ``P_blk``/``P_ind``, ``probe_depth``)
     with pair forces ``lam`` (N) and plate approach ``delta`` (m): the probes' relative
     approach plus Boussinesq below them (module docstring). Returns ``(d_hs, probe)``,
     ``probe`` the readings (``z0``, ``u_indenter``, ``u_block``, ``w_halfspace_*``)."""

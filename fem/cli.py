@@ -16,8 +16,8 @@ from mdr.flags import (add_contact_args, add_material_args, add_profile_args, ma
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
 
-from .friction import DEFAULT_FRICTION_AL_TOL
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
+from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 from mdr.loading import Loading
 
 
@@ -137,7 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _contact(args) -> dict:
-    from .contact_run import run_fem_contact
+    from fem.contact_run import run_fem_contact
 
     opts = fe_options(args)
     if args.traction is not None and args.model != "3d":
@@ -159,14 +159,14 @@ def _contact(args) -> dict:
 
 
 def _normal(args) -> dict:
-    from .normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     out, model, res = run_normal(
         args.profile, R=args.R, b=0.0 if args.b is None else args.b, F=args.F, exact=args.exact_cap, fillet=args.fillet,
         materials=materials_from_args(args), return_model=True,
         **{k: v for k, v in fe_options(args).items() if k != "friction_al_tol"})
     if args.vtu:
-        from .output import write_vtu
+        from fem.axisym.output import write_vtu
 
         write_vtu(model, res, args.vtu)
     return out
@@ -187,27 +187,27 @@ def fe_options(args) -> dict:
 class _FEApparatusLaw:
     """The FE law as a plugin of ``python -m mdr apparatus --law fem`` (``common.plugins``)."""
 
-    help = ("the axisymmetric FE model (fem.law.FEContact with displacement='contact'; adds dofs, mesh, "
+    help = ("the axisymmetric FE model (fem.axisym.law.FEContact with displacement='contact'; adds dofs, mesh, "
             "solver and runtime_s {setup, cycles, total} to the JSON)")
     add_arguments = staticmethod(add_fe_options)
 
     @staticmethod
     def apparatus_result(profile, materials, app, mu, loading, args) -> dict:
-        from .apparatus import fem_apparatus_result  # the FE model's imports only when it is used
+        from fem.apparatus import fem_apparatus_result  # the FE model's imports only when it is used
 
         return fem_apparatus_result(profile, materials, app, mu, loading, **fe_options(args))
 
     @staticmethod
     def session():
         """One BLAS thread for the whole block (the law's many small dense solves)."""
-        from .solvers import blas_threads
+        from fem.solvers import blas_threads
 
         return blas_threads(1)
 
     @staticmethod
     def make_law(profile, materials, mu, F_max, args, coarsen=1.0):
         """The apparatus' FE law at ``coarsen`` times the element size of ``--h-contact``."""
-        from .apparatus import fem_apparatus_law
+        from fem.apparatus import fem_apparatus_law
 
         opts = fe_options(args)
         return fem_apparatus_law(profile, materials, mu, F_max, **dict(opts, h_contact=opts["h_contact"] * coarsen))

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .solvers import blas_threads, factorize
+from fem.solvers import blas_threads, factorize
 
 
 class Condensation:

@@ -1,6 +1,6 @@
 """One FE fretting run with the contact driven directly: ``python -m fem contact``.
 
-The FE law (``fem.law.FEContact``) is driven by ``mdr.drive.run_contact``, the
+The FE law (``fem.axisym.law.FEContact``) is driven by ``mdr.drive.run_contact``, the
 same harmonic loads and cycle analysis as ``python -m mdr contact``, so the
 JSON keys are the same; added: ``dofs``, ``mesh``, ``solver`` and
 ``runtime_s`` split into ``setup`` (mesh, assembly, factorisation and
@@ -13,7 +13,7 @@ what ``python -m mdr contact`` means by them; ``"plate"`` the indenter top plate
 relative to the block bottom. ``bulk_compliance`` (m/N) is that series
 compliance at F0 (plate = contact + bulk_compliance * Fx); ``contact_radius``
 and ``indentation`` are the FE's own at F0 (the half-space comparable
-indentation of ``fem.normal``), ``approach`` the plate approach.
+indentation of ``fem.axisym.normal``), ``approach`` the plate approach.
 """
 from __future__ import annotations
 
@@ -26,9 +26,9 @@ from mdr.loading import Loading, gross_slip_work
 from common.errors import InputError, in_range
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 
-from .friction import DEFAULT_FRICTION_AL_TOL
-from .law import FEContact
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
+from fem.axisym.law import FEContact
+from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, *,
@@ -38,13 +38,13 @@ def run_fem_contact(profile, materials, mu, loading: Loading, *,
                     tilt=0.0, ring=None, vtu=None):
     """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``); returns the result
     dict (and the law if ``return_law``). ``model``:
-    ``"axisym"`` (``fem.law.FEContact``) or ``"3d"`` (``fem.law3d.FEContact3D``: exact contact
+    ``"axisym"`` (``fem.axisym.law.FEContact``) or ``"3d"`` (``fem.solid3d.law.FEContact3D``: exact contact
     constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
-    in the 3D range; ``traction`` the 3D law's, ``fem.law3d.TRACTIONS``; ``tilt`` of the flat
-    face, rad; ``ring`` (r, width, h) / a_ref, the 3D mesh's refined ring, ``fem.law3d.FEContact3D``).
+    in the 3D range; ``traction`` the 3D law's, ``fem.solid3d.law.TRACTIONS``; ``tilt`` of the flat
+    face, rad; ``ring`` (r, width, h) / a_ref, the 3D mesh's refined ring, ``fem.solid3d.law.FEContact3D``).
     ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1). ``vtu`` (a path,
     axisymmetric model): the fields at the peak of the drive in the last cycle, in the x-z plane
-    (``fem.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
+    (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
     traction, stick/slip status and slip), written after the run; its path is the key ``vtu``."""
     loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
     if vtu is not None and model == "3d":
@@ -75,7 +75,7 @@ def run_fem_contact(profile, materials, mu, loading: Loading, *,
     out, st = res if vtu is not None else (res, None)
     t2 = time.perf_counter()
     if vtu is not None:
-        from .output import write_fretting_vtu
+        from fem.axisym.output import write_fretting_vtu
 
         out["vtu"] = str(write_fretting_vtu(law, st, FN_peak, vtu))
     out.update(law.result_keys(F0, t0, t1, t2))  # the FE's own contact radius and indentation at F0, ...
@@ -94,7 +94,7 @@ def _run_3d(profile, materials, mu, loading, *, h_contact, contact_extent, block
             cache_dir, backend, displacement, return_law, traction, tilt, ring=None):
     import resource
 
-    from .law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
 
     t0 = time.perf_counter()
     law = FEContact3D(profile, materials, mu, F_max=loading.F_max, h_contact=h_contact, contact_extent=contact_extent,
@@ -131,7 +131,7 @@ def settled(W, tol, gross=0.0) -> bool:
 
 
 def drive_3d(law, loading: Loading, *, t_setup=0.0, state_at=None, settle=None):
-    """A fretting run of a built 3D law (``fem.law3d.FEContact3D``) under ``loading`` (``Loading.of``):
+    """A fretting run of a built 3D law (``fem.solid3d.law.FEContact3D``) under ``loading`` (``Loading.of``):
     the normal load applied in
     ``RAMP_STEPS`` steps with friction active (with coupling, slip during the normal loading locks
     traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from

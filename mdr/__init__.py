@@ -4,7 +4,7 @@ Public API::
 
     from mdr import Materials, Sphere, TruncatedSphere, FlatPunch, GeneralProfile, MDRContact
 
-The contact-law protocol every law follows (``MDRContact`` here, ``fem.law.FEContact``)
+The contact-law protocol every law follows (``MDRContact`` here, ``fem.axisym.law.FEContact``)
 is ``mdr.protocol.ContactLaw``. ``mdr`` is physics: it imports only ``common`` (errors, io, the CLI
 parser); ``meshes``, ``fem``, ``studies`` (the paper's studies and this package's command) and
 ``validation`` build on it.

@@ -1,7 +1,7 @@
 """The contact-law protocol: what the drivers, the apparatus and the validation need of a law.
 
 Both laws of the project satisfy it: ``mdr.law.MDRContact`` (half-space, MDR)
-and ``fem.law.FEContact`` (finite bodies, FE). A law is a pure step function
+and ``fem.axisym.law.FEContact`` (finite bodies, FE). A law is a pure step function
 over an explicit, immutable state: the caller keeps the state, can try a step
 and throw it away, and reads the state at any instant by keeping it (``run``
 returns the final one in its History; ``mdr.drive.run_contact`` and

@@ -10,12 +10,12 @@ root finders).
 - :func:`bisect_increasing`: bisection, for a function without a slope (a profile's
   contact radius from its approach, ``mdr.profiles``).
 - :func:`regula_falsi_increasing`: one scalar, values only, each evaluation an expensive
-  solve (the FE contact laws' force-control fallbacks, ``fem.friction`` and
-  ``fem.contact3d``: a total force against the displacement that produced it): bracket
+  solve (the FE contact laws' force-control fallbacks, ``fem.axisym.friction`` and
+  ``fem.solid3d.contact``: a total force against the displacement that produced it): bracket
   expansion and the Illinois variant of regula falsi.
 
 Solvers tied to one problem stay with it: the semi-smooth Newton methods of the FE
-contact problems (``fem.normal``, ``fem.friction``, ``fem.contact3d``).
+contact problems (``fem.axisym.normal``, ``fem.axisym.friction``, ``fem.solid3d.contact``).
 """
 from __future__ import annotations
 

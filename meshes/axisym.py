@@ -69,7 +69,7 @@ GMSH_LOCK = threading.Lock()
 
 
 #: element size in the contact zone / a_ref: the default (a/80) and the allowed range, for every
-#: package (fem.normal_run, fem.law, the commands' --h-contact): one home
+#: package (fem.axisym.normal_run, fem.axisym.law, the commands' --h-contact): one home
 H_CONTACT_DEFAULT = 0.0125
 H_CONTACT_RANGE = (1.0 / 1000.0, 0.25)
 

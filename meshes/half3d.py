@@ -32,7 +32,7 @@ thin crescent along the rim (an arc of the edge circle); and, with band_angle = 
 a partial-slip contact between the stick edge and the contact edge, the only place where a
 fretting cycle's tractions change their state, so the rest of the disk can stay coarse.
 
-Physical groups (names used by ``fem.elastic3d``): surfaces ``contact`` (the
+Physical groups (names used by ``fem.solid3d.elastic``): surfaces ``contact`` (the
 half disk), ``top`` (the rest of the top face), ``bottom`` (z = -height,
 clamped), ``symmetry`` (y = 0), ``sides`` (the rest); volume ``block``.
 

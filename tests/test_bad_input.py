@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from fem.cli import main as fem_main
-from fem.law import FEContact
-from fem.normal import solve_normal
-from fem.normal_run import run_normal
+from fem.axisym.law import FEContact
+from fem.axisym.normal import solve_normal
+from fem.axisym.normal_run import run_normal
 from mdr import FlatPunch, GeneralProfile, InputError, Materials, MDRContact, Sphere, TruncatedSphere, make_profile
 from mdr.apparatus import Apparatus, run_apparatus
 from studies.cli import main as mdr_main

@@ -1,4 +1,4 @@
-"""The on-disk cache of the 3D bodies' condensed interfaces (``fem.condensed3d``): a warm set-up
+"""The on-disk cache of the 3D bodies' condensed interfaces (``fem.solid3d.condensed``): a warm set-up
 reads what a cold one computed (the same model to the last bit), skips the condensation, one file
 serves every Young's modulus of a Poisson ratio, and a corrupt file is rebuilt, never used."""
 import warnings
@@ -6,7 +6,7 @@ import warnings
 import numpy as np
 import pytest
 
-from fem.law3d import FEContact3D
+from fem.solid3d.law import FEContact3D
 from mdr.materials import Materials
 from mdr.profiles import Sphere
 
@@ -32,8 +32,8 @@ def test_a_warm_set_up_is_the_cold_one_without_the_condensation(tmp_path):
     a, b = cold.normal(F_N=F), warm.normal(F_N=F)
     assert np.array_equal(a.p, b.p) and a.approach == b.approach
     # against the condensation of a body of E = 200 GPa directly (the cache stores E = 1 Pa): round-off
-    from fem.elastic3d import stiffness3d
-    from fem.interface3d import mortar_flexibility
+    from fem.solid3d.elastic import stiffness3d
+    from fem.solid3d.interface import mortar_flexibility
 
     m = Materials()
     K, basis = stiffness3d(cold.hmesh.mesh, m.E2, m.nu2)

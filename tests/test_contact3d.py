@@ -9,9 +9,9 @@ Deresiewicz (dissipation), all in Johnson 1985, *Contact Mechanics*, ch. 4 and 7
 import numpy as np
 import pytest
 
-from fem.contact3d import RelativeFlexibility, solve_normal3d, solve_tangential3d, tangential_history
-from fem.elastic3d import stiffness3d
-from fem.interface3d import contact_flexibility, mortar_flexibility, mortar_interface
+from fem.solid3d.contact import RelativeFlexibility, solve_normal3d, solve_tangential3d, tangential_history
+from fem.solid3d.elastic import stiffness3d
+from fem.solid3d.interface import contact_flexibility, mortar_flexibility, mortar_interface
 from mdr import reference as ref
 from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
@@ -54,7 +54,7 @@ def test_mortar_matrix(model):
 
 
 def test_mortar_flexibility_is_the_weighted_p2_flexibility(model):
-    """D_zz = B C_zz B^T with C_zz the flexibility at the P2 nodes (fem.interface3d)."""
+    """D_zz = B C_zz B^T with C_zz the flexibility at the P2 nodes (fem.solid3d.interface)."""
     m, K, b, mi, D = model
     Cz = contact_flexibility(K, b, m, mi.nodes, component=2).C
     n = mi.n
@@ -171,7 +171,7 @@ def test_cycle_dissipation(model, hertz):
 
 @pytest.fixture(scope="module")
 def law3d(tmp_path_factory):
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     return FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=tmp_path_factory.mktemp("m3d"))
@@ -276,7 +276,7 @@ def test_law3d_in_the_apparatus_like_mdr():
     MDR law's: the coarse level is off by its own ladder step (measured 6.8e-4 against a step of
     6.1e-4: ratio 1.1, asserted in [0.5, 2]), and the fine level lies within the two-level ladder's
     error (measured 6.5e-5 against 6.1e-4)."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.law import MDRContact
     from mdr.profiles import TruncatedSphere
@@ -358,7 +358,7 @@ def test_cli_traction_is_for_the_3d_model(capsys):
 def blocks(tmp_path_factory):
     """Full-stick tangential stiffness and normal solution of the sphere on blocks of 10 a and 20 a
     (h = a/4), in both displacement measures."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     cache = tmp_path_factory.mktemp("m3d-blocks")
@@ -413,7 +413,7 @@ def test_masing_rule_at_the_mesh_scale(law3d):
     (the P1 field cannot follow the 1/sqrt(a - r) edge), so an unloading increment can push a
     vertex at its forward slip limit further forward. This is why the 3D cycles may settle
     geometrically instead of after one cycle (docs/fem3d.md)."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     Q = 0.6 * MU * F
@@ -446,7 +446,7 @@ def test_masing_rule_at_the_mesh_scale(law3d):
 def test_mindlin_traction_option(law3d):
     """traction='x' holds q_y = 0 everywhere (Mindlin's assumption) and keeps |q_x| <= mu p; the
     free-direction law on the same mesh has a nonzero q_y off the symmetry plane."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     lx = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, traction="x",
@@ -471,7 +471,7 @@ def test_pressure_radius_holds_mdr_where_the_edge_read_falls_inside(tmp_path):
     the same meshes, since a vertex whose hat straddles the edge carries no pressure. On the ring
     mesh of h = a/5 with h/2 over 0.72-1.08 a the edge read is still 0.9 % inside, the pressure
     radius -0.02 % off (bound 0.06 %)."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from common.ladder import ladder_error
     from mdr.normal import approach_from_force, contact_radius, pressure_radius
     from mdr.profiles import Sphere, TruncatedSphere
@@ -616,7 +616,7 @@ ALU = Materials(E1=MAT.E1, nu1=MAT.nu1, E2=70e9, nu2=0.33)  # steel indenter on 
 
 @pytest.fixture(scope="module")
 def law_alu(tmp_path_factory):
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     return FEContact3D(Sphere(R), ALU, 0.5, F_max=F, h_contact=0.25, cache_dir=tmp_path_factory.mktemp("m3da"))
@@ -632,7 +632,7 @@ def test_dundurs_beta(law_alu, law3d):
 def test_frictionless_dissimilar_pair_is_hertz(law_alu):
     """mu = 0: no tangential traction, so the coupling does nothing and the pressure is Hertz's with
     the pair's E*."""
-    from fem.contact3d import solve_coupled3d
+    from fem.solid3d.contact import solve_coupled3d
 
     mi = law_alu.mi
     p, d, res, it = solve_coupled3d(law_alu.rf, law_alu.g0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
@@ -730,7 +730,7 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
     """The secant fallback of force control (mdr.solve.regula_falsi_increasing over
     displacement-controlled increments) and the semi-smooth Newton with the displacement as
     unknown are different algorithms for the same increment: they agree to the tolerance."""
-    from fem.contact3d import _tangential_force_by_secant
+    from fem.solid3d.contact import _tangential_force_by_secant
 
     _, _, _, mi, _ = model
     rf, _, p, _, _ = hertz
@@ -744,7 +744,7 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
 
 
 def test_law3d_ring_input():
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
     with pytest.raises(InputError, match="ring must be"):
@@ -759,7 +759,7 @@ def test_stick_ellipse_fit_recovers_cattaneo_mindlin_slack():
     """The slack of Cattaneo-Mindlin, (mu p0 / a) sqrt(c^2 - r^2), and of an ellipse shifted along x
     on scattered points: the fit returns the semi-axes and the centre to round-off; fewer than 5
     points or a slack growing outwards (no closed ellipse) give NaN."""
-    from fem.law3d import stick_ellipse_fit
+    from fem.solid3d.law import stick_ellipse_fit
 
     rng = np.random.default_rng(3)
     cx, cy, x0 = 2.1e-5, 1.9e-5, 4e-7

@@ -8,7 +8,7 @@ Mechanics, ch. 3), mesh convergence, the mesh cache and bad input.
 import numpy as np
 import pytest
 
-from fem.elastic3d import (boundary_nodes3d, dirichlet_dofs, node_coords3d, node_dofs3d, pressure_load,
+from fem.solid3d.elastic import (boundary_nodes3d, dirichlet_dofs, node_coords3d, node_dofs3d, pressure_load,
                            solve_dirichlet, stiffness3d)
 from common.errors import InputError
 from meshes.half3d import Half3DMeshParams, build_mesh3d, cached_mesh3d
@@ -98,7 +98,7 @@ def _axisym_centre_mean(h):
     """Same block (cylinder of radius and height 20 c), same load, axisymmetric P2 model."""
     from skfem import FacetBasis, LinearForm, asm
 
-    from fem.axisym import boundary_nodes, node_coords, node_dofs, stiffness
+    from fem.axisym.mode0 import boundary_nodes, node_coords, node_dofs, stiffness
     from meshes.axisym import AxisymMeshParams, build_mesh
 
     m = build_mesh(AxisymMeshParams(profile="flat", R=None, b=0.8 * A_REF, a_ref=A_REF, h_contact=h,

@@ -4,7 +4,7 @@ Truths used: Cattaneo-Mindlin and Mindlin-Deresiewicz (sphere, constant F_N),
 MDR at the same tangential FORCE amplitude (any profile, varying F_N), energy
 conservation (loop area = friction work), and the protocol's purity. The FE
 plate displacement contains the finite bodies' compliance c_bulk in series
-with the contact (fem.law docstring); force-controlled quantities do not see
+with the contact (fem.axisym.law docstring); force-controlled quantities do not see
 it, displacement-controlled ones are compared at u - c_bulk Fx with c_bulk from
 axis probes and Cerruti's half-space solution (fem.bulk), which uses no
 half-space contact stiffness: the initial tangential stiffness 2 G* a is a
@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from fem.law import FEContact
+from fem.axisym.law import FEContact
 from mdr.drive import run_contact
 from common.errors import InputError
 from mdr.law import MDRContact, StepResult

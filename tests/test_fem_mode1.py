@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
 
-from fem.axisym import boundary_nodes, node_coords, stiffness
-from fem.mode1 import node_dofs_mode1, rigid_fields, stiffness_mode1
-from fem.normal_run import mesh_params
+from fem.axisym.mode0 import boundary_nodes, node_coords, stiffness
+from fem.axisym.mode1 import node_dofs_mode1, rigid_fields, stiffness_mode1
+from fem.axisym.normal_run import mesh_params
 from mdr.materials import Materials
 from meshes import cached_mesh
 
@@ -60,13 +60,13 @@ def test_bonded_rigid_disk_has_the_half_space_tangential_stiffness(block):
 
 def test_unknown_mode_is_not_implemented(block):
     am = block[0]
-    for mode in (1, 2):  # fem.axisym has mode 0 only; mode 1 is fem.mode1.stiffness_mode1
+    for mode in (1, 2):  # fem.axisym.mode0 has mode 0 only; mode 1 is fem.axisym.mode1.stiffness_mode1
         with pytest.raises(NotImplementedError):
             stiffness(am.block, MAT.E2, MAT.nu2, mode=mode)
 
 
 def test_fretting_fields_cerruti_far_field_and_rigid_plate():
-    """Field recovery of the FE law's tangential state (fem.output.fretting_fields).
+    """Field recovery of the FE law's tangential state (fem.axisym.output.fretting_fields).
 
     - A tangential force Q on the block's surface: its surface displacement along x
       falls off as Cerruti's u_x(rho) = Q (1 + nu) / (pi E rho) at theta = 0 (Cerruti 1882;
@@ -74,9 +74,9 @@ def test_fretting_fields_cerruti_far_field_and_rigid_plate():
       shear offset (its bulk compliance), so the decay between 3a and 10a is compared.
     - A plate displacement alone (no pair forces) is a rigid translation: no mode-1 stress.
     """
-    from fem.axisym import node_coords
-    from fem.law import FEContact
-    from fem.output import fretting_fields
+    from fem.axisym.mode0 import node_coords
+    from fem.axisym.law import FEContact
+    from fem.axisym.output import fretting_fields
     from mdr import Materials
     from mdr.profiles import Sphere
 

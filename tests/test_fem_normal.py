@@ -16,10 +16,10 @@ from mdr.normal import approach_from_force, pressure_radius
 from mdr.profiles import TruncatedSphere
 from mdr.reference import (flat_punch_approach, flat_punch_pressure, hertz, truncated_approach,
                            truncated_contact_radius, truncated_force)
-from fem.axisym import boundary_nodes, lame, node_coords, node_dofs, stiffness
+from fem.axisym.mode0 import boundary_nodes, lame, node_coords, node_dofs, stiffness
 from fem.condense import Condensation
-from fem.normal import PENALTY_WARN, solve_normal
-from fem.normal_run import run_normal
+from fem.axisym.normal import PENALTY_WARN, solve_normal
+from fem.axisym.normal_run import run_normal
 from fem.solvers import available_backends, factorize
 
 R = 6e-3
@@ -170,7 +170,7 @@ def test_interface_areas_and_interpolation(hertz_run):
 def test_stress_fields_for_plotting(hertz_run, tmp_path):
     import meshio
 
-    from fem.output import nodal_fields, write_vtu
+    from fem.axisym.output import nodal_fields, write_vtu
 
     _, model, res = hertz_run
     f = nodal_fields(model, res)

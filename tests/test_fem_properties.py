@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from fem.law import FEContact
+from fem.axisym.law import FEContact
 from mdr import Materials, Sphere, TruncatedSphere
 from mdr.loops import loop_integral
 

@@ -8,8 +8,8 @@ Closed forms: Boussinesq and Cerruti point-load surface displacements of the hal
 import numpy as np
 import pytest
 
-from fem.elastic3d import dirichlet_dofs, node_dofs3d, pressure_load, solve_dirichlet, stiffness3d
-from fem.interface3d import contact_flexibility, contact_nodes
+from fem.solid3d.elastic import dirichlet_dofs, node_dofs3d, pressure_load, solve_dirichlet, stiffness3d
+from fem.solid3d.interface import contact_flexibility, contact_nodes
 from meshes.half3d import Half3DMeshParams, build_mesh3d
 
 E, NU, P = 200e9, 0.3, 1e8

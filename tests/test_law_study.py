@@ -165,7 +165,7 @@ def test_fe_apparatus_point_equals_the_classical_augmented_lagrangian(kx):
     equilibria solved to round-off (xtol 1e-19 m): slip index, stick radius and loop (du, F_x,
     F_bed) to 1e-10 of their scale (measured 3e-12), at a sticking, a partly slipping and a
     sliding contact, in fewer force evaluations per step."""
-    from fem.law import FEContact
+    from fem.axisym.law import FEContact
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.materials import Materials
     from mdr.profiles import TruncatedSphere

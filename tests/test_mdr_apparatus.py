@@ -247,7 +247,7 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
     assert fe["stationary"] and fe["dofs"] > 0 and set(fe["runtime_s"]) == {"setup", "cycles", "total"}
     err_app = fe["slip_index"] / float(md["slip_index"]) - 1
 
-    from fem.law import FEContact
+    from fem.axisym.law import FEContact
 
     flaw = FEContact(Sphere(R), STEEL, MU, F_max=0.6, h_contact=h, cache_dir=tmp_path, displacement="contact")
     last = slice((cycles - 1) * steps, cycles * steps + 1)

@@ -1,5 +1,5 @@
 """The 3D half model with a flat face: the truncated sphere's edge as a circle of the mesh, the
-flat punch and the tilted flat face (fem.law3d).
+flat punch and the tilted flat face (fem.solid3d.law).
 
 Closed forms (half-space, identical steel bodies): the truncated sphere's normal contact is exact
 in the MDR (mdr.normal; Ciavarella, Hills & Monno 1998, Proc. IMechE C 212, 319); the flat punch
@@ -17,7 +17,7 @@ the Cattaneo-Mindlin assumptions hold; the MDR law gives c = b) and slides as a 
 import numpy as np
 import pytest
 
-from fem.law3d import FEContact3D
+from fem.solid3d.law import FEContact3D
 from mdr import normal as mn
 from mdr import reference as ref
 from common.errors import InputError
@@ -268,14 +268,14 @@ def test_tilted_punch_sticks_below_the_closed_form_bound(punch):
 
 def test_tilt_zero_is_the_aligned_punch(punch):
     """Tilt 0 is the aligned model: a law tilted and set back to 0 gives the aligned law's steps to
-    the bit (the same path). Against the axisymmetric model (``fem.law.FEContact``, h = b/20; both in
+    the bit (the same path). Against the axisymmetric model (``fem.axisym.law.FEContact``, h = b/20; both in
     the contact measure) under the Table 2 force loading: both stick completely (slip index below
     1e-4; measured 2e-17 in 3D, 1e-11 axisymmetric) and the displacement amplitude agrees within 3 %
     (measured -1.3 %: the 3D contact measure's tangential stiffness is ~2 % above the half-space's,
     see tests/test_contact3d.py, not a tilt effect)."""
     import warnings
 
-    from fem.law import FEContact
+    from fem.axisym.law import FEContact
     from mdr.drive import run_contact
 
     law = punch[0.3]

@@ -74,7 +74,7 @@ def test_the_fe_peak_pressure_converges_to_mdrs_where_the_fillet_is_resolved_and
     """w = 1 um (a/28): the FE peak pressure at a/40 and a/80 within 1 % of MDR's (measured +0.6 %,
     -0.2 %; a/160: -0.1 %). The sharp kink's grows by 8 % and 7 % per halving of the element (508, 549,
     585 MPa at a/40, a/80, a/160; MDR's on a 1.4 nm grid: 722 MPa): log-singular, no value to converge to."""
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     def fe_peak(w, h):
         out = run_normal("truncated", R=R, b=B, F=F, h_contact=h, fillet=w, cache_dir=tmp_path)

@@ -83,7 +83,7 @@ MU, F0, DF, FA = 0.2, 0.5, 0.1, 0.06  # Table 2 loading with the assumptions-3d 
 def pairs(tmp_path_factory):
     """On a coarse 3D mesh (a/5): the steel sphere with its traction free and along x, and the
     steel/aluminium pair (Dundurs beta = +0.11) coupled and not."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 

@@ -461,7 +461,7 @@ def test_tilt_family(tmp_path):
 
 @pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min
 def test_a_3d_scene_runs_through_the_runner(tmp_path):
-    """A scene with fe_model="3d" (fem.law3d) runs like any other: verdicts on both ladders, the
+    """A scene with fe_model="3d" (fem.solid3d.law) runs like any other: verdicts on both ladders, the
     3D keys in its FE result, the du loop compared (the contact measure), figures without field
     data."""
     from validation.scenes import FE_LEVELS_3D
@@ -489,7 +489,7 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     sphere b = 20 um (Table 2 loading, u_A = 150 nm, 3 cycles of 60 steps) converges towards MDR over
     h = 0.3, 0.2: the coarse level is off by its own ladder step (ratio in [0.5, 2]; measured 1.1 in
     tests/test_contact3d.py), the fine one within the two-level error."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
     from mdr.apparatus import Apparatus, run_apparatus
 
     s = Scene("t3d-app", "tiny 3D truncated sphere in the apparatus", "truncated", b=20e-6, drive="apparatus",

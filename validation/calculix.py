@@ -1,6 +1,6 @@
 """CalculiX (``ccx``) as an independent witness of the axisymmetric normal contact of ``fem normal``.
 
-The same finite bodies as ``fem.normal_run.run_normal`` (resolved ``meshes.AxisymMeshParams``: a spherical cap
+The same finite bodies as ``fem.axisym.normal_run.run_normal`` (resolved ``meshes.AxisymMeshParams``: a spherical cap
 of radius R and height ``indenter_height`` on a cylindrical block of radius and height ``block_size``,
 both given here in units of the Hertz contact radius a_ref) are meshed anew with gmsh as 8-node
 quadrilaterals (CAX8, the few triangles left by the recombination as CAX6; midside nodes on the
@@ -8,7 +8,7 @@ exact sphere), written as a CalculiX input deck and solved by ``ccx``. Nothing o
 solver is used on the CalculiX side: not its mesh, its pairing, its condensation nor its contact
 algorithm. Only the geometry parameters and the two post-processing formulas named below are shared.
 
-Model (the project's, ``fem.model``): u_r = 0 on the axis of both bodies; the block bottom clamped;
+Model (the project's, ``fem.axisym.model``): u_r = 0 on the axis of both bodies; the block bottom clamped;
 the indenter top a rigid frictionless plate (``*EQUATION``: every top node has the u_z of the top
 node on the axis, u_r free) carrying the normal force F (``*CLOAD`` on that node). Frictionless
 contact is CalculiX's face-to-face penalty contact (``*CONTACT PAIR, TYPE=SURFACE TO SURFACE``,
@@ -85,7 +85,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fem.bulk import boussinesq_axis
-from fem.normal_run import mesh_params, run_normal
+from fem.axisym.normal_run import mesh_params, run_normal
 from meshes import AxisymMeshParams
 from meshes.axisym import GMSH_LOCK, contact_size_field  # gmsh's state is global: one mesher at a time
 from common.errors import ConvergenceError, InputError, positive
@@ -164,7 +164,7 @@ class Geometry:
         return float(hertz(self.F, self.R, self.materials.E_star)["a"])
 
     def run_kwargs(self) -> dict:
-        """Keywords of ``fem.normal_run.run_normal`` for these bodies."""
+        """Keywords of ``fem.axisym.normal_run.run_normal`` for these bodies."""
         a = self.a_ref
         kw = {"block_size": self.block * a, "indenter_height": self.cap * a}
         if self.growth is not None:
@@ -585,7 +585,7 @@ def run_ccx(geometry: Geometry, h: float = H_DEFAULT, *, penalty: float = PENALT
 
 
 def run_fem(geometry: Geometry, h: float = H_DEFAULT, *, cache_dir=None) -> dict:
-    """The project's ``fem.normal_run.run_normal`` for the same bodies at contact size h * a_ref, with the
+    """The project's ``fem.axisym.normal_run.run_normal`` for the same bodies at contact size h * a_ref, with the
     quantities of :func:`run_ccx` (``fit_p0`` / ``fit_contact_radius``: the same p^2 fit applied to the
     project's nodal pressure). ``cache_dir`` None: a fresh directory, so the runtime includes meshing."""
     import warnings

@@ -5,7 +5,7 @@ composes them with axes in um, colour bars, titles and a stick/slip legend):
 
 1. the x-z section near the contact (the r-z mesh at theta = 0 and, mirrored, at
    theta = pi), both bodies, coloured by the von Mises stress at the peak of the
-   last tangential cycle (modes 0 + 1 superposed, ``fem.output.fretting_fields``,
+   last tangential cycle (modes 0 + 1 superposed, ``fem.axisym.output.fretting_fields``,
    from the scene's VTU), on the deformed shape (displacements scaled up, factor
    shown);
 2. the contact disk coloured by the contact pressure at F0;
@@ -64,7 +64,7 @@ def _disk(pv, r, values, n_theta=96):
 
 def section(pv, vtu_path, a):
     """The x-z section (r-z mesh mirrored to -r), clipped near the contact and warped;
-    returns (mesh, scale, tangential). With the fields of ``fem.output.fretting_fields``
+    returns (mesh, scale, tangential). With the fields of ``fem.axisym.output.fretting_fields``
     (``u_x0``/``mises_x0`` for theta = 0, ``u_x180``/``mises_x180`` for theta = pi) the two
     halves show modes 0 + 1 at the peak of F_x; else the mode-0 ``u``/``mises`` on both."""
     m = pv.read(str(vtu_path))

@@ -31,7 +31,7 @@ Partial-slip FE cases are force controlled (``F_x`` history): the dissipation at
 amplitude and the stick radius do not depend on the finite bodies' series compliance, so
 no calibration of the FE law enters the comparison. Gross slip cannot be force controlled;
 those cases use ``displacement="contact"`` (the series compliance removed with the
-calibration of ``fem.law``), and say so in their truth.
+calibration of ``fem.axisym.law``), and say so in their truth.
 """
 from __future__ import annotations
 
@@ -77,7 +77,7 @@ def _row(name, model, error, tol, truth, t0, iterations=None, note="", flagged=F
 
 
 def _fe(profile, mu=MU, *, F_max=F, h=0.1, cache_dir=None, mat=STEEL, **kw):
-    from fem.law import FEContact
+    from fem.axisym.law import FEContact
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # the coarse-mesh warning is the point of some cases
@@ -159,7 +159,7 @@ def case_flat_punch(quick=True, cache_dir=None):
                      "F_x = min(2 G* b u, mu F_N)", t0, stick_radius_before=float(H.c[40]),
                      stick_radius_after=float(H.c[-1])))
     # FE: normal stiffness at two forces (radius fixed), pressure inside, edge growth under refinement
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     t0 = time.perf_counter()
     hs = (1 / 20, 1 / 40) if quick else (1 / 20, 1 / 40, 1 / 80)
@@ -223,7 +223,7 @@ def case_truncated_edge(quick=True, cache_dir=None):
     """Truncated sphere with the flat face edge inside, at and beyond the sphere's contact
     edge (b = 0.9 a, a, 1.05 a, a the Hertz radius at F): contact radius and approach against
     the closed forms (the kink at r = b gives a weak pressure singularity)."""
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     rows = []
     a_h = ref.hertz(F, R, STEEL.E_star)["a"]
@@ -424,7 +424,7 @@ def case_penalty_extremes(quick=True, cache_dir=None):
     Lagrangian needs more than its 50 passes for the default 1e-8, so those rows accept a
     normal penetration of 1e-4 of d (reached in ~35 passes) and each row reports what its
     own tangential solve did."""
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     rows = []
     h_ = ref.hertz(F, R, STEEL.E_star)
@@ -478,7 +478,7 @@ def case_incompressible(quick=True, cache_dir=None):
     force control (F_x history, no series-compliance calibration) the Mindlin-Deresiewicz
     dissipation at the force amplitude F_CM(u*/2) and the Cattaneo-Mindlin stick radius,
     with the two-body E*, G*; errors no worse than at nu = 0.29 on the same mesh."""
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     rows = []
     h = 1 / 20 if quick else 1 / 80
@@ -576,7 +576,7 @@ def case_mesh_extremes(quick=True, cache_dir=None):
     """h = a/5: the contact holds ~10 pairs; the model warns and the error (Cattaneo-Mindlin
     stick radius, Mindlin-Deresiewicz dissipation) is large but reported (flagged).
     h = a/320 (~44k DOFs): Newton still converges in a few iterations, Hertz to 1e-3."""
-    from fem.normal_run import run_normal
+    from fem.axisym.normal_run import run_normal
 
     rows = []
     a = ref.hertz(F, R, STEEL.E_star)["a"]
@@ -588,7 +588,7 @@ def case_mesh_extremes(quick=True, cache_dir=None):
         t0 = time.perf_counter()
         with warnings.catch_warnings(record=True) as w:
             warnings.simplefilter("always")
-            from fem.law import FEContact
+            from fem.axisym.law import FEContact
             law = FEContact(Sphere(R), STEEL, MU, F_max=F, h_contact=h, cache_dir=cache_dir)
         warned = any("coarse contact mesh" in str(x.message) for x in w)
         H = law.run(Fx=fx, F_N=np.full(fx.size, F))
@@ -620,12 +620,12 @@ def case_mesh_extremes(quick=True, cache_dir=None):
 
 
 def case_3d(quick=True, cache_dir=None):
-    """The 3D half model (``fem.law3d``, model "fem3d") through the cases that stress its
+    """The 3D half model (``fem.solid3d.law``, model "fem3d") through the cases that stress its
     two-component Coulomb solver: gross slip at u_A = 10 u* (every stationary cycle's friction
     work against Mindlin-Deresiewicz, the loop drift, |F_x| <= mu F_N), the normal force down to
     1 % of its mean while u runs (loop area = friction work, no NaN), and contact lost at
     F_N = 0 and regained at the same u (F_x = 0, the history released)."""
-    from fem.law3d import FEContact3D
+    from fem.solid3d.law import FEContact3D
 
     rows = []
     h = 0.3 if quick else 0.14

@@ -336,7 +336,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
              "range (non-monotone, or an order outside 0.5-4): an error injected into one level could hide "
              "in its spread, so this is no evidence that MDR holds; *below resolution* when it holds only "
              "thanks to the floor; **fails** when the inequality fails; *undetermined* when a number or a ladder "
-             "level is not finite. The FE displacement is the half-space comparable one (`fem.law`, "
+             "level is not finite. The FE displacement is the half-space comparable one (`fem.axisym.law`, "
              "`displacement=\"contact\"`). Summary cells: MDR - FE (FE error + MDR error + tolerance), "
              "radii in % of the FE contact radius, dissipation in % of the FE dissipation, slip index absolute. "
              "*Last-cycle change*: how much the reported (last) cycle differs from the one before, the larger "

@@ -9,7 +9,7 @@ Loading conventions (SI; time in cycles):
 ``F_N(t) = F0 + dF sin(2 pi t + alpha)`` and, for the tangential load,
 ``F_x(t) = amplitude sin(2 pi t)`` (``drive="force"``),
 ``u(t) = amplitude sin(2 pi t)`` (``drive="displacement"``, the FE displacement
-measured without the finite bodies' series compliance, see ``fem.law``), or
+measured without the finite bodies' series compliance, see ``fem.axisym.law``), or
 the piezo displacement ``u_3(t) = amplitude sin(2 pi t)`` of the apparatus
 (``drive="apparatus"``, with ``kx`` and ``mu2``).
 
@@ -52,7 +52,7 @@ STEEL = {"E1": 200e9, "nu1": 0.29, "E2": 200e9, "nu2": 0.29}
 FE_LEVELS = (1 / 20, 1 / 40, 1 / 80)          # h_contact = element size / a_ref
 FE_LEVELS_FINE = (1 / 40, 1 / 80, 1 / 160)     # where a/20 is not yet in the asymptotic range
 FE_LEVELS_QUICK = (1 / 20, 1 / 40, 1 / 80)
-#: the 3D half model (fem.law3d), h_contact = h / a_ref. On this ladder the sphere's 3D contact
+#: the 3D half model (fem.solid3d.law), h_contact = h / a_ref. On this ladder the sphere's 3D contact
 #: edge, read from the vertices, is 1.4 % inside Hertz's with a non-monotone spread of 0.6 % (its
 #: pressure_radius is within 0.15 % of MDR's from a/7 on), and its dissipation within a
 #: few %: a direct verdict against MDR would blame MDR for the 3D model's resolution. The 3D scene
@@ -140,7 +140,7 @@ class Scene:
 
     ``fe_model``: "axisym" (Fourier modes 0 + 1 on one r-z mesh: exact for an
     axisymmetric body under a tangential load with linear elasticity and
-    Mindlin's uncoupled friction) or "3d" (``fem.law3d``: the half model with a
+    Mindlin's uncoupled friction) or "3d" (``fem.solid3d.law``: the half model with a
     two-component traction of free direction, displacements in the half-space comparable
     contact measure as the axisymmetric model's; any drive, in the apparatus through the
     law's trial steps, ``FEContact3D.prepare``; no such scene in the catalogue, for its cost).
@@ -472,7 +472,7 @@ def code_version() -> str:
 
 def a_ref(scene: Scene) -> float:
     """Half-space contact radius at the largest normal force (the FE mesh's a_ref)."""
-    from fem.normal_run import reference_radius
+    from fem.axisym.normal_run import reference_radius
     from mdr.materials import Materials
 
     E_star = Materials(scene.E1, scene.nu1, scene.E2, scene.nu2).E_star

@@ -145,11 +145,11 @@ def fe_law(s: Scene, h, **mesh_kw):
     """The scene's FE law at mesh level h; ``mesh_kw`` the model's own mesh options (the 3D law's
     ``refine``, ``band``)."""
     if s.fe_model == "3d":
-        from fem.law3d import FEContact3D
+        from fem.solid3d.law import FEContact3D
 
         return FEContact3D(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
                            displacement="contact", **mesh_kw)
-    from fem.law import FEContact
+    from fem.axisym.law import FEContact
 
     return FEContact(profile_of(s), materials_of(s), s.mu, F_max=s.F0 + s.dF, h_contact=h,
                      displacement="contact", **mesh_kw)
@@ -167,7 +167,7 @@ def run_fe(s: Scene, h, vtu_path=None, keep_law=False, **mesh_kw) -> tuple:
 
 def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
     """``run_fe`` with its law built (set-up timed from ``t0``)."""
-    from fem.output import write_fretting_vtu, write_vtu
+    from fem.axisym.output import write_fretting_vtu, write_vtu
 
     t1 = time.perf_counter()
     out, st = drive(s, law)

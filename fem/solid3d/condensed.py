@@ -1,5 +1,5 @@
 """On-disk cache of a 3D body's condensed interface: the weighted flexibility of the contact
-vertices and their response at the axis probe (``fem.interface3d.mortar_flexibility``,
+vertices and their response at the axis probe (``fem.solid3d.interface.mortar_flexibility``,
 ``probe_response``), the costly part of a 3D set-up (on a ring mesh of 807 contact vertices, 25 s
 of its 35 s; the factorisation 3 s).
 
@@ -77,14 +77,14 @@ def _load(path, expected: CondensedParams | None = None) -> CondensedBody:
 def condensed_body(hmesh, mi, nu: float, probe_depth: float, *, backend=None, cache_dir=None,
                    timings: dict | None = None) -> CondensedBody:
     """The condensed interface of a body of Poisson ratio ``nu`` on the 3D mesh ``hmesh``
-    (``meshes.half3d.Half3DMesh``; ``mi`` its ``fem.interface3d.MortarInterface``), for E = 1 Pa,
+    (``meshes.half3d.Half3DMesh``; ``mi`` its ``fem.solid3d.interface.MortarInterface``), for E = 1 Pa,
     from the cache if valid, else assembled, factorised and condensed
-    (``fem.interface3d.mortar_flexibility``, ``probe_response``) and stored. ``timings`` (a dict)
+    (``fem.solid3d.interface.mortar_flexibility``, ``probe_response``) and stored. ``timings`` (a dict)
     gains the seconds of the ``assembly``, ``factorisation`` and ``condensation`` actually run (0
     on a cache hit). ``info["cache"]``: hit, miss, rebuilt, unsaved."""
-    from .elastic3d import stiffness3d
-    from .interface3d import mortar_flexibility, probe_response
-    from .solvers import resolve_backend
+    from fem.solid3d.elastic import stiffness3d
+    from fem.solid3d.interface import mortar_flexibility, probe_response
+    from fem.solvers import resolve_backend
 
     parts = {"assembly": 0.0, "factorisation": 0.0, "condensation": 0.0}
     p = CondensedParams(mesh_key=hmesh.key, nu=float(nu), probe_depth=float(probe_depth),

@@ -19,8 +19,8 @@ from mdr.reference import hertz, truncated_contact_radius
 from meshes import AxisymMeshParams, cached_mesh
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE  # noqa: F401 (one home: meshes.axisym)
 
-from .model import build_model
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
+from fem.axisym.model import build_model
+from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
 
 #: coarser than this (h > a/10) the contact holds fewer than ~20 pairs: warned (see mesh_params)
 H_CONTACT_COARSE = 0.1

@@ -1,6 +1,6 @@
 """Frictionless normal contact on the condensed interface: penalty + augmented Lagrangian.
 
-Problem (pairs i of ``fem.interface``, forces lam_i >= 0 in compression):
+Problem (pairs i of ``fem.axisym.interface``, forces lam_i >= 0 in compression):
 
     gap_i = gap0_i - delta + (C lam)_i,        C = C_indenter + N C_block N^T,
 
@@ -56,8 +56,8 @@ import scipy.linalg as sla
 from common.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
 from mdr.normal import moment_radius
 
-from .bulk import normal_indentation
-from .solvers import blas_threads
+from fem.bulk import normal_indentation
+from fem.solvers import blas_threads
 
 DEFAULT_PENALTY = 100.0
 DEFAULT_AL_TOL = 1e-8
@@ -153,7 +153,7 @@ def _axis_pressure(r, p):
 
 def penalty_stiffness(penalty, E_star, interface):
     """Penalty stiffness k_i = eps w_i (N/m) of the contact pairs, eps = penalty E* / h (N/m^3):
-    the normal pairs here and the tangential ones of ``fem.law`` (the one home of the formula)."""
+    the normal pairs here and the tangential ones of ``fem.axisym.law`` (the one home of the formula)."""
     eps = penalty * E_star / interface.h
     return eps * interface.w
 

@@ -23,7 +23,7 @@ from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from common.errors import InputError, in_range, positive
 
-from .solvers import blas_threads, factorize
+from fem.solvers import blas_threads, factorize
 
 
 def check_material(E, nu):

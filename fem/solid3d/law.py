@@ -1,16 +1,16 @@
 """The 3D FE contact law: the contact-law protocol of ``mdr.protocol`` on the 3D half model.
 
-Where the axisymmetric law (``fem.law.FEContact``) assumes with Mindlin that the tangential
+Where the axisymmetric law (``fem.axisym.law.FEContact``) assumes with Mindlin that the tangential
 traction points along x and that the pressure does not feel the tangential load, this law
 solves the contact on the 3D half model (y >= 0) with a two-component traction of free
-direction (``fem.contact3d``), so both assumptions become results.
+direction (``fem.solid3d.contact``), so both assumptions become results.
 
 Model (assumptions, each stated where it lives):
 
 - block: the graded half cylinder of ``meshes.half3d`` (radius and height ``block_size``,
   default 20 a_ref), P2 tetrahedra, bottom clamped, u_y = 0 on the symmetry plane
-  (``fem.elastic3d``), condensed to the P1 traction vertices of the contact half disk
-  (``fem.interface3d``, mortar pairing);
+  (``fem.solid3d.elastic``), condensed to the P1 traction vertices of the contact half disk
+  (``fem.solid3d.interface``, mortar pairing);
 - indenter: the block's mirror image (z -> -z) with the indenter's elastic constants, so
   both contact faces are flat and the profile (sphere, truncated sphere) enters as the
   initial gap, interpolated in the P2 space (exact for the parabola). What this leaves out,
@@ -28,16 +28,16 @@ Model (assumptions, each stated where it lives):
 - any pair of isotropic elastic materials: for identical ones (Dundurs' beta = 0) the
   normal-tangential coupling of the two bodies cancels exactly and the normal contact is
   solved once per load; for a dissimilar pair the two are solved together at every step
-  (``fem.contact3d.solve_coupled3d``), so a tangential load moves the pressure and a normal
+  (``fem.solid3d.contact.solve_coupled3d``), so a tangential load moves the pressure and a normal
   load with friction locks tangential traction in (Spence 1975, J. Elasticity 5, 297);
 - small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
 
-Displacement measure (``displacement``), as in ``fem.law``: "contact" (the command's default) the half-space
+Displacement measure (``displacement``), as in ``fem.axisym.law``: "contact" (the command's default) the half-space
 comparable tangential displacement, the plate displacement minus the bodies' series compliance
 c_bulk F_x read at axis probes in both bodies and put back with Cerruti's half-space solution
 (``fem.bulk``; here the probes' responses to every traction vertex, ``_bulk_rows``); "plate" the
 displacement of the indenter's clamped top against the block's clamped bottom (the law's
-default, as ``fem.law.FEContact``'s). Under force
+default, as ``fem.axisym.law.FEContact``'s). Under force
 control the loop area (dissipation), the stick zone and the force history do not depend on it
 (a series spring is a shear of the loop plane). The approach ``d`` is the plate approach in
 both; ``indentation`` (a result key) is its half-space comparable counterpart (Boussinesq).
@@ -67,14 +67,14 @@ from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from mdr.stick import at_limit, per_step
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Half3DMeshParams, cached_mesh3d
 
-from .contact3d import (RelativeFlexibility, project_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
+from fem.solid3d.contact import (RelativeFlexibility, project_disk, solve_coupled3d, solve_normal3d, solve_tangential3d,
                         tangential_slope)
-from .condensed3d import condensed_body
-from .bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
-from .interface3d import hat_integrals, mortar_interface
-from .law import _frozen, step_history
-from .normal_run import reference_radius
-from .solvers import blas_threads
+from fem.solid3d.condensed import condensed_body
+from fem.bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
+from fem.solid3d.interface import hat_integrals, mortar_interface
+from fem.axisym.law import _frozen, step_history
+from fem.axisym.normal_run import reference_radius
+from fem.solvers import blas_threads
 
 #: half-angle of the vertex sector around the y axis that resolves the stick extent along y (rad)
 SECTOR = np.deg2rad(12.0)
@@ -296,7 +296,7 @@ class FEContact3D:
             self.rf = RelativeFlexibility(Dn=self.rf.Dn, Dt=Dt, K=self.rf.K)
         #: seconds: mesh (gmsh or the cache), setup (all after the mesh), of which assembly (stiffness,
         #: mortar matrix; for a dissimilar pair the first body's), factorisation and condensation
-        #: (``fem.interface3d.mortar_flexibility``, both bodies)
+        #: (``fem.solid3d.interface.mortar_flexibility``, both bodies)
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1, **parts}
         self.last_run = None
 
@@ -448,7 +448,7 @@ class FEContact3D:
     def pressure_radius(self, p) -> float:
         """The pressure's second-moment radius (m, ``mdr.normal.moment_radius``) about the load axis,
         of the P1 pressure field sum_j p_j phi_j integrated exactly (int phi_j r^2 dA by
-        ``fem.interface3d.hat_integrals``, once per law). Unlike :meth:`_edge_radius` it needs no
+        ``fem.solid3d.interface.hat_integrals``, once per law). Unlike :meth:`_edge_radius` it needs no
         edge located between vertices: a vertex whose hat straddles the edge has a positive
         weighted gap and carries no pressure, which puts the read edge inside by a fraction of an
         element (the sphere: 0.4-1.7 % of a on meshes of h = a/5 ... a/14, graded or not), while
@@ -844,7 +844,7 @@ class FE3DTrial:
 
     def force(self, u):
         """(Fx, dFx/du) at displacement u (the law's measure), full body; dFx/du is the consistent
-        tangent of the Coulomb increment at fixed pressure (``fem.contact3d.tangential_slope``;
+        tangent of the Coulomb increment at fixed pressure (``fem.solid3d.contact.tangential_slope``;
         for a dissimilar pair with coupling the pressure's own change with u is left out)."""
         res, _, (g, tr, r) = self._at(u)
         law = self.law

@@ -14,7 +14,7 @@ nodal-force contact solver built on these weights transmits force only through
 midpoint nodes, which is expected, not a bug.
 
 The flexibilities are ``fem.condense.Condensation`` of the block's stiffness with
-its boundary conditions (``fem.elastic3d.dirichlet_dofs``: bottom clamped, u_y = 0
+its boundary conditions (``fem.solid3d.elastic.dirichlet_dofs``: bottom clamped, u_y = 0
 on the symmetry plane) at one displacement component of the contact nodes.
 """
 from __future__ import annotations
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import Basis, ElementTetP2, FacetBasis, LinearForm, asm
 
-from .condense import Condensation
-from .elastic3d import boundary_nodes3d, dirichlet_dofs, node_coords3d, node_dofs3d
+from fem.condense import Condensation
+from fem.solid3d.elastic import boundary_nodes3d, dirichlet_dofs, node_coords3d, node_dofs3d
 
 
 @dataclass(frozen=True)
@@ -157,7 +157,7 @@ def mortar_flexibility(K, basis, mesh, mi: MortarInterface, components=(0, 1, 2)
     """
     import scipy.sparse as sp
 
-    from .solvers import blas_threads, factorize
+    from fem.solvers import blas_threads, factorize
 
     n_dof = K.shape[0]
     fixed = np.zeros(n_dof, dtype=bool)

@@ -30,7 +30,7 @@ traction tau(r) along x (t_r = tau cos, t_theta = -tau sin) does the work
 2 pi int tau S r dr, so the generalised force conjugate to S is the x force
 of the ring, and D is not loaded (Mindlin's assumption of a traction along x).
 
-Elements and quadrature as in ``fem.axisym`` (P2, intorder 4). DOF layout:
+Elements and quadrature as in ``fem.axisym.mode0`` (P2, intorder 4). DOF layout:
 ``ElementVector(ElementTriP2(), 3)`` with components (S, D, W).
 """
 from __future__ import annotations
@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 from skfem import Basis, BilinearForm, ElementTriP2, ElementVector, asm
 
-from .axisym import boundary_nodes, lame, node_coords
+from fem.axisym.mode0 import boundary_nodes, lame, node_coords
 
 
 def strain_mode1(u, r):
@@ -73,7 +73,7 @@ def vector_basis_mode1(mesh, intorder: int = 4) -> Basis:
 
 
 def node_dofs_mode1(basis) -> np.ndarray:
-    """DOF numbers (3, n_nodes): rows S, D, W; nodes numbered as in ``fem.axisym.node_dofs``."""
+    """DOF numbers (3, n_nodes): rows S, D, W; nodes numbered as in ``fem.axisym.mode0.node_dofs``."""
     return np.hstack([basis.nodal_dofs, basis.facet_dofs])
 
 

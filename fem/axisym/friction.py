@@ -6,7 +6,7 @@ Assumptions (the FE analogue of the Hertz-Mindlin / MDR assumptions):
 - local Coulomb friction with a constant coefficient mu; the tangential traction
   is along x everywhere (Mindlin 1949, J. Appl. Mech. 16, 259), so each contact
   pair i carries one tangential force T_i (N, on the block, +x), conjugate to the
-  mode-1 variable S (``fem.mode1``);
+  mode-1 variable S (``fem.axisym.mode1``);
 - the slip limit of pair i is g_i = mu lam_i with lam_i its mode-0 normal pair
   force at the same instant (no normal-tangential coupling: exact for equal
   materials in the half-space limit, neglected otherwise, as in MDR);
@@ -41,7 +41,7 @@ until the largest change is below ``al_tol`` times the largest slip limit;
 at that point the stick pairs do not move relative to each other (exact
 Coulomb), so the penalty error is removed, not just made small. That limit
 (lbar = T) is itself the box QP above with M = Ct and b = -p_old (the 1/k terms
-cancel), so the same solver reaches it directly; ``fem.law.FEContact`` starts the
+cancel), so the same solver reaches it directly; ``fem.axisym.law.FEContact`` starts the
 AL loop there, and its first pass checks the answer.
 """
 from __future__ import annotations

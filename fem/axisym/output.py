@@ -1,6 +1,6 @@
 """Fields for plotting: displacements and stresses of a solved normal contact, VTU export.
 
-Stresses are evaluated at the quadrature points (``fem.axisym.stress_mode0``)
+Stresses are evaluated at the quadrature points (``fem.axisym.mode0.stress_mode0``)
 and averaged to the P2 nodes per body (volume-weighted nodal averaging of the
 element values), which is what a field plot needs; they are not used in any
 check of the physics.
@@ -12,9 +12,9 @@ from skfem import Basis, ElementTriP2
 
 from meshes import export_vtu
 
-from .axisym import node_dofs, stress_mode0
-from .bulk import plate_from_contact
-from .mode1 import node_dofs_mode1, stress_mode1
+from fem.axisym.mode0 import node_dofs, stress_mode0
+from fem.bulk import plate_from_contact
+from fem.axisym.mode1 import node_dofs_mode1, stress_mode1
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
 
@@ -42,7 +42,7 @@ def fretting_fields(law, state, F_N) -> dict:
     """Displacements and von Mises stress in the plane of the tangential load (FE contact law).
 
     Superposes mode 0 (normal force ``F_N``) and mode 1 (the pair forces ``state.T``
-    of an ``fem.law.FEState``; indenter top moved by the plate displacement) on the
+    of an ``fem.axisym.law.FEState``; indenter top moved by the plate displacement) on the
     x-z plane: theta = 0 (the +x half) and theta = pi (the -x half), where the
     sin(theta) stresses vanish. Returns point data over each body's P2 nodes (for
     ``meshes.export_vtu``): ``u_x0``/``u_x180`` ((n, 3): x, z, 0 of each half, the
@@ -92,7 +92,7 @@ def contact_fields(law, state, res) -> dict:
     (Pa, the pair force over its weight), ``shear_traction_x`` (Pa, the mode-1 pair force over its
     weight: the traction along x), ``contact_status`` (``STATUS``: 0 no contact, 1 stick, 2 slip)
     and ``slip_x`` (m, the accumulated plastic slip of the pair). ``res``: the normal solution at the
-    state's normal force; ``state``: an ``fem.law.FEState``."""
+    state's normal force; ``state``: an ``fem.axisym.law.FEState``."""
     it = law.model.interface
     lam = np.asarray(state.lam, dtype=float)
     values = {"contact_pressure": lam / it.w, "shear_traction_x": np.asarray(state.T, dtype=float) / it.w,

@@ -1,8 +1,8 @@
 """The FE frictional contact law: the contact-law protocol of ``mdr.protocol`` on the FE model.
 
 One object holds the two-body axisymmetric FE model of a profile (mode 0 for
-the pressure, ``fem.model``/``fem.normal``; mode 1 for the tangential load,
-``fem.mode1``), condensed once to the contact pairs. A step is a pure function
+the pressure, ``fem.axisym.model``/``fem.axisym.normal``; mode 1 for the tangential load,
+``fem.axisym.mode1``), condensed once to the contact pairs. A step is a pure function
 of an explicit, immutable state (:class:`FEState`), exactly like
 ``mdr.law.MDRContact.step``:
 
@@ -10,7 +10,7 @@ of an explicit, immutable state (:class:`FEState`), exactly like
    d); its pair forces lam_i set the slip limits g_i = mu lam_i (results are
    cached per load value, so constant-load cycles solve it once);
 2. tangential: one return-map increment on the condensed interface
-   (``fem.friction``) to the plate displacement u or total force Fx. Pairs
+   (``fem.axisym.friction``) to the plate displacement u or total force Fx. Pairs
    out of contact (lam_i = 0) carry no force and their plastic slip follows
    the relative displacement, so a pair entering contact starts unstrained and
    a pair leaving releases its force.
@@ -39,7 +39,7 @@ stiffness, so the FE's initial tangential stiffness in this measure is a
 result, not an input (:meth:`FEContact.plate_bulk_compliance`,
 :meth:`FEContact.bulk_compliance`, :meth:`FEContact.contact_displacement`).
 
-Approach ``d`` (input and output) is the plate approach of ``fem.normal``
+Approach ``d`` (input and output) is the plate approach of ``fem.axisym.normal``
 (also including the bulk compliance); force control ``F_N`` is the clean input.
 """
 from __future__ import annotations
@@ -56,13 +56,13 @@ from mdr.profiles import FlatPunch, Profile
 from mdr.stick import at_limit, per_step
 from meshes.axisym import H_CONTACT_DEFAULT
 
-from .bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
-from .condense import Condensation
-from .friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
-from .mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
-from .model import build_model
-from .normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
-from .solvers import blas_threads
+from fem.bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
+from fem.condense import Condensation
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
+from fem.axisym.mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
+from fem.axisym.model import build_model
+from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
+from fem.solvers import blas_threads
 
 
 
@@ -117,7 +117,7 @@ class FEContact:
                  friction_exact_start=True, **mesh_kw):
         from meshes import cached_mesh
 
-        from .normal_run import mesh_params
+        from fem.axisym.normal_run import mesh_params
 
         if not isinstance(profile, Profile) or profile.describe().get("profile") == "general":
             raise InputError(f"profile must be a Sphere, TruncatedSphere or FlatPunch, got {profile!r}")
@@ -242,7 +242,7 @@ class FEContact:
         """The keys every FE run adds to its law-independent result (``python -m fem contact``,
         ``python -m mdr apparatus --law fem``, the validation runner; the one home of this
         post-processing): ``contact_radius``, ``pressure_radius`` and ``indentation``, the FE's own
-        at ``F_N`` (half-space comparable, ``fem.normal``), ``bulk_compliance`` (m/N, the bodies' series
+        at ``F_N`` (half-space comparable, ``fem.axisym.normal``), ``bulk_compliance`` (m/N, the bodies' series
         compliance in the plate measure at ``F_N``: plate = contact + bulk_compliance * Fx,
         :meth:`plate_bulk_compliance`), ``dofs``, ``mesh``, ``solver`` and ``runtime_s``
         {setup, cycles, total} from the times t0 (start), t1 (law set up), t2 (runs done)."""
@@ -259,7 +259,7 @@ class FEContact:
     # ----------------------------------------------------------------- state
     def contact_at(self, F_N) -> dict:
         """``mdr.protocol.ContactLaw.contact_at``: the FE's own contact radius and half-space comparable
-        indentation (``fem.normal``) at ``F_N``."""
+        indentation (``fem.axisym.normal``) at ``F_N``."""
         nr = self.normal(F_N=F_N)
         return {"contact_radius": float(nr.contact_radius), "indentation": float(nr.indentation)}
 
@@ -368,9 +368,9 @@ class FEContact:
         ``T``, displacement ``u``, sets ``sgn``, last multipliers ``lbar`` and the tangent
         ``slope`` dFx/du of the stick set.
 
-        Augmented Lagrangian (``fem.friction``): passes lbar <- T until the largest change is
+        Augmented Lagrangian (``fem.axisym.friction``): passes lbar <- T until the largest change is
         below ``friction_al_tol`` of the largest slip limit. Its limit lbar = T is the exact
-        Coulomb return map: the box QP of ``fem.friction`` with M = Ct (no penalty) and
+        Coulomb return map: the box QP of ``fem.axisym.friction`` with M = Ct (no penalty) and
         b = -p_old, whose active-set iteration has the same set test as an AL pass at that
         limit. With ``friction_exact_start`` that problem is solved first and its forces
         start the AL, so the first pass normally meets the tolerance (it then checks the

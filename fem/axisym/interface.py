@@ -18,7 +18,7 @@ built once, on the undeformed configuration:
   ``w_i = integral N_i 2 pi r ds`` over the indenter contact segments, which is
   2 pi r_i times the Simpson weight of the node. A pair force lam_i (N) is a
   nodal pressure p_i = lam_i / w_i. The node on the axis has w = 0 and is no
-  pair (no area); its pressure is extrapolated (see ``fem.normal``).
+  pair (no area); its pressure is extrapolated (see ``fem.axisym.normal``).
 
 For the tangential work (Fourier mode 1) the same ``N`` and ``w`` apply to the
 r and theta components.
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .axisym import facet_nodes, node_coords
+from fem.axisym.mode0 import facet_nodes, node_coords
 
 TWO_PI = 2.0 * np.pi
 

@@ -25,9 +25,9 @@ import numpy as np
 
 from mdr.materials import Materials
 
-from .axisym import boundary_nodes, node_coords, node_dofs, stiffness
-from .condense import Condensation
-from .interface import ContactInterface, build_interface
+from fem.axisym.mode0 import boundary_nodes, node_coords, node_dofs, stiffness
+from fem.condense import Condensation
+from fem.axisym.interface import ContactInterface, build_interface
 
 
 @dataclass

@@ -19,7 +19,7 @@ not a polynomial (hoop term); ``intorder=4`` (6 points) makes the quadrature
 error far below the discretisation error (checked in the tests against the
 closed form of a loaded cylinder).
 
-The mode-1 forms (tangential loading) are in ``fem.mode1`` (``stiffness_mode1``),
+The mode-1 forms (tangential loading) are in ``fem.axisym.mode1`` (``stiffness_mode1``),
 which builds on this module (never the other way round); they share the node
 numbering of :func:`node_dofs`.
 """
@@ -93,11 +93,11 @@ def stiffness(mesh, E, nu, mode: int = 0, intorder: int = 4):
     """Stiffness matrix (CSR, N/m) and basis of one body for the Fourier ``mode``.
 
     Mode 0: axisymmetric (normal contact), DOFs (u_r, u_z). Mode 1 (tangential
-    loading along x, DOFs (S, D, W)) is ``fem.mode1.stiffness_mode1``.
+    loading along x, DOFs (S, D, W)) is ``fem.axisym.mode1.stiffness_mode1``.
     """
     if mode != 0:
-        raise NotImplementedError(f"fem.axisym has the Fourier mode-0 forms (mode {mode!r} asked); "
-                                  "mode 1 is fem.mode1.stiffness_mode1, higher modes are not implemented")
+        raise NotImplementedError(f"fem.axisym.mode0 has the Fourier mode-0 forms (mode {mode!r} asked); "
+                                  "mode 1 is fem.axisym.mode1.stiffness_mode1, higher modes are not implemented")
     basis = vector_basis(mesh, intorder=intorder)
     lame_lambda, lame_mu = lame(E, nu)
     K = asm(elasticity_mode0(lame_lambda, lame_mu), basis)

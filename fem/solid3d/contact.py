@@ -1,6 +1,6 @@
 """Frictional contact of two bodies on the condensed 3D mortar interface (issue 13).
 
-Unknowns are P1 traction fields on the contact facets (``fem.interface3d.MortarInterface``):
+Unknowns are P1 traction fields on the contact facets (``fem.solid3d.interface.MortarInterface``):
 at every multiplier vertex j the pressure p_j >= 0 and the tangential traction
 q_j = (q_x, q_y) on the block (Pa); q_y = 0 on the symmetry plane y = 0. The kinematics
 are weighted by the mortar matrix, so every displacement-like quantity below is a
@@ -15,7 +15,7 @@ tangential displacement of the indenter's clamped top against the block's clampe
 A_j the vertex areas, D_n = D1_zz + D2_zz and D_t = D1_tt + D2_tt the relative
 flexibilities of block (1) and indenter (2). The indenter is modelled as the mirror image
 of the block's mesh (z -> -z) with its own elastic constants, so both contact faces are
-flat and the profile enters only through the initial gap (module ``fem.law3d``). For
+flat and the profile enters only through the initial gap (module ``fem.solid3d.law``). For
 identical materials the normal-tangential cross terms of the two bodies cancel exactly
 (Dundurs' beta = 0); for dissimilar ones they enter as the antisymmetric coupling
 ``K = D1_tz - D2_tz`` (see :class:`RelativeFlexibility`).
@@ -52,7 +52,7 @@ import scipy.linalg as sla
 from common.errors import ConvergenceError
 from mdr.solve import regula_falsi_increasing
 
-from .solvers import blas_threads
+from fem.solvers import blas_threads
 
 #: relative tolerance of the complementarity residuals (of the largest pressure / slip limit)
 TOL = 1e-10
@@ -74,7 +74,7 @@ class RelativeFlexibility:
     @classmethod
     def from_bodies(cls, D1, D2):
         """From the block's and the (mirrored) indenter's weighted flexibilities (3n, 3n),
-        component-major as returned by ``fem.interface3d.mortar_flexibility``. The indenter's
+        component-major as returned by ``fem.solid3d.interface.mortar_flexibility``. The indenter's
         normal component is mirrored: its z-z block enters with the same sign, its cross terms
         with the opposite one, so they cancel for identical bodies."""
         n = D1.shape[0] // 3
