@@ -1,6 +1,7 @@
 """The command-line convention of every ``python -m`` command of the project (one home).
 
-``common`` is the ground floor of the layers (``common`` -> ``mdr`` -> ``meshes`` -> ``fem`` -> ``studies`` -> ``validation``), so the shared CLI pieces live here and ``python -m mdr``,
+``common`` is the ground floor of the layers (``common`` -> ``mdr`` -> ``meshes`` -> ``fem`` ->
+``studies`` -> ``validation``), so the shared CLI pieces live here and ``python -m mdr``,
 ``python -m fem`` and ``python -m validation.compare`` use them:
 
 - :class:`OneLineParser`: argparse whose usage errors are one line on stderr,

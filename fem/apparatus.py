@@ -49,7 +49,8 @@ def fem_apparatus_law(profile, materials, mu, F_max, *, h_contact=H_CONTACT_DEFA
 def fem_apparatus_result(profile, materials, app: Apparatus, mu, loading: Loading, **fe_options) -> dict:
     """One apparatus scene with the FE contact law (``python -m mdr apparatus --law fem``).
 
-    The law is :func:`fem_apparatus_law` with ``F_max = F0 + dF`` of ``loading`` (``Loading.apparatus``) (``fe_options``: its
+    The law is :func:`fem_apparatus_law` with ``F_max = F0 + dF`` of ``loading``
+    (``Loading.apparatus``) (``fe_options``: its
     keyword arguments). Keys: those of :func:`apparatus_result` (with
     ``contact_radius``/``indentation`` the FE's own at F0) plus ``dofs``, ``mesh``,
     ``solver`` and ``runtime_s`` = {setup, cycles, total} like ``python -m fem contact``.

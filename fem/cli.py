@@ -155,7 +155,9 @@ def _contact(args) -> dict:
     elif args.tilt != 0:
         raise InputError(f"--tilt applies to --model 3d only, got --tilt {args.tilt!r}")
     disp = args.displacement or "contact"
-    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, Loading.of(args.F0, dF=args.dF, alpha=args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps), displacement=disp, model=args.model, vtu=args.vtu, **opts)
+    loading = Loading.of(args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps)
+    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, loading, displacement=disp,
+                           model=args.model, vtu=args.vtu, **opts)
 
 
 def _normal(args) -> dict:

@@ -49,7 +49,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
         raise InputError(f"run_contact drives the contact directly (drive 'force' or 'displacement'), got drive "
                          f"{loading.drive!r}: the apparatus is mdr.apparatus.apparatus_result")
     mu = loading.check_friction(law.mu)
-    F0, cycles, steps = loading.F0, loading.cycles, loading.steps
+    F0, steps = loading.F0, loading.steps
     t_start = time.perf_counter()
     t, FN, drive = loading.times(), loading.normal_force(), loading.tangential()
     key = "u" if loading.drive == "displacement" else "Fx"

@@ -87,7 +87,8 @@ def geometry_task(plugin, args, b: float, kxs, coarsen: float, R: float, load: d
     with session() if session is not None else contextlib.nullcontext():
         law = plugin.make_law(TruncatedSphere(R, b), Materials(), mu1, F0 + dF, args, coarsen=coarsen)
         t1 = time.perf_counter()
-        deltas = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), Loading.apparatus(F0, dF=dF, alpha=0.0, ua=load["ua"], cycles=res["cycles"], steps=res["steps"]))["slip_index"]) for kx in kxs]
+        loading = Loading.apparatus(F0, dF, 0.0, load["ua"], cycles=res["cycles"], steps=res["steps"])
+        deltas = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), loading)["slip_index"]) for kx in kxs]
     return {"b": b, "coarsen": coarsen, "kx": list(kxs), "delta": deltas, "setup_s": t1 - t0,
             "runtime_s": time.perf_counter() - t0, "worker": worker_id()}
 

@@ -42,7 +42,8 @@ def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=
     e.g. plate_model and R_bed, scalars or arrays of the batch shape)."""
     law = MDRContact(profile, Materials(), mu1, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None,
                      n=res["n"]) if not isinstance(profile, FlatPunch) else MDRContact(profile, Materials(), mu1, n=8)
-    out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2, **(app_kw or {})), Loading.apparatus(F0, dF=dF, alpha=alpha, ua=ua, cycles=res["cycles"], steps=res["steps"]))
+    loading = Loading.apparatus(F0, dF, alpha, ua, cycles=res["cycles"], steps=res["steps"])
+    out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2, **(app_kw or {})), loading)
     return out["slip_index"], out
 
 
@@ -106,7 +107,8 @@ def sensitivity(points=SENS_POINTS, vary=SENS_VARY, res=RES):
                      F_min=F0 - np.maximum(dF, 0.05), n=res["n"])
     app = Apparatus(kx=K.copy(), mu2=per_scene(mu2), R_bed=per_scene(cols["R_bed"]),
                     plate_model=per_scene(np.array(cols["plate_model"])))
-    out = run_apparatus(law, app, Loading.apparatus(F0, dF=dF, alpha=per_scene(cols["alpha"]), ua=ua, cycles=res["cycles"], steps=res["steps"]))
+    loading = Loading.apparatus(F0, dF, per_scene(cols["alpha"]), ua, cycles=res["cycles"], steps=res["steps"])
+    out = run_apparatus(law, app, loading)
     delta = out["slip_index"]
     # stationary: the last loop repeats the previous one (the dissipation test of
     # analyse_cycles is void for a sticking contact whose dW is ~0)

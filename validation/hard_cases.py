@@ -43,11 +43,10 @@ import numpy as np
 
 from mdr import ConvergenceError, FlatPunch, Materials, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
-
-from mdr.loops import loop_integral
-from mdr.normal import approach_from_force, pressure
 from mdr.drive import run_mdr_contact
 from mdr.loading import Loading
+from mdr.loops import loop_integral
+from mdr.normal import approach_from_force, pressure
 
 R, F, MU = 6e-3, 0.5, 0.2
 ROUNDOFF = 1.3e-15  # tolerance of the rows that are exact up to rounding (measured 2.8e-16, 4.4e-16)
