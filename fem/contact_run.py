@@ -214,8 +214,7 @@ class _Run3D:
                 list(nxt["dissipation_per_cycle"]), "inputs": {**nxt["inputs"], "cycles": self.done}}
 
     def finish(self, out) -> dict:
-        F0, dF = self.loading.F0, self.loading.dF
-        out.update(self.law.result_keys(F0, -self.t_setup, 0.0, self.elapsed, F_peak=F0 + abs(dF)))
+        out.update(self.law.result_keys(self.loading.F0, -self.t_setup, 0.0, self.elapsed, F_peak=self.loading.F_max))
         out.update(self.centres)
         if self.per_cycle is not None:  # one history: its cycles are the law's runs
             out["per_cycle"] = self.per_cycle

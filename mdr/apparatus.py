@@ -258,7 +258,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     if loading.drive != "apparatus":
         raise InputError(f"the apparatus is driven by its piezo (Loading.apparatus), got drive {loading.drive!r}")
     mu = loading.check_friction(law.mu)
-    F0, dF, ua, cycles, steps = loading.F0, loading.dF, loading.amplitude, loading.cycles, loading.steps
+    F0, ua, steps = loading.F0, loading.amplitude, loading.steps
     batch = law.batch
     t = loading.times()
     if state_at is not None and not 0 <= int(state_at) < t.size:
@@ -276,7 +276,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
             raise InputError("plate heights and bedding give an unstable block (1 + (S2 - S1 h) / k_theta <= 0)")
     use_bed = bool(app.bedding and np.any(np.asarray(app.mu2) > 0))
     if use_bed:
-        Wmax = app.m1 * G_ACC + F0 + np.asarray(dF)
+        Wmax = app.m1 * G_ACC + loading.F_max
         bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
         bed_state = bed.rest_state()
     st = law.rest_state()
@@ -284,7 +284,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     iters = 0
     du_prev = np.zeros(batch)
     out = {k: np.zeros(batch + (t.size,)) for k in ("Fx", "FN", "u1", "u2", "du", "Fbed", "a", "c", "ub", "tilt")}
-    first = (cycles - 1) * steps  # the last (stationary) cycle, whose stick radius is reported
+    first = loading.last_cycle.start  # the last (stationary) cycle, whose stick radius is reported
     window = []
     M = np.zeros(batch)
     # the same loop compiled (mdr.kernels) for the MDR law with MDR bedding spheres; None: not applicable

@@ -98,13 +98,13 @@ class Loading:
     @property
     def F_max(self):
         """The largest normal force F0 + dF (N; an array for a batch)."""
-        return self.F0 + np.asarray(self.dF) if np.ndim(self.dF) else self.F0 + self.dF
+        return self.F0 + self.dF  # dF a float or an array once checked
 
     @property
     def F_min(self):
         """The smallest normal force F0 - dF (N), or None where it is 0 (dF = F0: the contact opens)."""
         if np.ndim(self.dF):
-            return self.F0 - np.asarray(self.dF)
+            return self.F0 - self.dF
         return self.F0 - self.dF if self.dF < self.F0 else None
 
     @property
