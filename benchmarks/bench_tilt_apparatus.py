@@ -22,6 +22,7 @@ from mdr.loading import Loading
 
 
 def main(argv=None):
+    from fem.solid3d import estimators as est
     from fem.solid3d.law import FEContact3D
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.law import MDRContact
@@ -73,7 +74,7 @@ def main(argv=None):
                 out = run_apparatus(lt, app, Loading.apparatus(F0, **kw))
             d = float(out["slip_index"])
             d0 = d if th == 0.0 else d0
-            nv = int(lt.contact_mask(lt.normal(F_N=F0).p).sum())
+            nv = int(est.contact_mask(lt.model, lt.normal(F_N=F0).p).sum())
             print(f"| {h:g} | {'-' if band is None else f'{band[0]:g}'} | {th:.3g} | {th / thc:.3g} | {d:.5f} | {d / d0 - 1:+.3%} | {nv} | "
                   f"{'yes' if nv >= TILT_MIN_VERTICES else 'no'} | {out['evaluations_per_step']:.2f} | "
                   f"{time.perf_counter() - t1:.1f} |", flush=True)

@@ -29,6 +29,7 @@ from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
 from fem.axisym.law import FEContact
 from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.solid3d import runs
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, *,
@@ -137,7 +138,7 @@ def drive_3d(law, loading: Loading, *, t_setup=0.0, state_at=None, settle=None):
     traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from
     that state. Returns the result dict with the law's 3D keys (and the state at step
     ``state_at`` of the cycles if given); without ``state_at`` also ``per_cycle``, the stick-zone
-    keys at every cycle's peak (``FEContact3D.cycle_keys``), beside ``dissipation_per_cycle``.
+    keys at every cycle's peak (``fem.solid3d.runs.cycle_keys``), beside ``dissipation_per_cycle``.
     ``settle`` = (tol, max_cycles): run on until the dissipation settles (``drive_3d_together``)."""
     if settle is not None and state_at is not None:
         raise ValueError("give at most one of state_at and settle")
@@ -180,6 +181,10 @@ class _Run3D:
         self.law, self.loading, self.steps, self.t_setup = law, loading, loading.steps, t_setup
         self.elapsed = 0.0  # this run's own time (the runs of a lockstep interleave)
 
+    def _run(self, loading, **kw):
+        """``run_contact`` of this run's law; its history becomes ``self.history``."""
+        return run_contact(self.law, loading, on_history=lambda H: setattr(self, "history", H), **kw)
+
     def start(self, state_at=None):
         import numpy as np
 
@@ -188,10 +193,10 @@ class _Run3D:
         st = law.rest_state()
         for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * float(ld.normal_force(0.0)):
             _, st = law.step(st, Fx=0.0, F_N=f)
-        out, self.state = run_contact(law, ld, state0=st, state_at=state_at, return_state=state_at is None)
-        self.per_cycle = law.cycle_keys(self.steps) if state_at is None else None
+        out, self.state = self._run(ld, state0=st, state_at=state_at, return_state=state_at is None)
+        self.per_cycle = runs.cycle_keys(law, self.history, self.steps) if state_at is None else None
         # the centres are taken at the first peak of F_x of the first run (the first loading)
-        self.centres = law.first_loading_keys()
+        self.centres = runs.first_loading_keys(law, self.history)
         self.done = ld.cycles
         self.elapsed += time.perf_counter() - t
         return (out, self.state) if state_at is not None else out
@@ -204,8 +209,8 @@ class _Run3D:
         """``block`` more cycles from the last state; the result of the whole history."""
         t = time.perf_counter()
         law = self.law
-        nxt, self.state = run_contact(law, replace(self.loading, cycles=block), state0=self.state, return_state=True)
-        for k, v in law.cycle_keys(self.steps).items():
+        nxt, self.state = self._run(replace(self.loading, cycles=block), state0=self.state, return_state=True)
+        for k, v in runs.cycle_keys(law, self.history, self.steps).items():
             self.per_cycle[k] += v
         self.done += block
         self.elapsed += time.perf_counter() - t
@@ -215,6 +220,7 @@ class _Run3D:
 
     def finish(self, out) -> dict:
         out.update(self.law.result_keys(self.loading.F0, -self.t_setup, 0.0, self.elapsed, F_peak=self.loading.F_max))
+        out.update(runs.window_keys(self.law, self.history))  # the last run's last cycle
         out.update(self.centres)
         if self.per_cycle is not None:  # one history: its cycles are the law's runs
             out["per_cycle"] = self.per_cycle

@@ -31,7 +31,8 @@ def run_mdr_contact(profile: Profile, materials: Materials, mu, loading: Loading
     return run_contact(mdr_law(profile, materials, mu, loading, n), loading, **kw)
 
 
-def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None, return_state: bool = False):
+def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None, return_state: bool = False,
+                on_history=None):
     """Drive a contact law directly with ``loading`` (drive ``"force"`` or ``"displacement"``); returns
     the result dict (JSON keys).
 
@@ -42,6 +43,8 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     state), e.g. after a normal loading with friction active. ``return_state``: also return the
     law's state at the end, as ``(result, state)``, to continue the history (a run of k cycles
     from it continues this one: every cycle starts at the same phase); not with ``state_at``.
+    ``on_history``: called with the run's whole ``mdr.law.History`` (one history also where it ran in
+    two pieces), e.g. to read a law's recorded ``fields``.
     """
     if return_state and state_at is not None:
         raise InputError("give at most one of state_at and return_state")
@@ -64,9 +67,9 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
         H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1), state=state0)
         H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state, record_from=max(first - k - 1, 0))
         kept = H1.state
-        H = type(H2)(state=H2.state, **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-1)
-                                        for f in ("u", "Fx", "FN", "d", "a", "c", "work")},
-                     **{f: np.concatenate([getattr(H1, f), getattr(H2, f)], axis=-2) for f in ("slack", "slipping")})
+        H = H1.then(H2)
+    if on_history is not None:
+        on_history(H)
     cyc = analyse_cycles(H.u, H.Fx, steps, mu, F0, driven=loading.drive)
     last = loading.last_cycle
     dW = float(cyc.dissipation[-1])

@@ -133,6 +133,23 @@ class History:
     state: LawState = field(repr=False)
     slack: np.ndarray | None = field(default=None, repr=False)
     slipping: np.ndarray | None = field(default=None, repr=False)
+    #: what a law records per step beyond the protocol's arrays: {name: sequence over the T steps}
+    #: (the 3D FE law's vertex tractions and pressures); None where it records nothing
+    fields: dict | None = field(default=None, repr=False)
+
+    def then(self, later: "History") -> "History":
+        """This history followed by ``later`` (a run from this one's final state): the arrays joined
+        along time, the recorded window and fields too; the final state ``later``'s."""
+        def join(a, b, axis):
+            return None if a is None or b is None else np.concatenate([a, b], axis=axis)
+
+        fields = None
+        if self.fields is not None and later.fields is not None:
+            fields = {k: tuple(self.fields[k]) + tuple(later.fields[k]) for k in self.fields}
+        return type(later)(state=later.state, **{f: np.concatenate([getattr(self, f), getattr(later, f)], axis=-1)
+                                                 for f in ("u", "Fx", "FN", "d", "a", "c", "work")},
+                           slack=join(self.slack, later.slack, -2), slipping=join(self.slipping, later.slipping, -2),
+                           fields=fields)
 
     def window_stick_radius(self, law):
         """Stick radius (``mdr.stick``) over the recorded steps (``run(record_from=...)``)."""

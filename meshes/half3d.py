@@ -216,6 +216,55 @@ class Half3DMeshParams(ContactZoneParams):
         return d
 
 
+@dataclass(frozen=True)
+class Refinement:
+    """The local refinements of a 3D half-model mesh as a user names them (lengths / a_ref), checked
+    for shape once here and for range by :class:`Half3DMeshParams` (:meth:`mesh_fields`).
+
+    ``refine``: None or (x, h, radius), element size h within the ball of that radius around
+    (x, 0, 0) (the loaded edge of a tilted flat face); ``ring``: None or (r, width, h), element size
+    h within ``width`` of the circle of radius r on the contact face, the whole circle (the slip
+    annulus and contact edge of a partial-slip cycle); ``band``: None or (h, width, angle[, growth]),
+    element size h within ``width`` of the flat face's edge circle on the arc |phi - pi| <= angle,
+    graded at ``growth`` outside (a thin edge crescent). A ring is a band around a whole circle, so
+    ``ring`` and ``band`` exclude each other. The values are kept as given (the mesh's cache key
+    is built from them).
+    """
+
+    refine: tuple | None = None
+    ring: tuple | None = None
+    band: tuple | None = None
+
+    def __post_init__(self):
+        if self.refine is not None:
+            if np.ndim(self.refine) != 1 or np.size(self.refine) != 3:
+                raise InputError(f"refine must be None or (x, h, radius) / a_ref (the refined ball of the mesh), "
+                                 f"got {self.refine!r}")
+            object.__setattr__(self, "refine", tuple(self.refine))
+        if self.ring is not None:
+            if self.band is not None:
+                raise InputError("give ring or band, not both (a ring is the band around a whole circle)")
+            if np.ndim(self.ring) != 1 or np.size(self.ring) != 3:
+                raise InputError(f"ring must be None or (r, width, h) / a_ref (the refined ring of the mesh), got "
+                                 f"{self.ring!r}")
+            object.__setattr__(self, "ring", tuple(self.ring))
+        if self.band is not None:
+            if np.ndim(self.band) != 1 or np.size(self.band) not in (3, 4):
+                raise InputError(f"band must be None or (h / a_ref, width / a_ref, angle in rad[, growth]) (the "
+                                 f"refined band along the loaded edge), got {self.band!r}")
+            object.__setattr__(self, "band", tuple(self.band))
+
+    def mesh_fields(self) -> dict:
+        """The keywords of :class:`Half3DMeshParams` this refinement sets (``refine_*``, ``band_*``)."""
+        x, h, radius = self.refine if self.refine is not None else (None, None, None)
+        band = tuple(self.band or ()) + (None,) * (4 - len(self.band or ()))
+        band_r = None
+        if self.ring is not None:  # the band around the whole circle r
+            band_r, band = self.ring[0], (self.ring[2], self.ring[1], np.pi, None)
+        return {"refine_x": x, "refine_h": h, "refine_radius": radius, "band_h": band[0], "band_width": band[1],
+                "band_angle": band[2], "band_growth": band[3], "band_r": band_r}
+
+
 @dataclass
 class Half3DMesh:
     """skfem ``MeshTet1`` with boundaries ``contact, top, bottom, symmetry, sides``."""

@@ -9,6 +9,7 @@ Deresiewicz (dissipation), all in Johnson 1985, *Contact Mechanics*, ch. 4 and 7
 import numpy as np
 import pytest
 
+from fem.solid3d import estimators as est
 from fem.solid3d.contact import RelativeFlexibility, solve_normal3d, solve_tangential3d, tangential_history
 from fem.solid3d.elastic import stiffness3d
 from fem.solid3d.interface import contact_flexibility, mortar_flexibility, mortar_interface
@@ -296,14 +297,22 @@ def test_law3d_in_the_apparatus_like_mdr():
     assert abs(d[1] - d_md) <= ladder_error((0.3, 0.2), d)["error"]
 
 
+def run_keys(law, F_N, H) -> dict:
+    """The 3D keys of a run: the law's own at F_N and those read from its history (``fem.solid3d.runs``)."""
+    from fem.solid3d import runs
+
+    return {**law.result_keys(F_N, 0.0, 1.0, 2.0), **runs.window_keys(law, H), **runs.first_loading_keys(law, H)}
+
+
 def test_law3d_fretting_run(law3d):
     """A force-controlled run through mdr.drive (the JSON keys of python -m mdr contact): the stick
     zone is a centred disk (x and y extents agree within one element, centre on the axis within
     round-off of the mesh's asymmetry), the stationary cycle closes and dissipates."""
     from mdr.drive import run_contact
 
-    out = run_contact(law3d, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=24))
-    keys = law3d.result_keys(F, 0.0, 1.0, 2.0)
+    runs = []
+    out = run_contact(law3d, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=24), on_history=runs.append)
+    keys = run_keys(law3d, F, runs[0])
     h = 0.25 * A_H
     assert out["stationary"] and out["dissipation"] > 0
     assert abs(keys["stick_radius_x"] - keys["stick_radius_y"]) < h
@@ -387,9 +396,9 @@ def test_contact_measure_removes_the_bodies_series_compliance(blocks):
     assert all(abs(k - 1) < 0.05 for k in kc)  # measured -2.3 %, -2.0 %
     for s in (10, 20):
         law = blocks[s, "contact"]["law"]
-        assert law.c_bulk > 0
+        assert law.model.c_bulk > 0
         dc = 1 / blocks[s, "plate"]["k"] - 1 / blocks[s, "contact"]["k"]
-        assert abs(dc / law.c_bulk - 1) < 1e-6
+        assert abs(dc / law.model.c_bulk - 1) < 1e-6
 
 
 def test_indentation_is_hertz(blocks):
@@ -435,12 +444,12 @@ def test_masing_rule_at_the_mesh_scale(law3d):
     assert np.max(np.abs(one.q[:, 0] - virgin.q[:, 0])) < 1e-10 * MU * law.normal(F_N=F).p.max()
     assert dev < 1e-10
     coarse = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.3, traction="x",
-                         cache_dir=law3d.hmesh.info.get("cache_dir"))
+                         cache_dir=law3d.model.hmesh.info.get("cache_dir"))
     _, dev = masing_deviation(coarse)
     assert 0.02 < dev < 0.15
     n, c = coarse.n, coarse.normal(F_N=F).p > 0
-    q_stick = np.linalg.solve(coarse.rf.Dt[:n, :n][np.ix_(c, c)], coarse.mi.A[c])
-    assert np.any(q_stick < 0) and np.all(q_stick[coarse.mi.r[c] < 0.5 * A_H] > 0)
+    q_stick = np.linalg.solve(coarse.model.rf.Dt[:n, :n][np.ix_(c, c)], coarse.model.mi.A[c])
+    assert np.any(q_stick < 0) and np.all(q_stick[coarse.model.mi.r[c] < 0.5 * A_H] > 0)
 
 
 def test_mindlin_traction_option(law3d):
@@ -450,7 +459,7 @@ def test_mindlin_traction_option(law3d):
     from mdr.profiles import Sphere
 
     lx = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, traction="x",
-                     cache_dir=law3d.hmesh.info.get("cache_dir"))
+                     cache_dir=law3d.model.hmesh.info.get("cache_dir"))
     _, sx = lx.step(lx.rest_state(), Fx=0.6 * MU * F, F_N=F)
     _, sf = law3d.step(law3d.rest_state(), Fx=0.6 * MU * F, F_N=F)
     assert np.all(sx.q[:, 1] == 0) and np.max(np.abs(sf.q[:, 1])) > 1e-3 * np.max(np.abs(sf.q[:, 0]))
@@ -485,14 +494,14 @@ def test_pressure_radius_holds_mdr_where_the_edge_read_falls_inside(tmp_path):
         for h, bound in zip(levels, bounds):
             law = FEContact3D(prof, MAT, MU, F_max=F, h_contact=h, cache_dir=tmp_path)
             nr = law.normal(F_N=F)
-            vals.append(law.pressure_radius(nr.p) / rm)
+            vals.append(est.pressure_radius(law.model, nr.p) / rm)
             assert abs(vals[-1] - 1) < bound
             assert -0.05 < nr.contact_radius / a - 1 < -0.005
         lad = ladder_error(levels, vals)
         assert lad["error"] < 3e-3 and abs(lad["value"] - 1) <= lad["error"], lad
     law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.2, ring=(0.9, 0.18, 0.1), cache_dir=tmp_path)
     nr = law.normal(F_N=F)
-    assert abs(law.pressure_radius(nr.p) / A_H - 1) < 6e-4
+    assert abs(est.pressure_radius(law.model, nr.p) / A_H - 1) < 6e-4
     assert -0.02 < nr.contact_radius / A_H - 1 < -0.004
 
 
@@ -542,6 +551,35 @@ def test_ring_ladder(ring_pair, tmp_path):
     assert dw[0.2, 100] > dw[0.14, 100] and 0.005 < dw[0.2, 100] < 0.05, dw
     assert abs(dw[0.14, 100]) < 0.003, dw
     assert 0.001 < dw[0.14, 100] - dw[0.14, 40] < 0.01, dw
+
+
+
+def test_law3d_keeps_no_record_of_its_runs(law3d):
+    """A 3D law holds no run: its own keys are the same before and after a run, and the keys read from
+    a run come from the history its caller holds (``fem.solid3d.runs``). A run cut in two at a step
+    (``run_contact(state_at=)``) is one history (``History.then``): the same last-cycle stick zone and
+    first-loading centres as the run in one piece, within round-off."""
+    from fem.solid3d import runs
+    from mdr.drive import run_contact
+
+    def own(keys):
+        return {k: v for k, v in keys.items() if k not in ("solver", "runtime_s", "mesh")}
+
+    loading = Loading.of(F, fa=0.5 * MU * F, cycles=2, steps=16)
+    before = own(law3d.result_keys(F, 0.0, 1.0, 2.0))
+    whole, cut = [], []
+    run_contact(law3d, loading, on_history=whole.append)
+    assert own(law3d.result_keys(F, 0.0, 1.0, 2.0)) == before
+    assert not hasattr(law3d, "last_run")
+    run_contact(law3d, loading, state_at=loading.last_peak()[0], on_history=cut.append)
+    assert len(whole[0].fields["q"]) == len(cut[0].fields["q"]) == whole[0].u.size
+    for read in (runs.window_keys, runs.first_loading_keys):
+        a, b = read(law3d, whole[0]), read(law3d, cut[0])
+        assert a and a.keys() == b.keys()
+        for k in a:
+            assert b[k] == pytest.approx(a[k], rel=1e-9, abs=1e-12 * A_H), k
+    # the window is the last cycle: its peak is the loading's last peak of F_x
+    assert runs.window_peak(whole[0]) == loading.last_peak()[0]
 
 
 @pytest.fixture(scope="module")
@@ -625,8 +663,8 @@ def law_alu(tmp_path_factory):
 def test_dundurs_beta(law_alu, law3d):
     # Dundurs' beta of steel on aluminium, |beta| about 0.11 (Johnson 1985, ch. 5), signed here positive
     # when the block is the more compressible body; 0 for one material
-    assert 0.10 < law_alu.beta < 0.12 and law3d.beta == 0.0
-    assert law_alu.rf.K is not None and law3d.rf.K is None
+    assert 0.10 < law_alu.model.beta < 0.12 and law3d.model.beta == 0.0
+    assert law_alu.model.rf.K is not None and law3d.model.rf.K is None
 
 
 def test_frictionless_dissimilar_pair_is_hertz(law_alu):
@@ -634,8 +672,8 @@ def test_frictionless_dissimilar_pair_is_hertz(law_alu):
     the pair's E*."""
     from fem.solid3d.contact import solve_coupled3d
 
-    mi = law_alu.mi
-    p, d, res, it = solve_coupled3d(law_alu.rf, law_alu.g0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
+    mi = law_alu.model.mi
+    p, d, res, it = solve_coupled3d(law_alu.model.rf, law_alu.g0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
                                     F_n=F / 2, delta=0.0)
     hz = ref.hertz(F, R, ALU.E_star)
     assert np.all(res.q == 0) and it <= 2
@@ -649,7 +687,7 @@ def test_spence_normal_loading_locks_in_outward_traction(law_alu):
     and Coulomb holds. Measured at h = a/4: resultant 1e-16 of mu F, largest hoop component 1e-6 of
     the largest traction."""
     st = law_alu.rest_state()
-    mi = law_alu.mi
+    mi = law_alu.model.mi
     for f in np.linspace(0.05, 1.0, 8) * F:
         res, st = law_alu.step(st, Fx=0.0, F_N=f)
         assert res.work >= -1e-12 * 0.5 * F * HZ["d"]  # >= 0 to round-off
@@ -683,8 +721,9 @@ def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
         st = law.rest_state()
         for f in np.linspace(0.05, 1.0, 8) * F:
             _, st = law.step(st, Fx=0.0, F_N=f)
-        out = run_contact(law, Loading.of(F, fa=0.25 * F, cycles=6, steps=16), state0=st)
-        return out, law.result_keys(F, 0.0, 1.0, 2.0)
+        runs = []
+        out = run_contact(law, Loading.of(F, fa=0.25 * F, cycles=6, steps=16), state0=st, on_history=runs.append)
+        return out, run_keys(law, F, runs[0])
 
     coupled, keys = run(law_alu)
     uncoupled, keys0 = run(law_alu.variant(coupling=False))
@@ -759,7 +798,7 @@ def test_stick_ellipse_fit_recovers_cattaneo_mindlin_slack():
     """The slack of Cattaneo-Mindlin, (mu p0 / a) sqrt(c^2 - r^2), and of an ellipse shifted along x
     on scattered points: the fit returns the semi-axes and the centre to round-off; fewer than 5
     points or a slack growing outwards (no closed ellipse) give NaN."""
-    from fem.solid3d.law import stick_ellipse_fit
+    from fem.solid3d.estimators import stick_ellipse_fit
 
     rng = np.random.default_rng(3)
     cx, cy, x0 = 2.1e-5, 1.9e-5, 4e-7

@@ -17,6 +17,7 @@ the Cattaneo-Mindlin assumptions hold; the MDR law gives c = b) and slides as a 
 import numpy as np
 import pytest
 
+from fem.solid3d import estimators as est
 from fem.solid3d.law import FEContact3D
 from mdr import normal as mn
 from mdr import reference as ref
@@ -44,7 +45,7 @@ def _lattice(n=16):
 
 def _quadrature(law, p):
     """Points (r), weights and the P1 pressure field there, over the contact half disk."""
-    mi, m = law.mi, law.hmesh.mesh
+    mi, m = law.model.mi, law.model.hmesh.mesh
     tri = m.facets[:, m.boundaries["contact"]].T
     X = m.p[:2, tri]
     lam = _lattice()
@@ -68,9 +69,9 @@ def truncated(tmp_path_factory):
 def test_truncated_sphere_edge_is_a_mesh_circle(truncated):
     a_ref = ref.truncated_contact_radius(F, R, B_T, ES)
     for law in truncated.values():
-        assert law.hmesh.params.edge == pytest.approx(B_T / a_ref, rel=1e-12)
-        on_edge = np.abs(law.mi.r - B_T) < 1e-9 * B_T
-        assert on_edge.sum() >= 8 and np.sum(on_edge & law.mi.on_plane) == 2  # (+-b, 0) and the arc
+        assert law.model.hmesh.params.edge == pytest.approx(B_T / a_ref, rel=1e-12)
+        on_edge = np.abs(law.model.mi.r - B_T) < 1e-9 * B_T
+        assert on_edge.sum() >= 8 and np.sum(on_edge & law.model.mi.on_plane) == 2  # (+-b, 0) and the arc
     # meshes without an edge keep their parameters, hence their cache keys
     from meshes.half3d import Half3DMeshParams
 
@@ -106,9 +107,9 @@ def punch(tmp_path_factory):
 
 def test_flat_punch_mesh_and_input(punch):
     law = punch[0.2]
-    p = law.hmesh.params
+    p = law.model.hmesh.params
     assert p.a_ref == B_F and p.contact_extent == 1.0
-    assert np.max(law.mi.r) == pytest.approx(B_F, rel=1e-9)
+    assert np.max(law.model.mi.r) == pytest.approx(B_F, rel=1e-9)
     assert np.all(law.g0 == 0)
     with pytest.raises(InputError, match="contact_extent"):
         FEContact3D(FlatPunch(B_F), MAT, MU, contact_extent=1.25)
@@ -149,7 +150,7 @@ def test_flat_punch_sticks_until_gross_slip(punch):
     g = MU * np.asarray(st.p)
     qn = np.hypot(st.q[:, 0], st.q[:, 1])
     at_limit = (g > 0) & (qn >= g * (1 - 1e-6))
-    assert law.mi.A[at_limit].sum() / law.mi.A.sum() < 0.25
+    assert law.model.mi.A[at_limit].sum() / law.model.mi.A.sum() < 0.25
     us = 20 * MU * ref.flat_punch_approach(F, B_F, ES) * ES / MAT.G_star  # far beyond the gross-slip u
     res, st = law.step(law.rest_state(), u=us, F_N=F)
     g = MU * np.asarray(st.p)
@@ -165,7 +166,7 @@ def test_flat_punch_sticks_until_gross_slip(punch):
 def _moment(law, p):
     """M_y = int p x dA of the full body, exact for the P1 pressure field: over a triangle
     int p x = area / 12 (sum_i p_i x_i + sum_i p_i sum_j x_j)."""
-    mi, m = law.mi, law.hmesh.mesh
+    mi, m = law.model.mi, law.model.hmesh.mesh
     tri = m.facets[:, m.boundaries["contact"]].T
     X = m.p[:2, tri]
     area = 0.5 * np.abs((X[0, :, 1] - X[0, :, 0]) * (X[1, :, 2] - X[1, :, 0])
@@ -197,7 +198,7 @@ def test_tilted_punch_full_contact_below_theta_c(punch):
     assert all(0 < e < 0.06 for e in err.values()), err
     tl = punch[0.2].variant(tilt=0.8 * THC)
     nr = tl.normal(F_N=F)
-    mi = tl.mi
+    mi = tl.model.mi
     sel = mi.r <= 0.7 * B_F
     c0, c1 = np.linalg.lstsq(np.column_stack([np.ones(sel.sum()), mi.x[sel]]),
                              nr.p[sel] * np.sqrt(B_F**2 - mi.r[sel] ** 2), rcond=None)[0]
@@ -333,9 +334,9 @@ def test_refine_mesh_params_and_input(refined):
     from meshes.half3d import Half3DMeshParams
 
     assert not {"refine_x", "refine_h", "refine_radius"} & set(Half3DMeshParams(a_ref=1.0).resolved().as_dict())
-    p = refined.hmesh.params
+    p = refined.model.hmesh.params
     assert (p.refine_x, p.refine_h, p.refine_radius) == REFINE
-    m, mi = refined.hmesh.mesh, refined.mi
+    m, mi = refined.model.hmesh.mesh, refined.model.mi
     tri = m.facets[:, m.boundaries["contact"]]
     e = np.concatenate([tri[[0, 1]], tri[[1, 2]], tri[[2, 0]]], axis=1)
     mid = 0.5 * (m.p[:2, e[0]] + m.p[:2, e[1]])
@@ -367,7 +368,7 @@ def test_refined_edge_moment_and_paper_tilt(refined, punch):
         e[name] = _moment(tl, tl.normal(F_N=F).p) / _m_halfspace(0.8 * THC) - 1
     assert abs(e["refined"]) <= abs(e["plain"]) and abs(e["refined"]) < 0.01, e
     tl = refined.variant(tilt=TILT_PAPER)
-    nc = int(tl.contact_mask(tl.normal(F_N=F).p).sum())
+    nc = int(est.contact_mask(tl.model, tl.normal(F_N=F).p).sum())
     assert nc >= 10, nc
     fr = [refined.variant(tilt=k * THC).tilt_keys(F) for k in (2.0, 4.0, TILT_PAPER / THC)]
     assert all(k["contact_x_min"] == pytest.approx(-B_F, rel=1e-9) for k in fr)
@@ -450,8 +451,8 @@ def test_band_converges_at_the_paper_tilt(tmp_path):
         law = FEContact3D(TruncatedSphere(R, B_P), MAT, MU, F_max=F, h_contact=0.3, band=(bh, *BAND[1:]),
                           cache_dir=tmp_path)
         tl = law.variant(tilt=TILT_PAPER)
-        c = tl.contact_mask(tl.normal(F_N=F).p)
-        mi = tl.mi
+        c = est.contact_mask(tl.model, tl.normal(F_N=F).p)
+        mi = tl.model.mi
         k = tl.tilt_keys(F)
         out.append((k["contact_area_fraction"], 1 - mi.r[c].min() / B_P,
                     np.abs(np.arctan2(mi.y[c], mi.x[c]) - np.pi).max(), int(c.sum())))
@@ -507,9 +508,9 @@ def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
     a = ref.hertz(F, R, ES)["a"]
     t = law.variant(tilt=5e-4)
     nr = t.normal(F_N=F)
-    w = t.mi.A * nr.p
+    w = t.model.mi.A * nr.p
     shift = -R * 5e-4
-    assert abs((w @ t.mi.x) / w.sum() / shift - 1) < 0.02
+    assert abs((w @ t.model.mi.x) / w.sum() / shift - 1) < 0.02
     keys = t.tilt_keys(F)
     h = 0.25 * a
     assert abs(keys["contact_x_min"] - (shift - a)) < h and abs(keys["contact_x_max"] - (shift + a)) < h
@@ -571,7 +572,7 @@ def test_banded_face_in_the_apparatus_fig6_at_the_paper_tilt():
     kw = dict(dF=0.2 * F0, alpha=0.0, ua=ua, cycles=3, steps=40)
     law = FEContact3D(prof, MAT, mu1, F_max=1.2 * F0, h_contact=0.3, displacement="contact", band=BAND)
     tl = law.variant(tilt=TILT_PAPER)
-    assert int(tl.contact_mask(tl.normal(F_N=F0).p).sum()) >= 10
+    assert int(est.contact_mask(tl.model, tl.normal(F_N=F0).p).sum()) >= 10
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         d0, d1 = (float(run_apparatus(x, app, Loading.apparatus(F0, **kw))["slip_index"]) for x in (law, tl))

@@ -44,7 +44,9 @@ def drive(s: Scene, law):
     k = peak_index(s)
     if s.drive == "apparatus":
         return apparatus_result(law, Apparatus(kx=s.kx, mu2=s.mu2), s.loading, state_at=k)
-    if s.fe_model == "3d" and hasattr(law, "cycle_keys"):  # the 3D law: its frictional normal ramp first
+    from fem.solid3d.law import FEContact3D
+
+    if isinstance(law, FEContact3D):  # the 3D law: its frictional normal ramp first
         from fem.contact_run import drive_3d
 
         return drive_3d(law, s.loading, state_at=k)
@@ -201,7 +203,7 @@ def _fe3d_outputs(s: Scene, law, out, st, h, t0, t1, t2) -> tuple[dict, None]:
     if st is not None:
         out.update(law.stick_zone(np.asarray(st.q), np.asarray(st.p), nr.contact_radius))
     ray = law.x_ray
-    x = law.mi.x[ray]
+    x = law.model.mi.x[ray]
     out["profiles"] = {"r": x.tolist(), "pressure": nr.p[ray].tolist(), "r_pairs": x.tolist(),
                        "traction": np.asarray(st.q)[ray, 0].tolist() if st is not None else None}
     return out, None

@@ -155,7 +155,6 @@ def mortar_flexibility(K, basis, mesh, mi: MortarInterface, components=(0, 1, 2)
     the ``factorisation`` and of the ``condensation`` (the solves and the weighting), added to
     what it holds.
     """
-    import scipy.sparse as sp
 
     from fem.solvers import blas_threads, factorize
 

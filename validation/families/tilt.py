@@ -158,11 +158,11 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                              "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
                              "loop": {k: out["loop"][k] for k in ("du", "Fx")},
                              "runtime_s": out["runtime_s"]["cycles"]})
-            levels.append({"h": h, "refine": law.hmesh.params.refine_h, "band": law.hmesh.params.band_h,
-                           "dofs": law.ndofs, "vertices": law.n,
+            levels.append({"h": h, "refine": law.model.hmesh.params.refine_h, "band": law.model.hmesh.params.band_h,
+                           "dofs": law.model.ndofs, "vertices": law.n,
                            "setup_s": setup, "runs": runs,
                            "runtime_s": time.perf_counter() - t0})
-            mp = law.hmesh.params
+            mp = law.model.hmesh.params
             edge = "".join(f", {k} {x:g} a_ref" for k, x in (("ball", mp.refine_h), ("band", mp.band_h)) if x is not None)
             log(f"  {sv.name} h = {h:g} a_ref{edge} ({law.n} vertices): {len(tilts)} tilts in "
                 f"{levels[-1]['runtime_s']:.0f} s")
