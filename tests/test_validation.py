@@ -190,6 +190,32 @@ def test_catalogue_covers_the_issue():
     assert all(s.fingerprint(code_version()) != replace(s, mu=0.3).fingerprint(code_version()) for s in quick)
 
 
+def test_code_version_covers_every_module_a_result_depends_on(tmp_path, monkeypatch):
+    """The stored scenes are rerun when any module they depend on changes, those in subpackages too
+    (the FE models in ``fem/axisym`` and ``fem/solid3d``, the scene families, the ladder error bars
+    in ``common``), and not when only the report is re-rendered."""
+    from pathlib import Path
+
+    import validation.scenes as vs
+
+    root = Path(vs.__file__).resolve().parent.parent
+    files = {p.relative_to(root).as_posix() for p in vs.source_files()}
+    for f in ("fem/solid3d/law.py", "fem/axisym/law.py", "validation/families/tilt.py", "common/ladder.py",
+              "mdr/law.py", "meshes/half3d.py", "validation/sides.py"):
+        assert f in files, f
+    assert not {"validation/report.py", "validation/compare.py"} & files
+    # a change inside a subpackage changes the version: copy the sources, edit one file, hash again
+    import shutil
+
+    for pkg in vs.SOURCE_PACKAGES:
+        shutil.copytree(root / pkg, tmp_path / pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setattr(vs, "__file__", str(tmp_path / "validation" / "scenes.py"))
+    v0 = vs.code_version()
+    law = tmp_path / "fem" / "solid3d" / "law.py"
+    law.write_text(law.read_text() + "\n# edited\n")
+    assert vs.code_version() != v0
+
+
 def test_scene_bad_input():
     from common.errors import InputError
 

@@ -456,17 +456,32 @@ def select(names=None, quick: bool = False, catalogue: dict | None = None) -> li
 REPORT_ONLY = ("report.py", "compare.py", "__main__.py")
 
 
+#: the packages whose sources a scene result depends on (every module below them, subpackages included)
+SOURCE_PACKAGES = ("common", "mdr", "meshes", "fem", "rough", "studies", "validation")
+
+
+def source_files() -> list:
+    """The sources a scene result depends on: every ``.py`` below ``SOURCE_PACKAGES`` (subpackages
+    included), without the report-only modules of ``validation``; sorted by their path from the
+    repository root."""
+    root = Path(__file__).resolve().parent.parent
+    out = []
+    for pkg in SOURCE_PACKAGES:
+        for p in (root / pkg).rglob("*.py"):
+            if p.parent.name == "validation" and p.name in REPORT_ONLY:
+                continue
+            out.append(p)
+    return sorted(out, key=lambda p: p.relative_to(root).as_posix())
+
+
 def code_version() -> str:
-    """Hash of the sources a scene result depends on (mdr, fem, meshes, validation without the
-    report-only modules): results of other code are rerun."""
+    """Hash of the sources a scene result depends on (``source_files``, by path and content): results of
+    other code are rerun."""
     root = Path(__file__).resolve().parent.parent
     h = hashlib.sha256()
-    for pkg in ("mdr", "fem", "meshes", "validation"):
-        for p in sorted((root / pkg).glob("*.py")):
-            if pkg == "validation" and p.name in REPORT_ONLY:
-                continue
-            h.update(p.name.encode())
-            h.update(p.read_bytes())
+    for p in source_files():
+        h.update(p.relative_to(root).as_posix().encode())
+        h.update(p.read_bytes())
     return h.hexdigest()[:16]
 
 
