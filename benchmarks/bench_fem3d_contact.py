@@ -35,10 +35,12 @@ def md_references():
 
 def one(h, steps, model="3d", ring=None):
     from fem.contact_run import run_fem_contact
+    from fem.options import FEOptions
+    from meshes.half3d import Refinement
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 
-    out = run_fem_contact(Sphere(R), Materials(), MU, Loading.of(F0, fa=0.5 * MU * F0, cycles=3, steps=steps), h_contact=h, model=model, displacement="plate", **{} if ring is None else {"ring": (ring[0], ring[1], ring[2] * h)})
+    out = run_fem_contact(Sphere(R), Materials(), MU, Loading.of(F0, fa=0.5 * MU * F0, cycles=3, steps=steps), FEOptions(model=model, h_contact=h, displacement="plate", refinement=Refinement(ring=None if ring is None else (ring[0], ring[1], ring[2] * h))))
     if model != "3d":
         return {k: out[k] for k in ("dissipation", "dofs", "runtime_s")}
     keys = ("contact_radius", "pressure_radius", "stick_radius", "stick_radius_x", "stick_radius_y", "stick_axis_x",

@@ -14,10 +14,11 @@ from common.errors import InputError
 from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
                        profile_from_args)
 from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
-from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE
+from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
 from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.options import CONTACT_EXTENT_DEFAULT, FEOptions
 from mdr.loading import Loading
 
 
@@ -35,14 +36,14 @@ def add_fe_options(c, friction: bool = True):
                         "flat punch: its face, 1)")
     g.add_argument("--block-size", type=float, default=None,
                    help="block radius and height in m (default 200 a; also bounds the indenter cap height)")
-    g.add_argument("--penalty", type=float, default=DEFAULT_PENALTY,
+    g.add_argument("--penalty", type=float, default=None,
                    help=f"penalty factor alpha (> 0): normal{' and tangential' if friction else ''} stiffness "
                         f"alpha * E* / h per unit area (default {DEFAULT_PENALTY:g})")
-    g.add_argument("--al-tol", type=float, default=DEFAULT_AL_TOL,
+    g.add_argument("--al-tol", type=float, default=None,
                    help=f"normal augmented-Lagrangian stop: largest penetration / approach; 0 = pure penalty "
                         f"(default {DEFAULT_AL_TOL:g})")
     if friction:
-        g.add_argument("--friction-al-tol", type=float, default=DEFAULT_FRICTION_AL_TOL,
+        g.add_argument("--friction-al-tol", type=float, default=None,
                        help=f"tangential augmented-Lagrangian stop: largest multiplier change / largest slip "
                             f"limit; 0 = pure penalty (default {DEFAULT_FRICTION_AL_TOL:g})")
     g.add_argument("--solver", choices=("auto", "cholmod", "pardiso", "superlu"), default="auto",
@@ -139,25 +140,20 @@ def build_parser() -> argparse.ArgumentParser:
 def _contact(args) -> dict:
     from fem.contact_run import run_fem_contact
 
-    opts = fe_options(args)
-    if args.traction is not None and args.model != "3d":
-        raise InputError("--traction applies to --model 3d only (the axisymmetric model's traction is along x)")
-    if args.model == "3d":
-        opts["traction"] = args.traction or "free"
-        opts["h_contact"] = H_CONTACT_3D_DEFAULT if args.h_contact is None else args.h_contact
-        for k in ("penalty", "al_tol", "friction_al_tol"):
-            opts.pop(k)
-        opts["contact_extent"] = args.contact_extent
-        opts["tilt"] = args.tilt
-        opts["ring"] = None if args.ring is None else tuple(args.ring)
-    elif args.ring is not None:
-        raise InputError("--ring applies to --model 3d only (the refined ring of the 3D mesh)")
-    elif args.tilt != 0:
-        raise InputError(f"--tilt applies to --model 3d only, got --tilt {args.tilt!r}")
-    disp = args.displacement or "contact"
+    if args.model != "3d":  # the flags of the 3D model, named as the user gave them
+        for flag, given in (("--traction", args.traction is not None), ("--ring", args.ring is not None),
+                            ("--tilt", args.tilt != 0)):
+            if given:
+                raise InputError(f"{flag} applies to --model 3d only (the axisymmetric model: traction along x, "
+                                 "no tilt, no refined ring)")
+    else:
+        for flag in ("penalty", "al_tol", "friction_al_tol"):
+            if getattr(args, flag) is not None:
+                raise InputError(f"--{flag.replace('_', '-')} applies to --model axisym only (the 3D model's "
+                                 "contact constraints are exact)")
+    options = fe_options(args, model=args.model, displacement=args.displacement or "contact")
     loading = Loading.of(args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps)
-    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, loading, displacement=disp,
-                           model=args.model, vtu=args.vtu, **opts)
+    return run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, loading, options, vtu=args.vtu)
 
 
 def _normal(args) -> dict:
@@ -165,8 +161,7 @@ def _normal(args) -> dict:
 
     out, model, res = run_normal(
         args.profile, R=args.R, b=0.0 if args.b is None else args.b, F=args.F, exact=args.exact_cap, fillet=args.fillet,
-        materials=materials_from_args(args), return_model=True,
-        **{k: v for k, v in fe_options(args).items() if k != "friction_al_tol"})
+        materials=materials_from_args(args), return_model=True, **_normal_options(fe_options(args)))
     if args.vtu:
         from fem.axisym.output import write_vtu
 
@@ -178,12 +173,24 @@ def main(argv=None) -> int:
     return run_command(build_parser(), argv)
 
 
-def fe_options(args) -> dict:
-    """Keyword arguments of the FE law from the flags of :func:`add_fe_options`."""
-    return dict(h_contact=H_CONTACT_DEFAULT if args.h_contact is None else args.h_contact,
-                contact_extent=1.25 if args.contact_extent is None else args.contact_extent, block_size=args.block_size,
+def fe_options(args, **extra) -> FEOptions:
+    """The FE options (``fem.options.FEOptions``, checked here once) from the flags of
+    :func:`add_fe_options`; ``extra``: further fields (the model and its own flags). Flags not given
+    are None: the model's defaults."""
+    opts = dict(h_contact=args.h_contact, contact_extent=args.contact_extent, block_size=args.block_size,
                 penalty=args.penalty, al_tol=args.al_tol, friction_al_tol=getattr(args, "friction_al_tol", None),
                 cache_dir=args.cache_dir, backend=None if args.solver == "auto" else args.solver)
+    if extra.get("model") == "3d":
+        opts.update(traction=args.traction, tilt=args.tilt,
+                    refinement=Refinement(ring=None if args.ring is None else tuple(args.ring)))
+    return FEOptions(**opts, **extra)
+
+
+def _normal_options(o: FEOptions) -> dict:
+    """The keywords of ``fem.axisym.normal_run.run_normal`` from FE options (the normal run: no friction)."""
+    given = {k: getattr(o, k) for k in ("penalty", "al_tol") if getattr(o, k) is not None}
+    return dict(h_contact=o.h, contact_extent=CONTACT_EXTENT_DEFAULT if o.contact_extent is None else o.contact_extent,
+                block_size=o.block_size, cache_dir=o.cache_dir, backend=o.backend, **given)
 
 
 class _FEApparatusLaw:
@@ -197,7 +204,7 @@ class _FEApparatusLaw:
     def apparatus_result(profile, materials, app, mu, loading, args) -> dict:
         from fem.apparatus import fem_apparatus_result  # the FE model's imports only when it is used
 
-        return fem_apparatus_result(profile, materials, app, mu, loading, **fe_options(args))
+        return fem_apparatus_result(profile, materials, app, mu, loading, fe_options(args))
 
     @staticmethod
     def session():
@@ -212,7 +219,7 @@ class _FEApparatusLaw:
         from fem.apparatus import fem_apparatus_law
 
         opts = fe_options(args)
-        return fem_apparatus_law(profile, materials, mu, F_max, **dict(opts, h_contact=opts["h_contact"] * coarsen))
+        return fem_apparatus_law(profile, materials, mu, F_max, opts.replace(h_contact=opts.h * coarsen))
 
 
 #: the FE law of ``python -m mdr apparatus/study --law fem`` (``studies.cli.contact_laws``)

@@ -23,53 +23,29 @@ from dataclasses import replace
 
 from mdr.drive import run_contact
 from mdr.loading import Loading, gross_slip_work
-from common.errors import InputError, in_range
-from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
+from common.errors import InputError
 
-from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
-from fem.axisym.law import FEContact
-from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
+from fem.options import FEOptions
 from fem.solid3d import runs
 
 
-def run_fem_contact(profile, materials, mu, loading: Loading, *,
-                    h_contact=H_CONTACT_DEFAULT, contact_extent=None, block_size=None, penalty=DEFAULT_PENALTY,
-                    al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL, cache_dir=None,
-                    backend=None, displacement="contact", return_law=False, model="axisym", traction=None,
-                    tilt=0.0, ring=None, vtu=None):
-    """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``); returns the result
-    dict (and the law if ``return_law``). ``model``:
-    ``"axisym"`` (``fem.axisym.law.FEContact``) or ``"3d"`` (``fem.solid3d.law.FEContact3D``: exact contact
-    constraints, so ``penalty``, ``al_tol`` and ``friction_al_tol`` do not apply; ``h_contact``
-    in the 3D range; ``traction`` the 3D law's, ``fem.solid3d.law.TRACTIONS``; ``tilt`` of the flat
-    face, rad; ``ring`` (r, width, h) / a_ref, the 3D mesh's refined ring, ``fem.solid3d.law.FEContact3D``).
-    ``contact_extent`` None: 1.25 (the flat punch of the 3D model: its face, 1). ``vtu`` (a path,
-    axisymmetric model): the fields at the peak of the drive in the last cycle, in the x-z plane
-    (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises stress, contact pressure, shear
-    traction, stick/slip status and slip), written after the run; its path is the key ``vtu``."""
+def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions = FEOptions(), *, vtu=None,
+                    return_law=False):
+    """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``) with the FE side
+    of ``options`` (``fem.options.FEOptions``: the axisymmetric model ``fem.axisym.law.FEContact`` or
+    the 3D model ``fem.solid3d.law.FEContact3D``); returns the result dict (and the law if
+    ``return_law``). ``vtu`` (a path, axisymmetric model): the fields at the peak of the drive in the
+    last cycle, in the x-z plane (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises
+    stress, contact pressure, shear traction, stick/slip status and slip), written after the run;
+    its path is the key ``vtu``."""
     loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
-    if vtu is not None and model == "3d":
+    if vtu is not None and options.model == "3d":
         raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
-    if model == "3d":
-        return _run_3d(profile, materials, mu, loading, h_contact=h_contact,
-                       contact_extent=contact_extent, block_size=block_size, cache_dir=cache_dir, backend=backend,
-                       displacement=displacement, return_law=return_law, traction=traction or "free", tilt=tilt,
-                       ring=ring)
-    if ring is not None:
-        raise InputError("ring (the refined ring of the mesh) applies to the 3D model only")
-    if traction is not None:
-        raise InputError("traction applies to the 3D model only")
-    if model != "axisym":
-        raise InputError(f"model must be 'axisym' or '3d', got {model!r}")
-    if tilt != 0:
-        raise InputError(f"tilt is a parameter of the 3D model only (--model 3d), got tilt={tilt!r}")
-    contact_extent = 1.25 if contact_extent is None else contact_extent
-    in_range("h_contact", h_contact, *H_CONTACT_RANGE)
+    if options.model == "3d":
+        return _run_3d(profile, materials, mu, loading, options, return_law)
     t0 = time.perf_counter()
     F0 = loading.F0
-    law = FEContact(profile, materials, mu, F_max=loading.F_max, h_contact=h_contact, contact_extent=contact_extent,
-                    block_size=block_size, penalty=penalty, al_tol=al_tol, friction_al_tol=friction_al_tol,
-                    cache_dir=cache_dir, backend=backend, displacement=displacement)
+    law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
     k, FN_peak = loading.last_peak()
     res = run_contact(law, loading, state_at=k if vtu is not None else None)  # the state at the peak: the fields
@@ -91,16 +67,11 @@ def run_fem_contact(profile, materials, mu, loading: Loading, *,
 RAMP_STEPS = 20
 
 
-def _run_3d(profile, materials, mu, loading, *, h_contact, contact_extent, block_size,
-            cache_dir, backend, displacement, return_law, traction, tilt, ring=None):
+def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law):
     import resource
 
-    from fem.solid3d.law import FEContact3D
-
     t0 = time.perf_counter()
-    law = FEContact3D(profile, materials, mu, F_max=loading.F_max, h_contact=h_contact, contact_extent=contact_extent,
-                      block_size=block_size, cache_dir=cache_dir, backend=backend, displacement=displacement,
-                      traction=traction, tilt=tilt, ring=ring)
+    law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
     out = drive_3d(law, loading, t_setup=t1 - t0)
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB

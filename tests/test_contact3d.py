@@ -9,6 +9,7 @@ Deresiewicz (dissipation), all in Johnson 1985, *Contact Mechanics*, ch. 4 and 7
 import numpy as np
 import pytest
 
+from fem.options import FEOptions
 from fem.solid3d import estimators as est
 from fem.solid3d.contact import RelativeFlexibility, solve_normal3d, solve_tangential3d, tangential_history
 from fem.solid3d.elastic import stiffness3d
@@ -16,7 +17,7 @@ from fem.solid3d.interface import contact_flexibility, mortar_flexibility, morta
 from mdr import reference as ref
 from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
-from meshes.half3d import Half3DMeshParams, build_mesh3d
+from meshes.half3d import Half3DMeshParams, Refinement, build_mesh3d
 from mdr.loading import Loading
 
 MAT = Materials()
@@ -230,7 +231,7 @@ def test_law3d_trial_commit_equals_step_and_slope_is_the_tangent(law3d):
 
 def test_law3d_predictor_changes_iterations_not_answers(law3d):
     """Each step starts from the last step's increments extrapolated to the new load
-    (``FEContact3D._predict``). Along a partial-slip cycle with a reversal, under force and under
+    (``fem.solid3d.contact.predict``). Along a partial-slip cycle with a reversal, under force and under
     displacement control, every step equals the step started from the state alone (state.dq
     dropped) to the solver tolerance, with fewer semi-smooth Newton iterations over the cycle."""
     from dataclasses import replace
@@ -520,7 +521,7 @@ def test_convergence_ladder(tmp_path):
     c = ref.cattaneo_mindlin_stick_radius(0.5 * MU * F, F, MU, A_H)
     rows = []
     for h in (0.2, 0.14, 0.1):
-        out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), h_contact=h, model="3d", displacement="plate", cache_dir=tmp_path)
+        out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), FEOptions(model="3d", h_contact=h, displacement="plate", cache_dir=tmp_path))
         rows.append(out)
         assert abs(out["stick_radius_x"] - c) < 1.5 * h * A_H and abs(out["stick_radius_y"] - c) < 1.5 * h * A_H
         assert abs(out["contact_radius"] / A_H - 1) < 0.03
@@ -546,7 +547,7 @@ def test_ring_ladder(ring_pair, tmp_path):
     us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
     W_md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us)
     dw = {(h, 100): ring_pair(h, 0.9)["free"]["dissipation"] / W_md - 1 for h in (0.2, 0.14)}
-    out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), h_contact=0.14, model="3d", displacement="plate", ring=(0.9, 0.18, 0.07), cache_dir=tmp_path)
+    out = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40), FEOptions(model="3d", h_contact=0.14, displacement="plate", refinement=Refinement(ring=(0.9, 0.18, 0.07)), cache_dir=tmp_path))
     dw[0.14, 40] = out["dissipation"] / W_md - 1
     assert dw[0.2, 100] > dw[0.14, 100] and 0.005 < dw[0.2, 100] < 0.05, dw
     assert abs(dw[0.14, 100]) < 0.003, dw
@@ -594,7 +595,7 @@ def ring_pair(tmp_path_factory):
 
     def pair(h, r):
         if (h, r) not in cache:
-            out, law = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=100), h_contact=h, model="3d", displacement="plate", ring=(r, 0.18, h / 2), cache_dir=tmp, traction="x", return_law=True)
+            out, law = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=100), FEOptions(model="3d", h_contact=h, displacement="plate", refinement=Refinement(ring=(r, 0.18, h / 2)), cache_dir=tmp, traction="x"), return_law=True)
             free = law.variant(traction="free")
             res = drive_3d(free, Loading.of(F, dF=0.0, alpha=0.0, fa=0.5 * MU * F, cycles=3, steps=100))
             res.update(free.result_keys(F, 0.0, 1.0, 2.0))

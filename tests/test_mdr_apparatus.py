@@ -236,12 +236,13 @@ def test_fe_law_in_the_apparatus_agrees_with_mdr_within_its_own_mesh_error(tmp_p
     the springs of the apparatus are exact, so to first order the slip-index error is this
     dissipation error (factor 2 allows for the second-order shift of the path)."""
     from fem.apparatus import fem_apparatus_result
+    from fem.options import FEOptions
     from mdr.loops import loop_integral
 
     steps, cycles = 40, 3
     kw = dict(cycles=cycles, steps=steps)
     fe = fem_apparatus_result(Sphere(R), STEEL, Apparatus(), MU, Loading.apparatus(F0, 0.1, 0.0, 150e-9, **kw),
-                              h_contact=h, cache_dir=tmp_path)
+                              FEOptions(h_contact=h, cache_dir=tmp_path))
     mlaw = MDRContact(Sphere(R), STEEL, MU, F_max=0.6, F_min=0.4, n=2000)
     md = run_apparatus(mlaw, Apparatus(), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, **kw))
     assert fe["stationary"] and fe["dofs"] > 0 and set(fe["runtime_s"]) == {"setup", "cycles", "total"}

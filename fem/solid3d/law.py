@@ -72,7 +72,8 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.axisym.law import _frozen, step_history
 from fem.solid3d import estimators as est
-from fem.solid3d.contact import (RelativeFlexibility, project_disk, solve_coupled3d, solve_tangential3d,
+from fem.solid3d import runs
+from fem.solid3d.contact import (RelativeFlexibility, predict, solve_coupled3d, solve_tangential3d,
                                  tangential_slope)
 from fem.solid3d.model import BLOCK_SIZE_DEFAULT, SECTOR, Model3D, build_model3d, normal_solution
 from fem.solvers import blas_threads
@@ -114,7 +115,7 @@ class FE3DState:
     """History of the 3D law: tractions ``q`` (n, 2) and pressures ``p`` (n,) at the vertices (Pa),
     weighted slip ``P`` (n, 2) (m^3), tangential displacement ``u`` and approach ``d`` (m).
     ``dq`` (n, 2) and ``du``: the last step's increments of q and u, which only start the next
-    step's iteration (:meth:`FEContact3D._predict`); the answer does not depend on them."""
+    step's iteration (``fem.solid3d.contact.predict``); the answer does not depend on them."""
 
     q: np.ndarray
     P: np.ndarray
@@ -135,6 +136,37 @@ class Normal3D:
     approach: float
     contact_radius: float
     iterations: int
+
+
+def _checked(profile, materials, mu, F_max, h_contact, contact_extent, displacement, tilt, traction, coupling):
+    """The inputs of ``FEContact3D`` checked (InputError naming the parameter) and completed:
+    (materials, mu, F_max, contact_extent, tilt, traction, coupling)."""
+    if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
+        kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
+        raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
+    flat = isinstance(profile, FlatPunch)
+    tilt = _check_tilt(tilt)
+    if flat:
+        if contact_extent is not None and contact_extent != 1.0:
+            raise InputError("contact_extent is the punch face for the flat punch (1, its radius b); got "
+                             f"{contact_extent!r}")
+        contact_extent = 1.0
+    elif contact_extent is None:
+        contact_extent = 1.25
+    m = materials if materials is not None else Materials()
+    if displacement not in ("contact", "plate"):
+        raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
+    traction, coupling = _check_assumptions(traction, coupling)
+    if np.ndim(mu) != 0:
+        raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
+    mu = float(nonnegative("mu", mu))
+    if F_max is None and not flat:
+        raise InputError("FEContact3D needs F_max (> 0, the largest normal force) to size its mesh")
+    F_max = None if F_max is None else float(positive("F_max", F_max))
+    if not H_CONTACT_3D_RANGE[0] <= h_contact <= H_CONTACT_3D_RANGE[1]:
+        raise InputError(f"h_contact must be in [{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}] for the "
+                         f"3D model, got {h_contact!r}")
+    return m, mu, F_max, contact_extent, tilt, traction, coupling
 
 
 class FEContact3D:
@@ -171,31 +203,8 @@ class FEContact3D:
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
                  cache_dir=None, backend=None, displacement="plate", tilt=0.0, traction="free", coupling=True,
                  refine=None, ring=None, band=None):
-        if not isinstance(profile, (Sphere, TruncatedSphere, FlatPunch)):
-            kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
-            raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
-        flat = isinstance(profile, FlatPunch)
-        tilt = _check_tilt(tilt)
-        if flat:
-            if contact_extent is not None and contact_extent != 1.0:
-                raise InputError("contact_extent is the punch face for the flat punch (1, its radius b); got "
-                                 f"{contact_extent!r}")
-            contact_extent = 1.0
-        elif contact_extent is None:
-            contact_extent = 1.25
-        m = materials if materials is not None else Materials()
-        if displacement not in ("contact", "plate"):
-            raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
-        traction, coupling = _check_assumptions(traction, coupling)
-        if np.ndim(mu) != 0:
-            raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
-        mu = float(nonnegative("mu", mu))
-        if F_max is None and not flat:
-            raise InputError("FEContact3D needs F_max (> 0, the largest normal force) to size its mesh")
-        F_max = None if F_max is None else float(positive("F_max", F_max))
-        if not H_CONTACT_3D_RANGE[0] <= h_contact <= H_CONTACT_3D_RANGE[1]:
-            raise InputError(f"h_contact must be in [{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}] for the "
-                             f"3D model, got {h_contact!r}")
+        m, mu, F_max, contact_extent, tilt, traction, coupling = _checked(
+            profile, materials, mu, F_max, h_contact, contact_extent, displacement, tilt, traction, coupling)
         model = build_model3d(profile, m, F_max=F_max, h_contact=h_contact, contact_extent=contact_extent,
                               block_size=block_size, refinement=Refinement(refine=refine, ring=ring, band=band),
                               displacement=displacement, cache_dir=cache_dir, backend=backend)
@@ -377,10 +386,10 @@ class FEContact3D:
             uu = float(state.u if u is None else u)
             res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=uu)
         elif u is not None:
-            q0, _ = self._predict(state, g, u, None)
+            q0, _ = predict(state, mi.A, g, u, None)
             res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=u, q0=q0)
         else:
-            q0, u0 = self._predict(state, g, None, Fx)
+            q0, u0 = predict(state, mi.A, g, None, Fx)
             res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
                                      force=Fx / 2, q0=q0, delta0=u0)
         return p, nr, res
@@ -411,27 +420,6 @@ class FEContact3D:
                           a=a, c=c, u=new.u, work=work, slack=slack[ray], slipping=slipping[ray]), new, \
             (g, res, res.s - np.asarray(state.P))
 
-    def _predict(self, state: FE3DState, g, u, Fx):
-        """Start of a Coulomb increment: the last step's increments (``state.dq``, ``state.du``)
-        extrapolated to the new load (F_x or u) when it moves on in the same direction (secant
-        predictor), else the state itself (a reversal sticks first). Projected onto the new slip
-        disks. Only the iteration count depends on it (measured on the sphere at 453 vertices:
-        14 semi-smooth Newton iterations per force step without it, 4.4 with it)."""
-        q = np.asarray(state.q)
-        if state.dq is None:
-            return q, state.u
-        dq = np.asarray(state.dq)
-        A = self.model.mi.A
-        if Fx is not None:
-            last = 2.0 * float(A @ dq[:, 0])
-            ahead = Fx - 2.0 * float(A @ q[:, 0])
-        else:
-            last, ahead = state.du, u - state.u
-        if not (last != 0.0 and 0.0 < ahead / last <= 4.0):
-            return q, state.u
-        f = ahead / last
-        return project_disk(q + f * dq, g), state.u + f * state.du
-
     def _check_force_limit(self, Fx, FN):
         """A prescribed tangential force must stay below mu F_N (no force-controlled gross slip)."""
         if Fx is not None and Fx != 0.0 and abs(Fx) >= self.mu * FN * (1 - 1e-12):
@@ -456,38 +444,12 @@ class FEContact3D:
 
     # ------------------------------------------------------------------ keys
     def result_keys(self, F_N, t0, t1, t2, F_peak=None) -> dict:
-        """The keys of a 3D law that need no run (``python -m fem contact --model 3d``; those read from
-        a run's fields are ``fem.solid3d.runs``): the FE's own contact radius and approach at F_N
-        without tangential traction (for a dissimilar pair the run's coupled steps differ slightly:
-        see ``pressure_center_x``), ``pressure_radius`` (``fem.solid3d.estimators``) and
-        ``indentation`` there, ``bulk_compliance`` (``plate_bulk_compliance`` at F_N),
-        ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``, ``runtime_s`` (setup, cycles, total,
-        and of the set-up the factorisation and the condensation: ``Model3D.timings``); and
-        :meth:`tilt_keys` at the peak normal force ``F_peak`` (default F_N)."""
-        m = self.model
-        nr = self.normal(F_N=F_N)
-        out = {"contact_radius": nr.contact_radius, "pressure_radius": est.pressure_radius(m, nr.p),
-               "approach": nr.approach, "indentation": self.indentation(nr),
-               "bulk_compliance": self.plate_bulk_compliance(F_N), "displacement": m.displacement,
-               "traction": self.traction, "coupling": self.coupling, "dofs": m.ndofs, "vertices": m.n,
-               "beta": m.beta, "mesh": self.mesh_summary(), "solver": {"backend": m.backend, **self.stats},
-               "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0,
-                             **{k: m.timings[k] for k in ("factorisation", "condensation")}}}
-        out.update(self.tilt_keys(F_N if F_peak is None else F_peak))
-        return out
+        """The keys of this law that need no run (``fem.solid3d.runs.law_keys``)."""
+        return runs.law_keys(self, F_N, t0, t1, t2, F_peak)
 
     def tilt_keys(self, F_N) -> dict:
-        """``tilt``, ``contact_area_fraction``, ``contact_x_min``, ``contact_x_max`` at the normal
-        force F_N without tangential traction: the contact area (``fem.solid3d.estimators``) over
-        that of the punch face (pi b^2 up to the faceting of the meshed rim) for the flat punch, over
-        the aligned contact's for a sphere or truncated sphere (the same estimator); the contact's
-        extent along the symmetry plane."""
-        m = self.model
-        nr = self.normal(F_N=F_N)
-        ref = float(2.0 * m.mi.A.sum()) if m.flat else est.contact_area(m, self.normal(F_N=F_N, aligned=True).p)
-        x0, x1 = est.contact_extent_x(m, nr.p)
-        return {"tilt": self.tilt, "contact_area_fraction": est.contact_area(m, nr.p) / ref,
-                "contact_x_min": x0, "contact_x_max": x1}
+        """The contact's area fraction and extent at F_N (``fem.solid3d.runs.tilt_keys``)."""
+        return runs.tilt_keys(self, F_N)
 
     def stick_zone(self, q, p, a) -> dict:
         """``fem.solid3d.estimators.stick_zone`` of tractions q and pressures p at contact radius a

@@ -9,6 +9,8 @@ import numpy as np
 
 from mdr.law import History
 
+from fem.solid3d import estimators as est
+
 #: the stick-zone keys of :func:`cycle_keys`: those :func:`window_keys` reports at the last cycle's peak
 CYCLE_KEYS = ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y", "traction_angle_max")
 #: the keys :func:`window_keys` reports (``fem.solid3d.estimators.stick_zone``)
@@ -69,3 +71,39 @@ def cycle_keys(law, H: History, steps: int) -> dict:
         for key in out:
             out[key].append(None if not np.isfinite(z[key]) else float(z[key]))
     return out
+
+
+def law_keys(law, F_N, t0, t1, t2, F_peak=None) -> dict:
+    """The keys of a 3D law that need no run (``FEContact3D.result_keys``, ``python -m fem contact
+    --model 3d``): the FE's own contact radius and approach at F_N without tangential traction (for a
+    dissimilar pair the run's coupled steps differ slightly: see ``pressure_center_x``),
+    ``pressure_radius`` (``fem.solid3d.estimators``) and ``indentation`` there, ``bulk_compliance``
+    (``plate_bulk_compliance`` at F_N), ``dofs``, ``vertices``, ``beta``, ``mesh``, ``solver``,
+    ``runtime_s`` (setup, cycles, total from the times t0 < t1 < t2, and of the set-up the
+    factorisation and the condensation: ``Model3D.timings``); and :func:`tilt_keys` at the peak
+    normal force ``F_peak`` (default F_N)."""
+    m = law.model
+    nr = law.normal(F_N=F_N)
+    out = {"contact_radius": nr.contact_radius, "pressure_radius": est.pressure_radius(m, nr.p),
+           "approach": nr.approach, "indentation": law.indentation(nr),
+           "bulk_compliance": law.plate_bulk_compliance(F_N), "displacement": m.displacement,
+           "traction": law.traction, "coupling": law.coupling, "dofs": m.ndofs, "vertices": m.n,
+           "beta": m.beta, "mesh": law.mesh_summary(), "solver": {"backend": m.backend, **law.stats},
+           "runtime_s": {"setup": t1 - t0, "cycles": t2 - t1, "total": t2 - t0,
+                         **{k: m.timings[k] for k in ("factorisation", "condensation")}}}
+    out.update(tilt_keys(law, F_N if F_peak is None else F_peak))
+    return out
+
+
+def tilt_keys(law, F_N) -> dict:
+    """``tilt``, ``contact_area_fraction``, ``contact_x_min``, ``contact_x_max`` at the normal force F_N
+    without tangential traction: the contact area (``fem.solid3d.estimators``) over that of the punch
+    face (pi b^2 up to the faceting of the meshed rim) for the flat punch, over the aligned contact's
+    for a sphere or truncated sphere (the same estimator); the contact's extent along the symmetry
+    plane."""
+    m = law.model
+    nr = law.normal(F_N=F_N)
+    ref = float(2.0 * m.mi.A.sum()) if m.flat else est.contact_area(m, law.normal(F_N=F_N, aligned=True).p)
+    x0, x1 = est.contact_extent_x(m, nr.p)
+    return {"tilt": law.tilt, "contact_area_fraction": est.contact_area(m, nr.p) / ref,
+            "contact_x_min": x0, "contact_x_max": x1}
