@@ -72,7 +72,7 @@ from fem.solid3d.contact import (RelativeFlexibility, project_disk, solve_couple
 from fem.solid3d.condensed import condensed_body
 from fem.bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
 from fem.solid3d.interface import hat_integrals, mortar_interface
-from fem.axisym.law import _frozen, step_history
+from fem.stepping import frozen as _frozen, step_history
 from fem.axisym.normal_run import reference_radius
 from fem.solvers import blas_threads
 
