@@ -27,64 +27,32 @@ State (``LawState``) is immutable: ``step`` returns a new state and leaves
 the old one untouched, so a caller can try a step and discard it. Everything
 is vectorised over a batch of scenes (profile parameters and mu may be
 arrays of one shape ``batch``).
+
+Layout: this module holds the law (``MDRContact``, its protocol methods) and its prepared step
+(``Trial``); the values it hands around are in ``mdr.law_types`` (importable from here), the
+arithmetic of the spring cells in ``mdr.law_cells``, the runs of whole histories in
+``mdr.law_run`` and the traction's inverse transform in ``mdr.law_traction``.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from . import kernels
-from common.errors import InputError, finite, nonnegative, positive
-from .grid import DEFAULT_CELLS, SpringGrid, make_grid
+from common.errors import InputError, finite, nonnegative
+from .grid import DEFAULT_CELLS, SpringGrid
+from .law_cells import (carry, cell_slack, flat_radius, law_grid, normal_phase, solve_du, stick_nodes,
+                        tangential_force)
+from .law_run import run_blocks, run_compiled, run_force_steps
+from .law_traction import traction_from_line_loads
+from .law_types import History, LawState, NormalPhase, StepResult
 from .materials import Materials
 from .normal import approach_from_force
-from .profiles import FlatPunch, Profile, TruncatedSphere
-from .solve import solve_increasing
-from .stick import at_limit, per_step, stick_radius
+from .profiles import Profile
+from .stick import per_step
 
-
-@dataclass(frozen=True)
-class LawState:
-    """History of the contact: per-cell elastic tangential displacement ``v``,
-    in-contact cell length ``ell`` (both batch + (n,)), total tangential relative
-    displacement ``u`` and approach ``d`` (batch)."""
-
-    v: np.ndarray
-    ell: np.ndarray
-    u: np.ndarray
-    d: np.ndarray
-
-
-@dataclass(frozen=True)
-class NormalPhase:
-    """Normal contact at approach d: contact radius a, per-cell in-contact
-    length ell, normal force N (one side, N >= 0) and tangential slip limit vmax."""
-
-    d: np.ndarray
-    a: np.ndarray
-    ell: np.ndarray
-    N: np.ndarray
-    vmax: np.ndarray
-    FN: np.ndarray
-
-
-@dataclass(frozen=True)
-class StepResult:
-    """Outputs of one step (SI): forces, approach, contact and stick radii, the
-    tangential relative displacement and the friction work done in the step;
-    per node of the law's ``stick_nodes``, the slack to the slip limit and whether
-    the node slipped or was out of contact in the step (``mdr.stick``)."""
-
-    Fx: np.ndarray
-    FN: np.ndarray
-    d: np.ndarray
-    a: np.ndarray
-    c: np.ndarray
-    u: np.ndarray
-    work: np.ndarray
-    slack: np.ndarray | None = field(default=None, compare=False, repr=False)
-    slipping: np.ndarray | None = field(default=None, compare=False, repr=False)
+__all__ = ["History", "LawState", "MDRContact", "NormalPhase", "StepResult", "Trial"]
 
 
 @dataclass(frozen=True)
@@ -119,46 +87,6 @@ class Trial:
         return res, LawState(v=v2, ell=ph.ell, u=st.u + du, d=ph.d)
 
 
-@dataclass
-class History:
-    """Time series of a run (arrays batch + (T,)) and the final state."""
-
-    u: np.ndarray
-    Fx: np.ndarray
-    FN: np.ndarray
-    d: np.ndarray
-    a: np.ndarray
-    c: np.ndarray
-    work: np.ndarray
-    state: LawState = field(repr=False)
-    slack: np.ndarray | None = field(default=None, repr=False)
-    slipping: np.ndarray | None = field(default=None, repr=False)
-    #: what a law records per step beyond the protocol's arrays: {name: sequence over the T steps}
-    #: (the 3D FE law's vertex tractions and pressures); None where it records nothing
-    fields: dict | None = field(default=None, repr=False)
-
-    def then(self, later: "History") -> "History":
-        """This history followed by ``later`` (a run from this one's final state): the arrays joined
-        along time, the recorded window and fields too; the final state ``later``'s."""
-        def join(a, b, axis):
-            return None if a is None or b is None else np.concatenate([a, b], axis=axis)
-
-        fields = None
-        if self.fields is not None and later.fields is not None:
-            fields = {k: tuple(self.fields[k]) + tuple(later.fields[k]) for k in self.fields}
-        return type(later)(state=later.state, **{f: np.concatenate([getattr(self, f), getattr(later, f)], axis=-1)
-                                                 for f in ("u", "Fx", "FN", "d", "a", "c", "work")},
-                           slack=join(self.slack, later.slack, -2), slipping=join(self.slipping, later.slipping, -2),
-                           fields=fields)
-
-    def window_stick_radius(self, law):
-        """Stick radius (``mdr.stick``) over the recorded steps (``run(record_from=...)``)."""
-        if self.slack is None:
-            raise InputError("the history has no recorded slip state: run it with record_from=<first step>")
-        T = self.slack.shape[-2]
-        return stick_radius(law.stick_nodes, self.slack, self.slipping, self.a[..., -T:], law.stick_onset)
-
-
 class MDRContact:
     """MDR contact law of one profile (or a batch of profiles) and two materials.
 
@@ -186,19 +114,7 @@ class MDRContact:
         self.E_star = self.materials.E_star
         self.G_star = self.materials.G_star
         if grid is None:
-            if isinstance(profile, FlatPunch):
-                a_max = profile.b
-            elif a_max is None:
-                if F_max is None:
-                    raise InputError("MDRContact needs F_max (> 0, the largest normal force) or a_max to size its spring grid")
-                F_max = positive("F_max", F_max)
-                a_max = profile.g_inv(approach_from_force(profile, self.materials, F_max))
-            a_min = None
-            if F_min is not None:
-                F_min = nonnegative("F_min", F_min)
-            if F_min is not None and not isinstance(profile, FlatPunch) and np.all(np.asarray(F_min) > 0):
-                a_min = profile.g_inv(approach_from_force(profile, self.materials, F_min))
-            grid = make_grid(profile, a_max, n=n, a_min=a_min, refine=refine)
+            grid = law_grid(profile, self.materials, F_max=F_max, a_max=a_max, n=n, F_min=F_min, refine=refine)
         self.grid = grid
         self.batch = grid.width.shape[:-1]
 
@@ -229,51 +145,17 @@ class MDRContact:
 
     # --------------------------------------------------------------- normal
     def normal_phase(self, d) -> NormalPhase:
-        """Normal contact for approach ``d`` of shape batch or batch + (T,)."""
-        d = np.asarray(d, dtype=float)
-        nb = len(self.batch)
-        extra = d.ndim - nb
-        if extra not in (0, 1) or d.shape[:nb] != self.batch:
-            raise InputError(f"approach d must have shape {self.batch} or {self.batch} + (T,), got {d.shape}")
-        g = self.grid
-
-        def cells(arr):  # batch + (n,) -> batch + (1,)*extra + (n,)
-            return arr.reshape(self.batch + (1,) * extra + (arr.shape[-1],))
-
-        lo, width, int_g = cells(g.lo), cells(g.width), cells(g.int_g)
-        dp = np.maximum(d, 0.0)
-        touching = d > 0
-        a = np.where(touching, self.profile.g_inv(dp), 0.0)
-        x_max = g.x_max.reshape(self.batch + (1,) * extra)
-        if np.any(a > x_max * (1 + 1e-9)):
-            raise InputError("the contact radius exceeds the spring grid: build the law with a larger F_max (or a_max)")
-        a = np.minimum(a, x_max)
-        ell = np.clip(a[..., None] - lo, 0.0, width)
-        full = ell >= width
-        ig = np.where(full, int_g, 0.0)
-        # the one partly covered cell: exact integral of g over [lo_k, a]
-        k = np.sum(full, axis=-1, keepdims=True)
-        has_partial = (k < width.shape[-1]) & (a[..., None] > 0)
-        kk = np.minimum(k, width.shape[-1] - 1)
-        lo_k = np.take_along_axis(np.broadcast_to(lo, ell.shape), kk, axis=-1)[..., 0]
-        part = np.where(has_partial[..., 0] & (a > lo_k), self.profile.cell_integral(lo_k, np.maximum(a, lo_k)), 0.0)
-        np.put_along_axis(ig, kk, np.where(has_partial, part[..., None], np.take_along_axis(ig, kk, axis=-1)), axis=-1)
-        N = self.E_star * np.maximum(dp[..., None] * ell - ig, 0.0)
-        mu = np.asarray(self.mu, dtype=float).reshape(self.batch + (1,) * (extra + 1)) if np.ndim(self.mu) else self.mu
-        with np.errstate(divide="ignore", invalid="ignore"):
-            vmax = np.where(ell > 0, mu * N / (self.G_star * ell), 0.0)
-        return NormalPhase(d=dp, a=a, ell=ell, N=N, vmax=vmax, FN=2.0 * np.sum(N, axis=-1))
+        """Normal contact for approach ``d`` of shape batch or batch + (T,) (``mdr.law_cells``)."""
+        return normal_phase(self.profile, self.grid, self.batch, self.E_star, self.G_star, self.mu, d)
 
     # ----------------------------------------------------------- tangential
-    @staticmethod
-    def _carry(v, ell_old, ell_new):
-        """Tangential displacement after the contact length of each cell changed."""
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(ell_new > 0, np.minimum(1.0, ell_old / ell_new), 0.0)
-        return v * ratio
+    #: tangential displacement after the contact length of each cell changed (``mdr.law_cells``)
+    _carry = staticmethod(carry)
+    #: per cell: slack to the slip limit and the slip flags (``mdr.law_cells``)
+    _slack = staticmethod(cell_slack)
 
     def _tangential_force(self, ell, v):
-        return 2.0 * self.G_star * np.sum(ell * v, axis=-1)
+        return tangential_force(self.G_star, ell, v)
 
     #: slack of a spring cell falls linearly towards the stick edge (``mdr.stick``)
     stick_onset = 1.0
@@ -285,25 +167,13 @@ class MDRContact:
         sticks, the whole cell sticks)."""
         nodes = getattr(self, "_stick_nodes", None)
         if nodes is None:
-            g = self.grid
-            b = self._flat_radius()
-            nodes = g.mid if b is None else np.where(g.edges[..., 1:] <= b[..., None] * (1 + 1e-12), g.edges[..., 1:], g.mid)
+            nodes = stick_nodes(self.grid, self._flat_radius())
             self._stick_nodes = nodes
         return nodes
 
     def _flat_radius(self):
         """Radius b of the flat face (batch array), or None for a profile without one."""
-        if not isinstance(self.profile, (FlatPunch, TruncatedSphere)):
-            return None
-        b = np.asarray(getattr(self.profile, "b", 0.0), dtype=float)
-        return None if not np.any(b > 0) else np.broadcast_to(b, self.batch)
-
-    @staticmethod
-    def _slack(phase: NormalPhase, trial, carried):
-        """Per cell: slack vmax - |trial| to the slip limit, and slipping (at the limit, clipped
-        in the normal update, or out of contact); the input of ``mdr.stick``."""
-        slack = phase.vmax - np.abs(trial)
-        return slack, at_limit(slack, phase.vmax) | (np.abs(carried) > phase.vmax) | (phase.ell <= 0)
+        return flat_radius(self.profile, self.batch)
 
     def step(self, state: LawState, u=None, *, d=None, F_N=None, Fx=None):
         """Advance the contact by one step; pure (``state`` is not modified).
@@ -344,24 +214,7 @@ class MDRContact:
         return Trial(self, state, phase, v, np.clip(v, -phase.vmax, phase.vmax))
 
     def _solve_du(self, phase: NormalPhase, v1, target):
-        mu_FN = np.asarray(self.mu) * phase.FN
-        if np.any(np.abs(target) >= mu_FN * (1 - 1e-12)) and np.any(np.abs(target) > 0):
-            bad = np.abs(target) >= mu_FN * (1 - 1e-12)
-            raise InputError(f"tangential force Fx={float(np.max(np.abs(target[bad]) if np.ndim(target) else abs(target))):.4g} N "
-                             f"must stay below the friction limit mu*F_N={float(np.min(mu_FN[bad]) if np.ndim(mu_FN) else mu_FN):.4g} N "
-                             f"under force control (beyond it the contact slides without equilibrium)")
-        lo = np.min(np.where(phase.ell > 0, -phase.vmax - v1, 0.0), axis=-1)
-        hi = np.max(np.where(phase.ell > 0, phase.vmax - v1, 0.0), axis=-1)
-        k = 2.0 * self.G_star * phase.ell
-
-        def fun(du):
-            t = v1 + du[..., None]
-            stick = np.abs(t) < phase.vmax
-            return np.sum(k * np.clip(t, -phase.vmax, phase.vmax), axis=-1), np.sum(k * stick, axis=-1)
-
-        scale = np.maximum(mu_FN, 1e-300)
-        return solve_increasing(fun, target, lo, hi, x0=np.zeros_like(target), atol=1e-12 * scale,
-                                what="MDR tangential force control")
+        return solve_du(phase, v1, target, self.mu, self.G_star)
 
     # ---------------------------------------------------------------- runs
     def run(self, u=None, *, F_N=None, d=None, Fx=None, state: LawState | None = None, block: int | None = None,
@@ -394,93 +247,14 @@ class MDRContact:
         drive = np.broadcast_to(drive, shape)
         if state is None:
             state = self.rest_state()
-        out = {k: np.empty(shape) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
         rec0 = T if record_from is None else int(record_from)
         if not 0 <= rec0 <= T:
             raise InputError(f"record_from must be a step index in [0, {T}], got {record_from!r}")
         if T and kernels.enabled() and type(self) is MDRContact:
-            return self._run_compiled(drive, d, state, Fx is not None, rec0, record_from is not None)
-        rec = {k: np.empty(self.grid.width.shape[:-1] + (T - rec0,) + self.grid.width.shape[-1:], dtype=dt)
-               for k, dt in (("slack", float), ("slipping", bool))}
+            return run_compiled(self, drive, d, state, Fx is not None, rec0, record_from is not None)
         if Fx is not None:
-            for t in range(T):
-                res, state = self.step(state, d=d[..., t], Fx=drive[..., t])
-                for key in out:
-                    out[key][..., t] = getattr(res, key)
-                if t >= rec0:
-                    rec["slack"][..., t - rec0, :] = res.slack
-                    rec["slipping"][..., t - rec0, :] = res.slipping
-            return History(state=state, **out, **(rec if record_from is not None else {}))
-        v, ell, u_prev = state.v.copy(), state.ell, state.u
-        if block is None:  # bound the block arrays (batch x block x cells) to ~1e6 numbers
-            block = int(np.clip(1_000_000 // max(v.size, 1), 1, 256))
-        for t0 in range(0, T, block):
-            t1 = min(T, t0 + block)
-            db = d[..., t0:t1]
-            if np.all(db == db[..., :1]):
-                # constant normal load over the block: one normal phase, broadcast
-                ph1 = self.normal_phase(db[..., 0])
-                ph = NormalPhase(*(np.broadcast_to(np.expand_dims(x, -2 if x.ndim > len(self.batch) else -1),
-                                                   x.shape[:len(self.batch)] + (t1 - t0,) + x.shape[len(self.batch):])
-                                   for x in (ph1.d, ph1.a, ph1.ell, ph1.N, ph1.vmax, ph1.FN)))
-            else:
-                ph = self.normal_phase(db)
-            ells = np.concatenate([ell[..., None, :], ph.ell], axis=-2)
-            same = np.array_equal(ells[..., 1:, :], ells[..., :-1, :])
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ratio = None if same else np.where(ells[..., 1:, :] > 0,
-                                                   np.minimum(1.0, ells[..., :-1, :] / ells[..., 1:, :]), 0.0)
-            du = np.diff(np.concatenate([u_prev[..., None], drive[..., t0:t1]], axis=-1), axis=-1)
-            # time-major, contiguous copies for the sequential loop
-            tm = lambda x: np.ascontiguousarray(np.moveaxis(x, -2, 0))
-            vmax_t, du_t = tm(ph.vmax), np.ascontiguousarray(np.moveaxis(du, -1, 0))[..., None]
-            ratio_t = None if ratio is None else tm(ratio)
-            trial_t = np.empty(vmax_t.shape)
-            v2_t = np.empty(vmax_t.shape)
-            carried_t = np.empty(vmax_t.shape)
-            for j in range(t1 - t0):
-                vmax, cj, tj, vj = vmax_t[j], carried_t[j], trial_t[j], v2_t[j]
-                if ratio_t is None:
-                    cj[...] = v
-                else:
-                    np.multiply(v, ratio_t[j], out=cj)
-                np.minimum(cj, vmax, out=tj)
-                np.maximum(tj, -vmax, out=tj)
-                tj += du_t[j]
-                np.minimum(tj, vmax, out=vj)
-                np.maximum(vj, -vmax, out=vj)
-                v = vj
-            back = lambda x: np.moveaxis(x, 0, -2)
-            trial, v2s, carried = back(trial_t), back(v2_t), back(carried_t)
-            # slip in the normal update (carried -> clipped) and in the tangential one
-            slip = np.abs(carried - (trial - du[..., None])) + np.abs(trial - v2s)
-            sl = slice(t0, t1)
-            out["Fx"][..., sl] = self._tangential_force(ph.ell, v2s)
-            out["FN"][..., sl] = ph.FN
-            out["d"][..., sl] = ph.d
-            out["a"][..., sl] = ph.a
-            slack, slipping = self._slack(ph, trial, carried)
-            out["c"][..., sl] = per_step(self.stick_nodes[..., None, :], slack, slipping, ph.a, self.stick_onset)
-            if t1 > rec0:
-                k0 = max(rec0, t0)
-                rec["slack"][..., k0 - rec0:t1 - rec0, :] = slack[..., k0 - t0:, :]
-                rec["slipping"][..., k0 - rec0:t1 - rec0, :] = slipping[..., k0 - t0:, :]
-            out["work"][..., sl] = 2.0 * self.G_star * np.sum(ph.ell * ph.vmax * slip, axis=-1)
-            ell = ph.ell[..., -1, :]
-            v = v.copy()
-            u_prev = drive[..., t1 - 1]
-        out["u"][...] = drive
-        return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out,
-                       **(rec if record_from is not None else {}))
-
-    def _run_compiled(self, drive, d, state, force, rec0, record):
-        """``run`` through the compiled loop of ``mdr.kernels`` (same results to round-off)."""
-        h = kernels.law_history(self, drive, d, state, force, rec0)
-        v, ell, u = h.pop("state")
-        # the state's approach as the step API leaves it: as given (displacement control), d_+ (force control)
-        last = h["d"][..., -1] if force else d[..., -1]
-        rec = {k: h.pop(k) for k in ("slack", "slipping")}
-        return History(state=LawState(v=v, ell=ell, u=u, d=np.array(last)), **h, **(rec if record else {}))
+            return run_force_steps(self, drive, d, state, rec0, record_from is not None)
+        return run_blocks(self, drive, d, state, block, rec0, record_from is not None)
 
     # ------------------------------------------------------------ tractions
     def line_loads(self, state: LawState):
@@ -502,44 +276,5 @@ class MDRContact:
         if self.batch:
             raise InputError("traction() works on a single scene; build the law without batch parameters")
         x, _, qx, a = self.line_loads(state)
-        a = float(a)
-        r = np.atleast_1d(np.asarray(r, dtype=float))
-        inside = self.grid.lo < a
-        xs, qs = x[inside], qx[inside]
-        if xs.size == 0 or a <= 0:
-            return np.zeros_like(r)
-        full = self.grid.edges[1:][inside] <= a
-        xf, qf = xs[full], qs[full]
-        # the springs of a flat face (g = 0 for x < b) are identical: q_x is constant over each
-        # such cell, so it holds up to the cell's edges instead of meeting the next cell halfway
-        b_flat = self._flat_radius()
-        b_flat = 0.0 if b_flat is None else float(b_flat)
-        if b_flat > 0 and xf.size:
-            lo, hi = self.grid.lo[inside][full], self.grid.edges[1:][inside][full]
-            flat = hi <= b_flat * (1 + 1e-12)
-            xf = np.concatenate([np.ravel(np.column_stack([lo[flat], hi[flat]])), xf[~flat]])
-            qf = np.concatenate([np.repeat(qf[flat], 2), qf[~flat]])
-            xf, keep = np.unique(xf, return_index=True)
-            qf = qf[keep]
-            inner = (xf > 0) & (xf < a)  # q is constant towards the centre; a is added below
-            xf, qf = xf[inner], qf[inner]
-        if xf.size >= 2:
-            q_a = qf[-1] + (qf[-1] - qf[-2]) * (a - xf[-1]) / (xf[-1] - xf[-2])
-        else:
-            q_a = qs[-1]
-        # Coulomb at the edge spring: |q_x(a)| <= mu E* (d - g(a)), zero where the profile meets
-        # the surface smoothly (the extrapolation overshoots where q_x drops steeply in slip)
-        q_lim = float(np.asarray(self.mu)) * self.E_star * max(float(state.d) - float(self.profile.g(a)), 0.0)
-        q_a = float(np.clip(q_a, -q_lim, q_lim))
-        nodes = np.concatenate([xf, [a]])
-        vals = np.concatenate([qf, [q_a]])
-        slopes = np.diff(vals) / np.diff(nodes)
-        tau = np.zeros_like(r)
-        for i, ri in enumerate(r):
-            if ri >= a:
-                continue
-            x0 = np.maximum(nodes[:-1], ri)
-            x1 = np.maximum(nodes[1:], ri)
-            L = lambda z: np.log(z + np.sqrt(np.maximum(z**2 - ri**2, 0.0)))
-            tau[i] = (-np.sum(slopes * (L(x1) - L(x0))) + q_a / np.sqrt(a**2 - ri**2)) / np.pi
-        return tau
+        return traction_from_line_loads(self.grid, self.profile, self.mu, self.E_star, self._flat_radius(), x, qx, a,
+                                        state.d, r)

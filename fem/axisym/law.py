@@ -41,49 +41,38 @@ result, not an input (:meth:`FEContact.plate_bulk_compliance`,
 
 Approach ``d`` (input and output) is the plate approach of ``fem.axisym.normal``
 (also including the bulk compliance); force control ``F_N`` is the clean input.
+
+Layout: this module holds the law (``FEContact``: setup, protocol methods, reports); one step as
+functions of the law and a state (``FEState``, the normal part, the return map, the result,
+``FETrial``) is in ``fem.axisym.law_step``, and ``frozen``/``step_history``, which the 3D law
+shares, in ``fem.stepping``; all of them are importable from here.
 """
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
-from common.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
-from mdr.law import History, StepResult
+from common.errors import InputError, nonnegative, positive, positive_int
+from mdr.law import History
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
-from mdr.stick import at_limit, per_step
 from meshes.axisym import H_CONTACT_DEFAULT
 
 from fem.bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
 from fem.condense import Condensation
-from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL, _Factors, slip_update, solve_increment
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL, _Factors
+from fem.axisym.law_step import FEState, FETrial, finish, normal_part, tangential
 from fem.axisym.mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
 from fem.axisym.model import build_model
 from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, penalty_stiffness, solve_normal
 from fem.solvers import blas_threads
+from fem.stepping import frozen, step_history
 
+#: ``_frozen``: the name ``frozen`` had here before it moved to ``fem.stepping``
+_frozen = frozen
 
-
-def _frozen(a):
-    a = np.array(a, dtype=float if np.asarray(a).dtype.kind == "f" else np.asarray(a).dtype)
-    a.setflags(write=False)
-    return a
-
-
-@dataclass(frozen=True)
-class FEState:
-    """History of the FE contact (read-only arrays over the n pairs): tangential pair forces
-    ``T`` (N), plastic slip ``p`` (m), normal pair forces ``lam`` (N), last sliding sets
-    ``sgn`` (warm start), plate displacement ``u`` and approach ``d`` (m)."""
-
-    T: np.ndarray
-    p: np.ndarray
-    lam: np.ndarray
-    sgn: np.ndarray
-    u: float
-    d: float
+__all__ = ["FEContact", "FEState", "FETrial", "frozen", "step_history"]
 
 
 class FEContact:
@@ -157,7 +146,10 @@ class FEContact:
         self.amesh = cached_mesh(params, cache_dir)
         t1 = time.perf_counter()
         self.model = build_model(self.amesh, self.materials, profile, backend=backend)
-        self._build_mode1(backend)
+        # mode 1 of both bodies condensed to the pairs, their flexibility Ct and the bulk probes
+        self.mode1, self.Ct, self.bulk = condensed_mode1(self.model, self.amesh, self.materials, self.bulk_probe_depth,
+                                                         backend)
+        self.Ct_plate = self.Ct.copy()
         it = self.model.interface
         self.k = penalty_stiffness(self.penalty, self.materials.E_star, it)
         self._normal_cache = {}
@@ -175,37 +167,6 @@ class FEContact:
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
 
     # ----------------------------------------------------------------- model
-    def _build_mode1(self, backend):
-        it = self.model.interface
-        m = self.materials
-        bodies = self.model.bodies
-        # tangential bulk correction (fem.bulk): axis probes at depth L in each body
-        p = self.amesh.params
-        L = self.bulk_probe_depth * p.a_ref
-        lo, hi = p.r_contact / p.a_ref, 0.8 * min(p.block_height, p.indenter_height) / p.a_ref
-        if not lo < self.bulk_probe_depth < hi:
-            raise InputError(f"bulk_probe_depth must be in ({lo:.4g}, {hi:.4g}) (probe depth / a_ref: beyond the "
-                             f"contact segment, inside both bodies), got {self.bulk_probe_depth!r}")
-        out, rows = {}, {}
-        for name, E, nu, z in (("indenter", m.E1, m.nu1, L), ("block", m.E2, m.nu2, -L)):
-            mesh = bodies[name].mesh
-            K, basis = stiffness_mode1(mesh, E, nu)
-            dofs = node_dofs_mode1(basis)
-            fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
-            nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
-            pnodes, wts = axis_point(mesh, z)
-            cond = Condensation(K, fixed, dofs[0, nodes],
-                                probe_dofs=dofs[0, pnodes], backend=backend)
-            rows[name] = wts @ cond.P
-            out[name] = (K, basis, dofs, cond)
-        self.mode1 = out
-        N = it.N
-        C2 = out["block"][3].C
-        self.Ct = out["indenter"][3].C + N @ (N @ C2).T
-        self.Ct = 0.5 * (self.Ct + self.Ct.T)
-        self.Ct_plate = self.Ct.copy()
-        self.bulk = bulk_probe(it, m, rows, L)
-
     @property
     def dofs(self) -> int:
         """Total DOFs of the mode-0 and mode-1 models of both bodies."""
@@ -269,8 +230,8 @@ class FEContact:
 
     def rest_state(self) -> FEState:
         n = self.n_pairs
-        z = _frozen(np.zeros(n))
-        return FEState(T=z, p=z, lam=z, sgn=_frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
+        z = frozen(np.zeros(n))
+        return FEState(T=z, p=z, lam=z, sgn=frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
 
     def plate_bulk_compliance(self, F_N) -> float:
         """c_bulk (m/N) at normal force F_N (> 0) in the plate measure: the bodies' series compliance
@@ -337,115 +298,17 @@ class FEContact:
         return FETrial(self, self._normal_part(state, d, F_N))
 
     def _normal_part(self, state, d, F_N):
-        n = self.n_pairs
-        if F_N is not None:
-            F_N = float(nonnegative("F_N (normal force; no adhesion, so >= 0)", F_N))
-            lost = F_N == 0.0
-        else:
-            d = float(d)
-            if not np.isfinite(d):
-                raise InputError(f"d must be finite, got {d!r}")
-            lost = d <= 0.0
-        if lost:
-            lam = np.zeros(n)
-            FN, dd, a = 0.0, (0.0 if d is None else d), 0.0
-        else:
-            res = self.normal(F_N=F_N, d=d)
-            lam, FN, dd, a = res.lam, res.force, res.approach, res.contact_radius
-        T_old = np.asarray(state.T)
-        s_old = state.u - self.Ct @ T_old
-        g = self.mu * lam
-        contact = g > 0
-        any_contact = bool(contact.any())
-        return {"state": state, "lam": lam, "FN": FN, "d": dd, "a": a, "g": g, "T_old": T_old,
-                "p_old": np.where(np.asarray(state.lam) > 0, state.p, s_old), "contact": contact,
-                "any_contact": any_contact, "gmax": float(g.max()) if any_contact else 0.0,
-                "sgn_old": np.asarray(state.sgn), "u": None}
+        """``fem.axisym.law_step.normal_part``."""
+        return normal_part(self, state, d, F_N)
 
     def _tangential(self, ctx, u, Fx):
-        """Tangential return map of a step at plate displacement ``u`` or force ``Fx``: the
-        solve only, returns the dict of :meth:`_finish` (no contact: None) with the forces
-        ``T``, displacement ``u``, sets ``sgn``, last multipliers ``lbar`` and the tangent
-        ``slope`` dFx/du of the stick set.
-
-        Augmented Lagrangian (``fem.axisym.friction``): passes lbar <- T until the largest change is
-        below ``friction_al_tol`` of the largest slip limit. Its limit lbar = T is the exact
-        Coulomb return map: the box QP of ``fem.axisym.friction`` with M = Ct (no penalty) and
-        b = -p_old, whose active-set iteration has the same set test as an AL pass at that
-        limit. With ``friction_exact_start`` that problem is solved first and its forces
-        start the AL, so the first pass normally meets the tolerance (it then checks the
-        solution, and carries on from it if not; should that solve fail, the classical start
-        is taken); otherwise the passes start from the
-        previous forces clipped to the new limits (about four passes at the default
-        tolerance). The tangent is that of the map the passes converge to: sum Ct_ff^-1 1
-        over the sticking pairs f with the exact start (the AL limit), sum M_ff^-1 1 without
-        (one pass, the classical path), and with the pure penalty."""
-        n = self.n_pairs
-        FN, g = ctx["FN"], ctx["g"]
-        T_old, p_old = ctx["T_old"], ctx["p_old"]
-        if Fx is not None and abs(Fx) >= self.mu * FN * (1 - 1e-12) and Fx != 0.0:
-            raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
-                             f"mu*F_N={self.mu * FN:.4g} N under force control")
-        contact = ctx["contact"]
-        if not ctx["any_contact"]:
-            return None
-        k = self.k
-        sgn = ctx["sgn_old"]
-        newton = 0
-        exact = self.friction_al_tol > 0 and self.friction_exact_start
-        with blas_threads(1):
-            if exact:
-                try:
-                    lbar, _, sgn, nit, _ = solve_increment(self.Ct, self._fac_exact, -p_old, g, k, sgn, u=u, F=Fx)
-                    newton += nit
-                except (ConvergenceError, np.linalg.LinAlgError):  # the classical start below instead
-                    exact = False
-            if not exact:
-                lbar = np.clip(T_old, -g, g) if self.friction_al_tol > 0 else np.zeros(n)
-            for n_al in range(1, self.max_al + 1):
-                b = lbar / k - p_old
-                T, uu, sgn, nit, trial = solve_increment(self.M, self._fac, b, g, k, sgn, u=u, F=Fx)
-                newton += nit
-                change = float(np.max(np.abs(T - lbar)) / ctx["gmax"])
-                if self.friction_al_tol == 0 or change <= self.friction_al_tol:
-                    break
-                lbar = T
-            else:
-                raise ConvergenceError(f"friction augmented Lagrangian: multiplier change {change:.3g} of "
-                                       f"mu max(lam) after {self.max_al} passes (friction_al_tol="
-                                       f"{self.friction_al_tol:g})")
-            free = (sgn == 0) & contact
-            slope = ((self._fac_exact if exact else self._fac).get(free).ysum if free.any() else 0.0)
-        self.stats["trial_solves"] += 1
-        self.stats["newton"] += newton
-        self.stats["al"] += n_al
-        self.stats["al_change_max"] = max(self.stats.get("al_change_max", 0.0), change)
-        return {"T": T, "u": float(uu), "sgn": sgn, "lbar": lbar, "slope": float(slope), "Fx": float(T.sum())}
+        """The tangential return map of a step (``fem.axisym.law_step.tangential``: the augmented
+        Lagrangian, its exact start and the tangent)."""
+        return tangential(self, ctx, u, Fx)
 
     def _finish(self, ctx, sol):
-        """(StepResult, FEState) of a solved step (``sol`` from :meth:`_tangential`): the slip
-        update, the slack to the slip limit, the slip flags and the stick radius of the step."""
-        n = self.n_pairs
-        state, lam, FN, dd, a, g = ctx["state"], ctx["lam"], ctx["FN"], ctx["d"], ctx["a"], ctx["g"]
-        if sol is None:  # no pair in contact: no force, the plastic slip follows the plate
-            uu = state.u if ctx["u"] is None else ctx["u"]
-            z = np.zeros(n)
-            new = FEState(T=_frozen(z), p=_frozen(np.full(n, uu)), lam=_frozen(z),
-                          sgn=_frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
-            return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0, slack=z,
-                              slipping=np.ones(n, dtype=bool)), new
-        T, uu, sgn = sol["T"], sol["u"], sol["sgn"]
-        contact = ctx["contact"]
-        s = uu - self.Ct @ T
-        p_new, work = slip_update(s, T, sol["lbar"], self.k, contact, ctx["p_old"])
-        w = self.model.interface.w
-        slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
-        slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
-        c = float(per_step(self.stick_nodes, slack, slipping, a, self.stick_onset))
-        new = FEState(T=_frozen(T), p=_frozen(p_new), lam=_frozen(lam), sgn=_frozen(sgn),
-                      u=float(uu), d=float(dd))
-        return StepResult(Fx=sol["Fx"], FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
-                          work=work, slack=slack, slipping=slipping), new
+        """(StepResult, FEState) of a solved step (``fem.axisym.law_step.finish``)."""
+        return finish(self, ctx, sol)
 
     #: the traction slack mu p - |tau| falls as sqrt(c - r) towards a stick edge (``mdr.stick``)
     stick_onset = 0.5
@@ -466,62 +329,35 @@ class FEContact:
             return step_history(self, self.n_pairs, u=u, F_N=F_N, d=d, Fx=Fx, state=state, record_from=record_from)
 
 
-def step_history(law, n_nodes, *, u=None, F_N=None, d=None, Fx=None, state=None, record_from=None,
-                 on_step=None) -> History:
-    """The ``run`` of a law that advances one ``step`` at a time (the FE laws): a load history of
-    arrays (T,) from ``state`` (default the law's rest state); the slack and slip flags of the
-    ``n_nodes`` stick nodes kept from step ``record_from`` on; ``on_step(t, result, state)``
-    called after every step. Returns mdr.law.History."""
-    if (d is None) == (F_N is None):
-        raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
-    if (u is None) == (Fx is None):
-        raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
-    drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
-    nT = drive.shape[-1]
-    normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))
-    state = state if state is not None else law.rest_state()
-    out = {k: np.empty(nT) for k in ("u", "Fx", "FN", "d", "a", "c", "work")}
-    rec0 = nT if record_from is None else int(record_from)
-    if not 0 <= rec0 <= nT:
-        raise InputError(f"record_from must be a step index in [0, {nT}], got {record_from!r}")
-    rec = {"slack": np.empty((nT - rec0, n_nodes)), "slipping": np.empty((nT - rec0, n_nodes), bool)}
-    for t in range(nT):
-        kw = {"F_N": normal[t]} if F_N is not None else {"d": normal[t]}
-        res, state = law.step(state, **({"u": drive[t]} if u is not None else {"Fx": drive[t]}), **kw)
-        for key in out:
-            out[key][t] = getattr(res, key)
-        if t >= rec0:
-            rec["slack"][t - rec0] = res.slack
-            rec["slipping"][t - rec0] = res.slipping
-        if on_step is not None:
-            on_step(t, res, state)
-    return History(state=state, **out, **(rec if record_from is not None else {}))
-
-
-class FETrial:
-    """A prepared step of an FEContact (see :meth:`FEContact.prepare`); pure like ``step``."""
-
-    def __init__(self, law: FEContact, ctx: dict):
-        self.law, self.ctx = law, ctx
-        self._last = None
-
-    def _at(self, u):
-        u = float(u)
-        if not np.isfinite(u):
-            raise InputError(f"u must be finite, got {u!r}")
-        if self._last is None or self._last[0] != u:
-            self._last = (u, self.law._tangential(self.ctx, u, None))
-        return self._last[1]
-
-    def force(self, u):
-        """(Fx, dFx/du) at plate (or contact) displacement u; dFx/du is the stick-set tangent."""
-        sol = self._at(u)
-        return (0.0, 0.0) if sol is None else (sol["Fx"], sol["slope"])
-
-    def commit(self, u):
-        """(StepResult, FEState) of the step to displacement u (counted as a committed step);
-        the slip update and the step's stick radius are worked out here, not for every trial."""
-        sol = self._at(u)
-        res, new = self.law._finish(dict(self.ctx, u=float(u)), sol)
-        self.law.stats["steps"] += 1
-        return res, new
+def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
+    """Mode 1 (``fem.axisym.mode1``) of both bodies condensed to the contact pairs: the bodies'
+    {name: (K, basis, dofs, Condensation)}, the symmetric tangential flexibility Ct of the pairs
+    (indenter plus block through the interface map N) and the tangential bulk probes of
+    ``fem.bulk`` at depth ``bulk_probe_depth`` a_ref on the axis of each body."""
+    it = model.interface
+    m = materials
+    bodies = model.bodies
+    # tangential bulk correction (fem.bulk): axis probes at depth L in each body
+    p = amesh.params
+    L = bulk_probe_depth * p.a_ref
+    lo, hi = p.r_contact / p.a_ref, 0.8 * min(p.block_height, p.indenter_height) / p.a_ref
+    if not lo < bulk_probe_depth < hi:
+        raise InputError(f"bulk_probe_depth must be in ({lo:.4g}, {hi:.4g}) (probe depth / a_ref: beyond the "
+                         f"contact segment, inside both bodies), got {bulk_probe_depth!r}")
+    out, rows = {}, {}
+    for name, E, nu, z in (("indenter", m.E1, m.nu1, L), ("block", m.E2, m.nu2, -L)):
+        mesh = bodies[name].mesh
+        K, basis = stiffness_mode1(mesh, E, nu)
+        dofs = node_dofs_mode1(basis)
+        fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
+        nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
+        pnodes, wts = axis_point(mesh, z)
+        cond = Condensation(K, fixed, dofs[0, nodes],
+                            probe_dofs=dofs[0, pnodes], backend=backend)
+        rows[name] = wts @ cond.P
+        out[name] = (K, basis, dofs, cond)
+    N = it.N
+    C2 = out["block"][3].C
+    Ct = out["indenter"][3].C + N @ (N @ C2).T
+    Ct = 0.5 * (Ct + Ct.T)
+    return out, Ct, bulk_probe(it, m, rows, L)

@@ -70,12 +70,12 @@ from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
-from fem.axisym.law import _frozen, step_history
 from fem.solid3d import estimators as est
 from fem.solid3d import runs
 from fem.solid3d.contact import (RelativeFlexibility, predict, solve_coupled3d, solve_tangential3d,
                                  tangential_slope)
 from fem.solid3d.model import BLOCK_SIZE_DEFAULT, SECTOR, Model3D, build_model3d, normal_solution
+from fem.stepping import frozen as _frozen, step_history
 from fem.solvers import blas_threads
 
 __all__ = ["BLOCK_SIZE_DEFAULT", "SECTOR", "TILT_MAX", "TRACTIONS", "FE3DState", "FEContact3D", "FE3DTrial",
