@@ -13,8 +13,8 @@ which prepares the inputs with numpy (contact radii, partly covered cells) and t
 codes into the step API's errors. Assumptions: every per-scene input is a C-contiguous float64
 array flattened to (S, ...) (``mdr.kernels._flat``); the outputs are allocated by the caller
 and written in place; a scene stops at its first failing step with a status code (info: step,
-residual, tolerance). Disk cache: see ``mdr.kernels_step`` (an edit there is not seen by the
-cached loops here until their cache files are deleted).
+residual, tolerance). Disk cache: see ``mdr.kernels_step`` (its import removes the
+cached loops here that are older than the code they call).
 """
 from __future__ import annotations
 

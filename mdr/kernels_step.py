@@ -11,8 +11,10 @@ Assumptions: arrays of one scene, float64 (bool for the slip flags), the cells o
 in increasing radius; the caller owns every buffer and these functions write into it. Without
 numba the decorators are the identity (the functions stay Python; the law then runs through
 its step API, ``mdr.kernels.enabled``). Disk cache (``cache=True``): numba checks only the file
-of each compiled function, so after an edit here delete ``mdr/__pycache__/*.nbi`` and ``*.nbc``,
-or the cached loops of the other ``mdr.kernels_*`` modules keep the old code.
+of each compiled function, not the files of the functions it calls, so a cached loop of
+``mdr.kernels_loops`` or ``mdr.kernels_normal`` older than this file (or ``mdr.solve``, whose
+constants are compiled in) is removed when this module is imported (``drop_stale_caches``) and
+compiles afresh.
 """
 from __future__ import annotations
 
@@ -24,6 +26,38 @@ try:  # optional dependency
     import numba
 except ImportError:  # pragma: no cover - exercised by the fallback test through ENABLED
     numba = None
+
+#: the files whose code the compiled functions of ``DEPENDENTS`` take in at compile time
+SOURCES = ("kernels_step.py", "solve.py")
+#: the modules whose compiled functions call into ``SOURCES``
+DEPENDENTS = ("kernels_loops", "kernels_normal")
+
+
+def drop_stale_caches(directory) -> list:
+    """Remove the numba cache files (``__pycache__/<module>.*.nbi`` and ``.nbc``) of ``DEPENDENTS`` in
+    ``directory`` that are older than any of ``SOURCES`` there: numba would load them although the
+    code they were built from changed. Returns the removed paths; a file that cannot be removed is
+    left (numba then reads it as before)."""
+    from pathlib import Path
+
+    directory = Path(directory)
+    try:
+        newest = max((directory / f).stat().st_mtime for f in SOURCES)
+    except OSError:
+        return []
+    removed = []
+    for mod in DEPENDENTS:
+        for f in (directory / "__pycache__").glob(f"{mod}.*.nb[ic]"):
+            try:
+                if f.stat().st_mtime < newest:
+                    f.unlink()
+                    removed.append(f)
+            except OSError:
+                pass
+    return removed
+
+
+drop_stale_caches(__import__("pathlib").Path(__file__).resolve().parent)
 
 # status codes of a scene (the loop stops that scene at the first failing step)
 OK, BEYOND_FRICTION, NO_CONVERGENCE, LIFT_OFF, BEYOND_GRID = 0, 1, 2, 3, 4

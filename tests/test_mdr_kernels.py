@@ -247,3 +247,30 @@ def test_without_numba_everything_runs_through_the_step_api(block, tmp_path):
     parts = np.cumsum([H.Fx.size, H.work.size, G.u.size, o["Fx"].size])
     for fast_part, slow_part in zip((H.Fx, H.work, G.u, o["Fx"], o["du"]), np.split(slow, parts)):
         close(fast_part, slow_part)
+
+
+def test_stale_compiled_loops_are_dropped(tmp_path):
+    """numba checks only the file of a compiled function: a cached loop older than the one-step code it
+    calls (``mdr.kernels_step.SOURCES``) is removed so that it compiles afresh; a newer one is kept,
+    and so are the caches of other modules."""
+    import os
+
+    from mdr.kernels_step import DEPENDENTS, SOURCES, drop_stale_caches
+
+    cache = tmp_path / "__pycache__"
+    cache.mkdir()
+    for f in SOURCES:
+        (tmp_path / f).write_text("# code\n")
+    old = [cache / f"{DEPENDENTS[0]}.run_law-10.py311.nbi", cache / f"{DEPENDENTS[0]}.run_law-10.py311.1.nbc"]
+    new = cache / f"{DEPENDENTS[1]}.approach-5.py311.nbi"
+    other = cache / "law.something-1.py311.nbi"
+    for f in (*old, new, other):
+        f.write_text("cache")
+    t = (tmp_path / SOURCES[0]).stat().st_mtime
+    for f in (*old, other):
+        os.utime(f, (t - 100, t - 100))
+    os.utime(new, (t + 100, t + 100))
+    removed = drop_stale_caches(tmp_path)
+    assert sorted(removed) == sorted(old) and not any(f.exists() for f in old)
+    assert new.exists() and other.exists()
+    assert drop_stale_caches(tmp_path / "missing") == []
