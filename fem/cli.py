@@ -13,12 +13,12 @@ from common.cli import OneLineParser, add_output_args, run_command
 from common.errors import InputError
 from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
                        profile_from_args)
-from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
+from meshes.axisym import CONTACT_EXTENT_DEFAULT, H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL
 from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY
-from fem.options import CONTACT_EXTENT_DEFAULT, FEOptions
+from fem.options import FEOptions
 from mdr.loading import Loading
 
 

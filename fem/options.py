@@ -11,15 +11,13 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from common.errors import InputError, in_range, nonnegative, positive
-from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE
+from meshes.axisym import CONTACT_EXTENT_DEFAULT, H_CONTACT_DEFAULT, H_CONTACT_RANGE
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 #: the FE models: Fourier modes 0 + 1 on an r-z mesh (``fem.axisym``), the 3D half model (``fem.solid3d``)
 MODELS = ("axisym", "3d")
 #: the displacement measures (``fem.axisym.law``): half-space comparable, or the plates'
 DISPLACEMENTS = ("contact", "plate")
-#: the contact disk's radius / a_ref where none is given (the 3D flat punch: its face, 1)
-CONTACT_EXTENT_DEFAULT = 1.25
 #: options of one model only
 AXISYM_ONLY = ("penalty", "al_tol", "friction_al_tol")
 SOLID3D_ONLY = ("traction", "tilt", "refinement")

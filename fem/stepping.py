@@ -12,6 +12,7 @@ import numpy as np
 
 from common.errors import InputError
 from mdr.law import History
+from mdr.protocol import check_loads
 
 
 def frozen(a):
@@ -27,10 +28,7 @@ def step_history(law, n_nodes, *, u=None, F_N=None, d=None, Fx=None, state=None,
     arrays (T,) from ``state`` (default the law's rest state); the slack and slip flags of the
     ``n_nodes`` stick nodes kept from step ``record_from`` on; ``on_step(t, result, state)``
     called after every step. Returns mdr.law.History."""
-    if (d is None) == (F_N is None):
-        raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
-    if (u is None) == (Fx is None):
-        raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+    check_loads("run", d=d, F_N=F_N, u=u, Fx=Fx, history=True)
     drive = np.atleast_1d(np.asarray(u if u is not None else Fx, dtype=float))
     nT = drive.shape[-1]
     normal = np.broadcast_to(np.asarray(F_N if F_N is not None else d, dtype=float), (nT,))

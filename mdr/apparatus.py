@@ -107,6 +107,7 @@ from .drive import mdr_law
 from .law import MDRContact
 from .loading import Loading
 from .loops import analyse_cycles, slip_index
+from .paper import KX_TABLE1, MU2, STEEL_E, STEEL_NU
 from .materials import Materials
 from .profiles import Sphere
 from .protocol import ContactLaw
@@ -129,8 +130,8 @@ class Apparatus:
     ``PLATE_MODELS`` (module docstring, A3).
     """
 
-    kx: float = 1.9e6          # tangential stiffness of the normal axis, N/m
-    mu2: float = 0.1           # friction of the Si3N4 bedding
+    kx: float = KX_TABLE1      # tangential stiffness of the normal axis, N/m (Table 1)
+    mu2: float = MU2           # friction of the Si3N4 bedding (Table 2)
     m1: float = 0.335          # block mass, kg
     m2: float = 0.047          # (not used: A5)
     E_plate: float = 100e9     # brass
@@ -194,7 +195,7 @@ class Apparatus:
         contact of normal stiffness k_i = 2 E* a_i, a_i = (3 N_i R_bed / (4 E*))^(1/3),
         at x_i = +l1 (one) and -l2 (two); the block turns about the bedding's elastic
         centre: k_theta = sum k_i x_i^2 - (sum k_i x_i)^2 / sum k_i."""
-        E_star = Materials(self.E_bed, self.nu_bed, 200e9, 0.29).E_star
+        E_star = Materials(self.E_bed, self.nu_bed, STEEL_E, STEEL_NU).E_star
         N1, N2 = self.bedding_loads(F0, 0.0)
         k1, k2 = (2.0 * E_star * (3.0 * N * self.R_bed / (4.0 * E_star)) ** (1.0 / 3.0) for N in (N1, N2))
         s0 = k1 + 2.0 * k2
@@ -390,7 +391,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
 def _mdr_bedding(app: Apparatus, Wmax, batch=()):
     """Bedding: front sphere and one rear sphere (the second rear one is identical);
     Si3N4 half-spheres on the steel block (E = 200 GPa, nu = 0.29)."""
-    mat = Materials(app.E_bed, app.nu_bed, 200e9, 0.29)
+    mat = Materials(app.E_bed, app.nu_bed, STEEL_E, STEEL_NU)
     shape = tuple(batch) + (2,)
     per_sphere = lambda v: np.array(np.broadcast_to(np.asarray(v, dtype=float)[..., None], shape))  # noqa: E731
     return MDRContact(Sphere(per_sphere(app.R_bed)), mat, per_sphere(app.mu2), F_max=per_sphere(Wmax), n=100)

@@ -46,6 +46,7 @@ from .law_cells import (carry, cell_slack, flat_radius, law_grid, normal_phase, 
                         tangential_force)
 from .law_run import run_blocks, run_compiled, run_force_steps
 from .law_traction import traction_from_line_loads
+from .protocol import check_loads
 from .law_types import History, LawState, NormalPhase, StepResult
 from .materials import Materials
 from .normal import approach_from_force
@@ -183,10 +184,7 @@ class MDRContact:
         tangential load as total relative displacement ``u`` or force ``Fx``
         (|Fx| < mu F_N). Returns (StepResult, new LawState).
         """
-        if (d is None) == (F_N is None):
-            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
-        if (u is None) == (Fx is None):
-            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        check_loads("step", d=d, F_N=F_N, u=u, Fx=Fx)
         if u is not None:
             u = finite("u (tangential displacement)", u)
         else:
@@ -203,8 +201,7 @@ class MDRContact:
         displacement u without committing, and ``commit(u)`` the step result and
         new state, identical to ``step(state, u, d=...)``.
         """
-        if (d is None) == (F_N is None):
-            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
+        check_loads("prepare", d=d, F_N=F_N)
         if d is None:
             d = self.approach(np.broadcast_to(F_N, self.batch))
         else:
@@ -230,10 +227,7 @@ class MDRContact:
         ``record_from`` (a step index): keep the per-cell slack and slip flags of
         the steps from there on (``History.window_stick_radius``).
         """
-        if (d is None) == (F_N is None):
-            raise InputError("run needs exactly one of d (approach history) or F_N (normal force history)")
-        if (u is None) == (Fx is None):
-            raise InputError("run needs exactly one of u (displacement history) or Fx (force history)")
+        check_loads("run", d=d, F_N=F_N, u=u, Fx=Fx, history=True)
         drive = np.asarray(finite("u (tangential displacement)" if u is not None else "Fx (tangential force)",
                                   u if u is not None else Fx), dtype=float)
         T = drive.shape[-1]

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from common.errors import InputError, finite, nonnegative, positive, positive_int
+from .paper import TABLE2
 
 #: what the tangential amplitude drives, and its unit
 DRIVES = {"force": "N", "displacement": "m", "apparatus": "m"}
@@ -75,7 +76,7 @@ class Loading:
         return cls(F0, amplitude, drive, dF, alpha, cycles, steps)
 
     @classmethod
-    def apparatus(cls, F0, dF=0.1, alpha=0.0, ua=150e-9, *, cycles=4, steps=200) -> "Loading":
+    def apparatus(cls, F0, dF=TABLE2["dF"], alpha=0.0, ua=TABLE2["ua"], *, cycles=4, steps=200) -> "Loading":
         """The load of the apparatus (``mdr.apparatus``): the normal force and the piezo amplitude ``ua`` (m);
         the defaults are the paper's Table 2 (dF = 0.1 N, u_A = 150 nm)."""
         return cls(F0, ua, "apparatus", dF, alpha, cycles, steps)

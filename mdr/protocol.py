@@ -101,3 +101,24 @@ class LawPlugin(Protocol):
     def session(self):
         """A context manager that many runs of the law's ``make_law`` laws go inside (e.g.
         limiting the BLAS thread pools once instead of at every step)."""
+
+
+#: the load arguments of the protocol's calls, as errors name them
+_LOADS = {"d": ("d", "approach"), "F_N": ("F_N", "normal force"), "u": ("u", "tangential displacement"),
+          "Fx": ("Fx", "tangential force")}
+_NOT_ASKED = object()
+
+
+def check_loads(call: str, *, d, F_N, u=_NOT_ASKED, Fx=_NOT_ASKED, history: bool = False) -> None:
+    """The one rule of every law's ``step``, ``prepare`` and ``run``: exactly one of d / F_N, and where
+    the call takes a tangential load, exactly one of u / Fx (``history``: the arguments are histories).
+    InputError naming the call and the pair otherwise."""
+    from common.errors import InputError
+
+    pairs = [(("d", d), ("F_N", F_N))]
+    if u is not _NOT_ASKED or Fx is not _NOT_ASKED:
+        pairs.append((("u", None if u is _NOT_ASKED else u), ("Fx", None if Fx is _NOT_ASKED else Fx)))
+    for (a, va), (b, vb) in pairs:
+        if (va is None) == (vb is None):
+            what = [f"{_LOADS[k][0]} ({_LOADS[k][1]}{' history' if history else ''})" for k in (a, b)]
+            raise InputError(f"{call} needs exactly one of {what[0]} or {what[1]}")

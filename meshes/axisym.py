@@ -72,6 +72,9 @@ GMSH_LOCK = threading.Lock()
 #: package (fem.axisym.normal_run, fem.axisym.law, the commands' --h-contact): one home
 H_CONTACT_DEFAULT = 0.0125
 H_CONTACT_RANGE = (1.0 / 1000.0, 0.25)
+#: the candidate contact disk's radius / a_ref where none is given, both models (the 3D flat punch:
+#: its face, 1): room for the contact to grow past a_ref, e.g. under a tilt or a larger load
+CONTACT_EXTENT_DEFAULT = 1.25
 
 
 class ContactZoneParams:
@@ -120,7 +123,7 @@ class AxisymMeshParams(ContactZoneParams):
     b: float
     a_ref: float
     h_contact: float = H_CONTACT_DEFAULT
-    contact_extent: float = 1.25
+    contact_extent: float = CONTACT_EXTENT_DEFAULT
     block_radius: float | None = None
     block_height: float | None = None
     indenter_height: float | None = None

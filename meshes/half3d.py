@@ -57,7 +57,7 @@ import numpy as np
 
 from common.errors import InputError
 
-from .axisym import GMSH_LOCK, ContactZoneParams
+from .axisym import CONTACT_EXTENT_DEFAULT, GMSH_LOCK, ContactZoneParams
 from .cache import _gmsh_version, cached_artifact, read_verified, write_verified
 
 SHAPES = ("cylinder", "box")
@@ -103,7 +103,7 @@ class Half3DMeshParams(ContactZoneParams):
 
     a_ref: float
     h_contact: float = H_CONTACT_3D_DEFAULT
-    contact_extent: float = 1.25
+    contact_extent: float = CONTACT_EXTENT_DEFAULT
     shape: str = "cylinder"
     size: float | None = None
     height: float | None = None

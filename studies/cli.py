@@ -16,6 +16,7 @@ from mdr.apparatus import PLATE_MODELS
 from common.cli import OneLineParser, add_output_args, run_command
 from common.errors import InputError
 from mdr.loading import Loading
+from mdr.paper import KX_TABLE1
 from mdr.flags import (add_contact_args, add_material_args, add_profile_args, materials_from_args,
                        profile_from_args)
 from common.plugins import GROUP, law_plugins
@@ -130,7 +131,7 @@ def build_parser():
     g = pa.add_argument_group("load and apparatus (SI)")
     g.add_argument("--mu", type=float, required=True, help="friction of the fretting contact (mu1)")
     g.add_argument("--mu2", type=float, default=0.1, help="friction of the bedding (default 0.1)")
-    g.add_argument("--kx", type=float, default=1.9e6, help="tangential stiffness of the normal axis in N/m (default 1.9e6)")
+    g.add_argument("--kx", type=float, default=KX_TABLE1, help="tangential stiffness of the normal axis in N/m (default 1.9e6)")
     g.add_argument("--F0", type=float, required=True, help="mean normal force in N")
     g.add_argument("--dF", type=float, default=0.1, help="normal force amplitude in N (default 0.1)")
     g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")

@@ -20,11 +20,9 @@ from mdr.apparatus import Apparatus, run_apparatus
 from mdr.law import MDRContact
 from mdr.loading import Loading
 from mdr.materials import Materials
+from mdr.paper import B_TABLE1 as TABLE1_B, KX_TABLE1 as TABLE1_KX, R_INDENTER as R_IND, TABLE2  # noqa: F401
 from mdr.profiles import FlatPunch, Sphere, TruncatedSphere
 
-TABLE2 = dict(F0=0.5, dF=0.1, mu1=0.2, mu2=0.1, ua=150e-9)
-R_IND = 6e-3
-TABLE1_B, TABLE1_KX = 0.6e-3, 1.9e6   # Table 1: flat-face radius of the truncated indenter, axis stiffness
 RES = dict(cycles=3, steps=120, n=100)
 
 

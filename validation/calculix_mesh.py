@@ -24,6 +24,7 @@ import numpy as np
 from common.errors import InputError
 from fem.axisym.normal_run import mesh_params
 from mdr.materials import Materials
+from mdr.paper import R_INDENTER
 from mdr.reference import hertz
 from meshes.axisym import GMSH_LOCK, contact_size_field  # gmsh's state is global: one mesher at a time
 
@@ -42,7 +43,7 @@ class Geometry:
 
     block: float = 200.0
     cap: float = 200.0
-    R: float = 6e-3
+    R: float = R_INDENTER
     F: float = 0.5
     materials: Materials = Materials()
     growth: float | None = None  # far-field grading of both meshes (None: the project's default)

@@ -22,8 +22,9 @@ import numpy as np
 from mdr import Materials
 from mdr import reference as ref
 from mdr.loops import loop_integral
+from mdr.paper import R_INDENTER, TABLE2
 
-R, F, MU = 6e-3, 0.5, 0.2
+R, F, MU = R_INDENTER, TABLE2["F0"], TABLE2["mu1"]
 ROUNDOFF = 1.3e-15  # tolerance of the rows that are exact up to rounding (measured 2.8e-16, 4.4e-16)
 # FE sphere under force control at F_A = F_CM(u*/2): error = max(|dW error|, stick radius error
 # / a); tolerances at h = a/20 (quick: measured 1.7e-2 .. 2.3e-2, the stick radius at the mesh's

@@ -17,7 +17,7 @@ import numpy as np
 from mdr import MDRContact, Sphere
 from mdr import reference as ref
 from mdr.drive import run_mdr_contact
-from mdr.loading import Loading
+from mdr.loading import Loading, gross_slip_work
 from mdr.loops import loop_integral
 
 from .hard_cases_base import (F, MU, R, ROUNDOFF, STEEL, TOL_MD_FORCE, TRUTH_MD_FORCE, _energy_rows, _fe,
@@ -187,7 +187,7 @@ def case_apparatus_stiffness(quick=True, cache_dir=None):
     out = run_apparatus(law, Apparatus(kx=kx), Loading.apparatus(F, dF=0.0, ua=150e-9, cycles=cycles, steps=steps))
     truth, FA = _contact_truth(out, MU, F, steps, cycles)
     dW = out["dissipation"]
-    err = np.abs(dW - truth) / (4 * MU * F * 150e-9)  # as a slip-index difference (dW -> 0 when sticking)
+    err = np.abs(dW - truth) / gross_slip_work(MU, F, 150e-9)  # as a slip-index difference (dW -> 0 when sticking)
     delta = np.asarray(out["slip_index"])
     mono = bool(np.all(np.diff(delta) > 0))
     sticking = bool(delta[0] < 0.01 and FA[0] < 0.2 * MU * F)
@@ -206,7 +206,7 @@ def case_apparatus_stiffness(quick=True, cache_dir=None):
         fe = _fe(Sphere(R), h=0.05 if quick else 1 / 40, cache_dir=cache_dir, displacement="contact")
         o = run_apparatus(fe, Apparatus(kx=k), Loading.apparatus(F, dF=0.0, ua=150e-9, cycles=cycles, steps=fe_steps))
         tr, _ = _contact_truth(o, MU, F, fe_steps, cycles)
-        errs.append(abs(float(o["dissipation"]) - float(tr[0])) / (4 * MU * F * 150e-9))
+        errs.append(abs(float(o["dissipation"]) - float(tr[0])) / float(gross_slip_work(MU, F, 150e-9)))
         deltas.append(float(o["slip_index"]))
         its.append(_newton_per_step(fe))
     rows.append(_row("apparatus k_x = 0.1 and 100 N/um", "fem", max(errs), 8e-3 if quick else 1.9e-3,

@@ -45,10 +45,11 @@ from pathlib import Path
 
 from common.errors import InputError
 from mdr.loading import Loading
+from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, STEEL_E, STEEL_NU, UA_TABLE2
 from studies.study import LOOP_CASES
 
-R_IND = 6e-3
-STEEL = {"E1": 200e9, "nu1": 0.29, "E2": 200e9, "nu2": 0.29}
+R_IND = R_INDENTER
+STEEL = {"E1": STEEL_E, "nu1": STEEL_NU, "E2": STEEL_E, "nu2": STEEL_NU}
 FE_LEVELS = (1 / 20, 1 / 40, 1 / 80)          # h_contact = element size / a_ref
 FE_LEVELS_FINE = (1 / 40, 1 / 80, 1 / 160)     # where a/20 is not yet in the asymptotic range
 FE_LEVELS_QUICK = (1 / 20, 1 / 40, 1 / 80)
@@ -358,15 +359,15 @@ def _catalogue() -> dict:
     sc.append(Scene("geom-flat", "Flat punch b = 50 um, Table 2 load", "flat", b=50e-6, group="geometry", quick=True))
     # the paper's experiments (Figs. 4-7) in the apparatus
     for fig, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
-        b = 0.0 if kind == "sphere" else 0.6e-3
+        b = 0.0 if kind == "sphere" else B_TABLE1
         sc.append(Scene(f"exp-{fig}", f"Experiment {fig[3:]}: {kind}, F0 = {F0} N, u_A = {ua * 1e9:g} nm, "
                         f"mu1 = {mu1}, mu2 = {mu2}", kind, b=b, mu=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5,
-                        drive="apparatus", amplitude=ua, kx=1.9e6, cycles=4, steps=120, group="experiments",
+                        drive="apparatus", amplitude=ua, kx=KX_TABLE1, cycles=4, steps=120, group="experiments",
                         quick=(fig == "fig4")))
     # apparatus stiffness series at the Table 2 point
     for kx in (1e6, 2e6, 10e6, 20e6):
         sc.append(Scene(f"app-kx{kx / 1e6:g}", f"Apparatus k_x = {kx / 1e6:g} N/um, b = 10 um, Table 2 point",
-                        "truncated", b=10e-6, drive="apparatus", amplitude=150e-9, kx=kx, cycles=4, steps=120,
+                        "truncated", b=10e-6, drive="apparatus", amplitude=UA_TABLE2, kx=kx, cycles=4, steps=120,
                         quick=(kx == 2e6), group="apparatus"))
     # half-space validity: shrink the block and the cap towards the contact
     variants = tuple({"block": s} for s in (3.0, 5.0, 10.0, 30.0)) + \

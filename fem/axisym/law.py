@@ -55,9 +55,10 @@ import numpy as np
 
 from common.errors import InputError, nonnegative, positive, positive_int
 from mdr.law import History
+from mdr.protocol import check_loads
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile
-from meshes.axisym import H_CONTACT_DEFAULT
+from meshes.axisym import CONTACT_EXTENT_DEFAULT, H_CONTACT_DEFAULT
 
 from fem.bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
 from fem.condense import Condensation
@@ -100,7 +101,7 @@ class FEContact:
     """
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
-                 h_contact=H_CONTACT_DEFAULT, contact_extent=1.25, block_size=None, cache_dir=None,
+                 h_contact=H_CONTACT_DEFAULT, contact_extent=CONTACT_EXTENT_DEFAULT, block_size=None, cache_dir=None,
                  penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL, friction_al_tol=DEFAULT_FRICTION_AL_TOL,
                  backend=None, max_al=50, displacement="plate", bulk_probe_depth=DEFAULT_PROBE_DEPTH,
                  friction_exact_start=True, **mesh_kw):
@@ -271,10 +272,7 @@ class FEContact:
         approach ``d`` (m) or force ``F_N`` (N, >= 0; 0 = contact lost, history released);
         tangential load as plate displacement ``u`` (m) or force ``Fx`` (N, |Fx| < mu F_N).
         Returns (mdr.law.StepResult, FEState)."""
-        if (d is None) == (F_N is None):
-            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
-        if (u is None) == (Fx is None):
-            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        check_loads("step", d=d, F_N=F_N, u=u, Fx=Fx)
         if Fx is None:
             u = float(u)
             if not np.isfinite(u):
@@ -293,8 +291,7 @@ class FEContact:
         """Normal part of a step, for many trial tangential displacements (as
         ``mdr.law.MDRContact.prepare``): ``force(u)`` gives (Fx, dFx/du), ``commit(u)``
         the result of ``step(state, u, ...)``. Lets the apparatus use Newton steps."""
-        if (d is None) == (F_N is None):
-            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
+        check_loads("prepare", d=d, F_N=F_N)
         return FETrial(self, self._normal_part(state, d, F_N))
 
     def _normal_part(self, state, d, F_N):

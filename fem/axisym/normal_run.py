@@ -17,7 +17,7 @@ from mdr.materials import Materials
 from mdr.profiles import make_profile
 from mdr.reference import hertz, truncated_contact_radius
 from meshes import AxisymMeshParams, cached_mesh
-from meshes.axisym import H_CONTACT_DEFAULT, H_CONTACT_RANGE  # noqa: F401 (one home: meshes.axisym)
+from meshes.axisym import CONTACT_EXTENT_DEFAULT, H_CONTACT_DEFAULT, H_CONTACT_RANGE  # noqa: F401 (one home: meshes.axisym)
 
 from fem.axisym.model import build_model
 from fem.axisym.normal import DEFAULT_AL_TOL, DEFAULT_PENALTY, solve_normal
@@ -36,7 +36,7 @@ def reference_radius(profile: str, R, b, F, E_star) -> float:
 
 
 def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=H_CONTACT_DEFAULT, block_size=None,
-                contact_extent=1.25, a_ref=None, **kw) -> AxisymMeshParams:
+                contact_extent=CONTACT_EXTENT_DEFAULT, a_ref=None, **kw) -> AxisymMeshParams:
     """Mesh parameters for a scene (validates the scene's input)."""
     make_profile(profile, R, b)  # validates profile, R, b (b < R, b > 0 for flat)
     positive("F", F)
@@ -54,7 +54,7 @@ def mesh_params(profile, R, b, F, materials: Materials, *, h_contact=H_CONTACT_D
 
 
 def run_normal(profile, *, R=None, b=0.0, F, materials: Materials | None = None, h_contact=H_CONTACT_DEFAULT,
-               block_size=None, contact_extent=1.25, penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL,
+               block_size=None, contact_extent=CONTACT_EXTENT_DEFAULT, penalty=DEFAULT_PENALTY, al_tol=DEFAULT_AL_TOL,
                cache_dir=None, backend=None, rigid_indenter=False, return_model=False, exact=False, fillet=None,
                **mesh_kw):
     """FE normal contact at force F; returns the result dict of ``python -m fem normal``.

@@ -66,8 +66,10 @@ import numpy as np
 
 from common.errors import InputError, nonnegative, positive
 from mdr.law import History, StepResult
+from mdr.protocol import check_loads
 from mdr.materials import Materials
 from mdr.profiles import FlatPunch, Profile, Sphere, TruncatedSphere
+from meshes.axisym import CONTACT_EXTENT_DEFAULT
 from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.solid3d import estimators as est
@@ -152,7 +154,7 @@ def _checked(profile, materials, mu, F_max, h_contact, contact_extent, displacem
                              f"{contact_extent!r}")
         contact_extent = 1.0
     elif contact_extent is None:
-        contact_extent = 1.25
+        contact_extent = CONTACT_EXTENT_DEFAULT
     m = materials if materials is not None else Materials()
     if displacement not in ("contact", "plate"):
         raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
@@ -327,10 +329,7 @@ class FEContact3D:
     def step(self, state: FE3DState, u=None, *, d=None, F_N=None, Fx=None):
         """One step, pure (``state`` not modified): normal load ``F_N`` (N, >= 0) or ``d``; tangential
         ``u`` (m) or ``Fx`` (N, |Fx| < mu F_N). Returns (StepResult, FE3DState)."""
-        if (d is None) == (F_N is None):
-            raise InputError("step needs exactly one of d (approach) or F_N (normal force)")
-        if (u is None) == (Fx is None):
-            raise InputError("step needs exactly one of u (tangential displacement) or Fx (tangential force)")
+        check_loads("step", d=d, F_N=F_N, u=u, Fx=Fx)
         res, new, _ = self._tangential(self._normal_part(state, d, F_N), u, Fx)
         self.stats["steps"] += 1
         return res, new
@@ -341,8 +340,7 @@ class FEContact3D:
         ``step(state, u, ...)``. For identical materials (or ``coupling=False``) the normal
         contact is solved here once (cached per load); for a dissimilar pair with coupling the
         pressure depends on u, so each trial solves the coupled increment at its u."""
-        if (d is None) == (F_N is None):
-            raise InputError("prepare needs exactly one of d (approach) or F_N (normal force)")
+        check_loads("prepare", d=d, F_N=F_N)
         return FE3DTrial(self, self._normal_part(state, d, F_N))
 
     def _normal_part(self, state, d, F_N) -> dict:

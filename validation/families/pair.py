@@ -18,6 +18,7 @@ import numpy as np
 
 from common.ladder import settling_error
 from mdr.loops import STATIONARY_TOL
+from mdr.loading import gross_slip_work
 
 from .. import metrics
 from ..scenes import Scene, a_ref
@@ -88,7 +89,7 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
     md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
     a = float(fe["contact_radius"])
-    scale_W = 4.0 * s.mu * s.F0 * u_amp(fe)
+    scale_W = float(gross_slip_work(s.mu, s.F0, u_amp(fe)))
     V = {}
 
     def scalar(q, scale, tolerance, unit, extra=None, floor=None):
