@@ -55,7 +55,9 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
     ``F`` (N) on the periodic ``grid``. Returns ``contact_area`` (m^2, the pixels in contact),
     ``contact_radius_area`` (sqrt(area / pi)), ``pressure_radius`` (sqrt(5 M2 / (2 F)) with M2 the
     pressure's second moment about the axis: exact for Hertz, and defined for any pressure: a rough
-    contact's spread), ``p_max`` (Pa), ``pressure`` (n, n) (Pa) and the grid."""
+    contact's spread), ``p_max`` (Pa), ``approach`` (m, the rigid approach since first contact in the
+    half-space without periodic images: ``halfspace_displacement``) and ``approach_spread``,
+    ``pressure`` (n, n) (Pa) and the grid."""
     tm = require_tamaas()
     F = positive("F", F)
     r = grid.radii()
@@ -72,19 +74,63 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
             raise InputError(f"the height map must lie on the grid: {grid.n} x {grid.n} pixels of {grid.pixel:.4g} m, "
                              f"got {heights.h.shape} of {heights.pixel:.4g} m")
         surface = surface + heights.h
+    s = np.ascontiguousarray(surface)
     tm.set_log_level(tm.LogLevel.error)
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [grid.period, grid.period], [grid.n, grid.n])
     model.E, model.nu = float(materials.E_star), 0.0  # tamaas's E* = E / (1 - nu^2)
-    solver = tm.PolonskyKeerRey(model, np.ascontiguousarray(surface), TOLERANCE, tm.PolonskyKeerRey.pressure,
-                                tm.PolonskyKeerRey.pressure)
+    solver = tm.PolonskyKeerRey(model, s, TOLERANCE, tm.PolonskyKeerRey.pressure, tm.PolonskyKeerRey.pressure)
     solver.solve(F / grid.period ** 2)
     p = np.array(model.traction, dtype=float).reshape(grid.n, grid.n)
     dA = grid.pixel ** 2
     area = float(np.count_nonzero(p > 0)) * dA
     M2 = float(np.sum(p * r ** 2)) * dA
+    d, spread = _approach(p, s, grid.pixel, float(materials.E_star))
     return {"contact_area": area, "contact_radius_area": float(np.sqrt(area / np.pi)),
             "pressure_radius": float(np.sqrt(5.0 * M2 / (2.0 * F))), "p_max": float(p.max()),
-            "force": float(p.sum()) * dA, "pressure": p, "period": grid.period, "n": grid.n}
+            "force": float(p.sum()) * dA, "approach": d, "approach_spread": spread, "pressure": p,
+            "period": grid.period, "n": grid.n}
+
+
+def _pixel_kernel(X, Y, h):
+    """int of 1 / r over the pixel of side h centred at (X, Y) (closed form: the corners of
+    x ln(y + r) + y ln(x + r))."""
+    def F(x, y):
+        r = np.hypot(x, y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.nan_to_num(x * np.log(y + r)) + np.nan_to_num(y * np.log(x + r))
+
+    a = 0.5 * h
+    return F(X + a, Y + a) - F(X - a, Y + a) - F(X + a, Y - a) + F(X - a, Y - a)
+
+
+def halfspace_displacement(p, pixel, E_star) -> np.ndarray:
+    """The normal displacement (m) of a half-space of modulus E* at the pixel centres under the
+    pixel-wise uniform pressure ``p`` (n, n) (Pa), without periodic images (Boussinesq's 1 / (pi E* r)
+    integrated over each pixel, a zero-padded FFT convolution): the approach of a contact whose
+    pressure vanishes at the grid's border, as a half-space has it."""
+    import scipy.fft as sfft
+
+    n = p.shape[0]
+    k = np.arange(-n + 1, n) * pixel
+    X, Y = np.meshgrid(k, k, indexing="ij")
+    K = _pixel_kernel(X, Y, pixel) / (np.pi * E_star)
+    m = 3 * n - 2  # linear (not circular) convolution of n and 2n - 1 samples
+    full = sfft.irfft2(sfft.rfft2(p, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
+    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+
+
+def _approach(p, surface, pixel, E_star) -> tuple:
+    """The rigid approach d of the indenter since first contact (m) and its spread over the contact
+    (relative): in contact the half-space's displacement u is d minus the initial gap max(s) - s, so
+    d = u + max(s) - s, averaged with the pressure as weight (the spread: its range over d, the grid's
+    and the period's inconsistency)."""
+    c = p > 0
+    if not np.any(c):
+        return 0.0, 0.0
+    u = halfspace_displacement(p, pixel, E_star)
+    dd = u[c] + surface.max() - surface[c]
+    d = float(np.sum(dd * p[c]) / np.sum(p[c]))
+    return d, float(np.ptp(dd) / d) if d > 0 else 0.0
 
 
 #: the order of the periodic images' error in a / period (measured 9.6x smaller at twice the period
@@ -144,3 +190,15 @@ def ensemble(profile, materials, F, grid: Grid, params, seeds) -> dict:
         sd = float(np.std(v, ddof=1))
         out[k] = {"values": v.tolist(), "mean": float(v.mean()), "std": sd, "sem": sd / np.sqrt(v.size)}
     return out
+
+
+def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | None = None) -> tuple:
+    """The normal force-approach curve of the indenter (+ ``heights``) at the forces ``loads`` (N,
+    increasing): (approaches d (m), forces (N)), the input of MDR's equivalent profile
+    (``mdr.equivalent.EquivalentProfile``). Sample the loads geometrically from a small fraction of
+    the largest: near first contact a ~ sqrt(d)."""
+    loads = np.asarray(loads, dtype=float)
+    if loads.ndim != 1 or loads.size < 4 or np.any(np.diff(loads) <= 0) or loads[0] <= 0:
+        raise InputError(f"loads must be >= 4 increasing positive forces (N), got {loads!r}")
+    d = np.array([normal_contact(profile, materials, F, grid, heights)["approach"] for F in loads])
+    return d, loads

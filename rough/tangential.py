@@ -198,3 +198,38 @@ def run_force_cycles(contact: TangentialContact, p, fa, cycles=3, steps=40) -> d
     last = slice((cycles - 1) * steps, cycles * steps + 1)
     return {"dissipation_per_cycle": per_cycle, "dissipation": per_cycle[-1], "delta": np.array(deltas)[last],
             "Q": Qs[last], "stick_area": stick_area, "state": st}
+
+
+def halfspace_tangential_displacement(q, pixel, materials) -> np.ndarray:
+    """The relative x displacement of the two surfaces (m) at the pixel centres under the pixel-wise
+    uniform x traction ``q`` (n, n) (Pa) on half-spaces without periodic images: Cerruti's point
+    solution (u_x = Q / (2 pi G) [(1 - nu) / r + nu x^2 / r^3], Johnson 1985, *Contact Mechanics*,
+    Sec. 3.2) of both bodies integrated over each pixel in closed form (the corners of
+    x ln(y + r) + y ln(x + r) for 1 / r and of y ln(x + r) for x^2 / r^3), a zero-padded FFT
+    convolution. Unlike the periodic grid's ``delta`` it holds the rigid mode: the displacement of a
+    sticking contact relative to the bodies far away, hence its tangential stiffness."""
+    import scipy.fft as sfft
+
+    from .normal import _pixel_kernel
+
+    n = q.shape[0]
+    k = np.arange(-n + 1, n) * pixel
+    X, Y = np.meshgrid(k, k, indexing="ij")
+    a = 0.5 * pixel
+
+    def corners(F):
+        return F(X + a, Y + a) - F(X - a, Y + a) - F(X + a, Y - a) + F(X - a, Y - a)
+
+    def H(x, y):  # int int x^2 / r^3 dx dy
+        r = np.hypot(x, y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.nan_to_num(y * np.log(x + r))
+
+    inv_r, x2_r3 = _pixel_kernel(X, Y, pixel), corners(H)
+    K = np.zeros_like(inv_r)
+    for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
+        G = E / (2.0 * (1.0 + nu))
+        K += ((1.0 - nu) * inv_r + nu * x2_r3) / (2.0 * np.pi * G)
+    m = 3 * n - 2
+    full = sfft.irfft2(sfft.rfft2(q, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
+    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]

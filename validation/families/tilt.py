@@ -125,6 +125,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     import warnings
 
     from fem.contact_run import drive_3d_together
+    from fem.solid3d.estimators import contact_mask
 
     from ..scenes import tilt_critical
 
@@ -150,7 +151,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 outs = drive_3d_together(laws, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
             for th, lt, out in zip(tilts, laws, outs):
                 tk = lt.tilt_keys(sv.F0)
-                runs.append({"tilt": th, "contact_vertices": int(lt.contact_mask(lt.normal(F_N=sv.F0).p).sum()),
+                runs.append({"tilt": th, "contact_vertices": int(contact_mask(lt.model, lt.normal(F_N=sv.F0).p).sum()),
                              **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
                                                         "stationary", "dissipation_per_cycle", "cycle_change",
                                                         "cycles_run", "settled")},
