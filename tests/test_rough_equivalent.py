@@ -69,3 +69,16 @@ def test_equivalent_profile_carries_the_roughness():
     assert abs(rel["mdr_smooth"]["dissipation"]) > 0.3 and abs(rel["mdr_smooth"]["stiffness"]) > 0.1
     for key in ("dissipation", "stiffness"):
         assert abs(rel["mdr_equivalent"][key]) < 0.5 * abs(rel["mdr_smooth"][key])
+
+
+@pytest.mark.slow  # seven rough runs, ~3 min
+def test_docs_rough_table_is_current():
+    """The table of docs/rough.md is what ``docs/examples/rough_equivalent.py`` computes (the literate
+    example runs end to end; its numbers within 10 % + 0.5 of the documented ones)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parent.parent / "docs" / "examples" / "rough_equivalent.py"
+    run = subprocess.run([sys.executable, str(script), "--check"], capture_output=True, text=True, timeout=1800)
+    assert run.returncode == 0, run.stderr

@@ -64,7 +64,8 @@ def _disk(pv, r, values, n_theta=96):
 
 def section(pv, vtu_path, a):
     """The x-z section (r-z mesh mirrored to -r), clipped near the contact and warped;
-    returns (mesh, scale, tangential). With the fields of ``fem.axisym.output.fretting_fields``
+    returns (mesh, scale, tangential, the undeformed mesh's edges). With the fields of
+    ``fem.axisym.output.fretting_fields``
     (``u_x0``/``mises_x0`` for theta = 0, ``u_x180``/``mises_x180`` for theta = pi) the two
     halves show modes 0 + 1 at the peak of F_x; else the mode-0 ``u``/``mises`` on both."""
     m = pv.read(str(vtu_path))
@@ -84,13 +85,24 @@ def section(pv, vtu_path, a):
     both = m.merge(mirror)
     box = (-3.0 * a, 3.0 * a, -3.0 * a, 2.5 * a, -1.0, 1.0)
     clip = both.clip_box(box, invert=False)
+    if clip.n_points:
+        # the picture moved as one rigid body so that the block's surface point on the axis stays put:
+        # near the contact the bodies' rigid shifts (the plates' ~100 nm) would hide the dimple and
+        # the shear, which are what the window shows; a common translation changes no shape
+        pts = np.asarray(clip.points)
+        blk = np.flatnonzero(pts[:, 1] <= 0.0)
+        k = blk[np.argmin(np.hypot(pts[blk, 0], pts[blk, 1]))] if blk.size else 0
+        clip.point_data["u"] = clip.point_data["u"] - clip.point_data["u"][k]
     umax = float(np.max(np.linalg.norm(clip.point_data["u"], axis=1))) if clip.n_points else 0.0
     # the largest displacement drawn as a quarter of the contact radius: the dimple and the shear of
     # ~100 nm show on a window of a few contact radii (at 0.06 a they were below a pixel)
     scale = 0.25 * a / umax if umax > 0 else 1.0
     clip.point_data["mises_MPa"] = clip.point_data["mises"] / 1e6
     warped = clip.warp_by_vector("u", factor=scale)
-    return warped, scale, tangential
+    # the undeformed shape's edges (the bodies' faces and the window's cut), drawn over the deformed one
+    outline = clip.extract_feature_edges(boundary_edges=True, feature_edges=False, manifold_edges=False,
+                                         non_manifold_edges=False) if clip.n_points else None
+    return warped, scale, tangential, outline
 
 
 def _render(pv, meshes, centre, half_h, size):
@@ -154,7 +166,7 @@ def field_figure(vtu_path, field: dict, result: dict, png_path) -> str:
     state = np.where(~np.asarray(field["contact"]), 0.0, np.where(np.asarray(field["slip"]), 2.0, 1.0))
     if r.size and r[0] > 0.0:  # the first pair sits off the axis: close the disk (no hole at its centre)
         r, p, state = np.r_[0.0, r], np.r_[p[0], p], np.r_[state[0], state]
-    sec, scale, tangential = section(pv, vtu_path, a)
+    sec, scale, tangential, outline = section(pv, vtu_path, a)
     mises = np.asarray(sec.point_data["mises_MPa"], float)
     # a flat punch's stress is singular at its edge: colour to the 99.5th percentile (the bar
     # shows the clipping), which keeps the field readable
@@ -167,7 +179,8 @@ def field_figure(vtu_path, field: dict, result: dict, png_path) -> str:
     p_ext = "max" if np.max(p) > 1.001 * p_hi else "neither"
     rmax = float(r.max()) if r.size else a
     size = (560, 520)
-    img0, ext0 = _render(pv, [(sec, dict(scalars="mises_MPa", cmap="viridis", clim=[m_lo, m_hi]))],
+    img0, ext0 = _render(pv, [(sec, dict(scalars="mises_MPa", cmap="viridis", clim=[m_lo, m_hi]))]
+                         + ([(outline, dict(color="white", line_width=1.5))] if outline is not None else []),
                          (0.0, -0.25 * a), 2.7 * a, size)
     img1, ext1 = _render(pv, [(_disk(pv, r, p), dict(scalars="v", cmap="plasma", clim=[0.0, p_hi]))],
                          (0.0, 0.0), 1.08 * rmax, size)
@@ -184,7 +197,8 @@ def field_figure(vtu_path, field: dict, result: dict, png_path) -> str:
     axes[1].set_ylabel("y (um)")
     axes[2].set_ylabel("y (um)")
     axes[0].set_title(("x-z section at the peak of F_x (F_x along +x)" if tangential else "r-z section at F0")
-                      + f"\ndeformed shape, displacements x{scale:.3g}", fontsize=11)
+                      + f"\ndeformed (displacements x{scale:.3g}, relative to the block's surface on the axis);"
+                      "\nwhite: the undeformed shape", fontsize=10)
     axes[1].set_title("contact pressure at F0", fontsize=11)
     axes[2].set_title("stick and slip at the peak of F_x", fontsize=11)
     _colorbar(fig, axes[0], "viridis", m_lo, m_hi, "von Mises stress (MPa)", extend=m_ext)
