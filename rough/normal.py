@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from common.errors import InputError, positive, positive_int
+from common.errors import ConvergenceError, InputError, positive, positive_int
 from common.ladder import GCI_SAFETY, ladder_error
 
 from .surfaces import MIN_PIXELS, HeightMap, require_tamaas
@@ -79,7 +79,11 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [grid.period, grid.period], [grid.n, grid.n])
     model.E, model.nu = float(materials.E_star), 0.0  # tamaas's E* = E / (1 - nu^2)
     solver = tm.PolonskyKeerRey(model, s, TOLERANCE, tm.PolonskyKeerRey.pressure, tm.PolonskyKeerRey.pressure)
-    solver.solve(F / grid.period ** 2)
+    try:
+        solver.solve(F / grid.period ** 2)
+    except tm.FloatingPointError as e:  # tamaas: a contact of one pixel has no complementarity error
+        raise ConvergenceError(f"the contact at F = {F:.4g} N is a single pixel of {grid.pixel:.3g} m: raise the "
+                               f"load or refine the grid ({e})") from e
     p = np.array(model.traction, dtype=float).reshape(grid.n, grid.n)
     dA = grid.pixel ** 2
     area = float(np.count_nonzero(p > 0)) * dA
@@ -196,9 +200,21 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
     """The normal force-approach curve of the indenter (+ ``heights``) at the forces ``loads`` (N,
     increasing): (approaches d (m), forces (N)), the input of MDR's equivalent profile
     (``mdr.equivalent.EquivalentProfile``). Sample the loads geometrically from a small fraction of
-    the largest: near first contact a ~ sqrt(d)."""
+    the largest: near first contact a ~ sqrt(d). The smallest loads whose contact is a single pixel (one
+    asperity's tip) are left out (the curve then starts at the first resolved load, and the equivalent
+    profile joins it to first contact); a single-pixel contact above a resolved load is an error."""
     loads = np.asarray(loads, dtype=float)
     if loads.ndim != 1 or loads.size < 4 or np.any(np.diff(loads) <= 0) or loads[0] <= 0:
         raise InputError(f"loads must be >= 4 increasing positive forces (N), got {loads!r}")
-    d = np.array([normal_contact(profile, materials, F, grid, heights)["approach"] for F in loads])
-    return d, loads
+    d, kept = [], []
+    for F in loads:
+        try:
+            d.append(normal_contact(profile, materials, F, grid, heights)["approach"])
+            kept.append(F)
+        except ConvergenceError:
+            if kept:  # only the smallest loads may touch a single pixel (one asperity's tip)
+                raise
+    if len(kept) < 4:
+        raise ConvergenceError(f"only {len(kept)} of the loads give a contact of more than one pixel: raise them or "
+                               "refine the grid")
+    return np.array(d), np.array(kept)

@@ -82,3 +82,29 @@ def test_docs_rough_table_is_current():
     script = Path(__file__).resolve().parent.parent / "docs" / "examples" / "rough_equivalent.py"
     run = subprocess.run([sys.executable, str(script), "--check"], capture_output=True, text=True, timeout=1800)
     assert run.returncode == 0, run.stderr
+
+
+def test_force_approach_leaves_out_single_pixel_contacts(monkeypatch):
+    """The smallest loads may touch one pixel (an asperity's tip), which the FFT solver cannot resolve:
+    they are left out and the curve starts at the first resolved load; a single pixel above a resolved
+    load is an error, as is a curve of fewer than 4 resolved loads."""
+    import rough.normal as rn
+    from common.errors import ConvergenceError
+
+    def fake(unresolved):
+        def normal_contact(profile, materials, F, grid, heights=None):
+            if F in unresolved:
+                raise ConvergenceError("single pixel")
+            return {"approach": 1e-7 * F}
+        return normal_contact
+
+    loads = np.geomspace(1e-3, 1.0, 8)
+    monkeypatch.setattr(rn, "normal_contact", fake(set(loads[:2])))
+    d, F = rn.force_approach(None, MAT, loads, GRID)
+    assert np.array_equal(F, loads[2:]) and np.allclose(d, 1e-7 * loads[2:])
+    monkeypatch.setattr(rn, "normal_contact", fake({loads[4]}))
+    with pytest.raises(ConvergenceError, match="single pixel"):
+        rn.force_approach(None, MAT, loads, GRID)
+    monkeypatch.setattr(rn, "normal_contact", fake(set(loads[:5])))
+    with pytest.raises(ConvergenceError, match="only 3 of the loads"):
+        rn.force_approach(None, MAT, loads, GRID)
