@@ -13,7 +13,7 @@ varies (0.88-0.92 a; the refined annulus R -+ 0.18 a always covers the slip zone
 ensemble mean and its standard error, and the ladder of the means
 (``common.ladder.ladder_error``).
 
-Each member runs the sphere twice on its mesh (``FEContact3D.variant``): the tangential traction
+Each member runs the sphere twice on its mesh (``FEContact3D.assuming``): the tangential traction
 of free direction and along x (Mindlin's assumption, as MDR), so the paired difference measures
 what the direction costs, against the half-space boundary-element solution without Mindlin's
 approximation (an independent boundary-element ladder: dissipation -0.43 +- 0.01 %, the stick zone
@@ -53,7 +53,7 @@ def member(h, ring_r, steps):
     law = FEContact3D(Sphere(R), Materials(), MU, F_max=F0, h_contact=h, ring=(ring_r, RING_WIDTH, 0.5 * h),
                       displacement="plate")
     out = {}
-    for side, v in (("free", law.variant(traction="free")), ("x", law.variant(traction="x"))):
+    for side, v in (("free", law.assuming(traction="free")), ("x", law.assuming(traction="x"))):
         o = drive_3d(v, Loading.of(F0, dF=0.0, alpha=0.0, fa=0.5 * MU * F0, cycles=3, steps=steps))
         out[side] = {k: o[k] for k in ("dissipation", "stick_axis_x", "stick_axis_y", "stick_radius_x",
                                        "stick_radius_y", "stick_fit_x", "stick_fit_y", "stick_axis_quantum",

@@ -5,7 +5,7 @@ The MDR law and the 3D law (``fem.solid3d.law.FEContact3D``, contact measure, tr
 apparatus (``mdr.apparatus.run_apparatus``, default plates, dF = 0.2 F0 as in ``studies.study.loops``):
 the slip index of the aligned face and of faces tilted by multiples of theta_c = F0 / (4 E* b^2)
 up to the paper's bound pi/3600, each tilt on the same mesh as the aligned face
-(``FEContact3D.variant``), at two mesh levels; ``contact vertices`` counts the vertices in contact
+(``FEContact3D.assuming``), at two mesh levels; ``contact vertices`` counts the vertices in contact
 at F0 (half model): below 10 the contact is not resolved (``validation.families.tilt.TILT_MIN_VERTICES``).
 ``--band H ...`` (one per level): the loaded rim arc banded, ``FEContact3D(band=(H, width, angle,
 growth))`` (sizes / b), to resolve the edge crescent at pi/3600. Run:
@@ -67,7 +67,7 @@ def main(argv=None):
         law = FEContact3D(prof, mat, mu1, F_max=F0 + dF, h_contact=h, displacement="contact", band=band)
         d0 = None
         for th in tilts:
-            lt = law.variant(tilt=th)
+            lt = law.assuming(tilt=th)
             t1 = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)

@@ -4,7 +4,7 @@ removed, normal and tangential (the one home of both corrections).
 Normal indentation (:func:`normal_indentation`, called by ``fem.axisym.normal.solve_normal``).
 Half-space theory (Hertz, MDR) measures the
 approach between points far inside two semi-infinite bodies. The FE bodies
-are finite, so their approach ``delta`` also contains the compliance of the
+are finite, so their approach ``d`` also contains the compliance of the
 bulk (block height, indenter cap, clamping). Following docs/design.md (section 4),
 the FE axial displacements are read at two probe points on the axis at depth
 z0 (default 20 a_ref) inside each body, where the field is still the
@@ -19,7 +19,7 @@ i.e. the Boussinesq (1885) point-load solution summed over the FE pair forces
 (Johnson, *Contact Mechanics*, CUP 1985, eq. 3.21). The relative approach of the
 probes removes everything outside the slab |z| < z0; the Boussinesq term puts
 back what two half-spaces would add below the probes. A rigid indenter has
-w_1 = 0 and u_z,indenter = -delta.
+w_1 = 0 and u_z,indenter = -d.
 
 Tangential displacement (:class:`BulkProbe`, :func:`bulk_probe`, used by ``fem.axisym.law``;
 :func:`contact_from_plate` / :func:`plate_from_contact` convert between the two measures).
@@ -113,23 +113,23 @@ def boussinesq_axis(lam, r, z, E, nu):
     return float(np.sum(lam * (1.0 + nu) / (2.0 * np.pi * E * rho) * (2.0 * (1.0 - nu) + z**2 / rho**2)))
 
 
-def normal_indentation(model, lam, delta) -> tuple[float, dict]:
+def normal_indentation(model, lam, d) -> tuple[float, dict]:
     """Half-space-comparable indentation d_hs (m) of a normal solution of ``model``
     (``fem.axisym.model.TwoBodyModel``-like: probe rows ``P_blk``/``P_ind``, ``probe_depth``)
-    with pair forces ``lam`` (N) and plate approach ``delta`` (m): the probes' relative
+    with pair forces ``lam`` (N) and plate approach ``d`` (m): the probes' relative
     approach plus Boussinesq below them (module docstring). Returns ``(d_hs, probe)``,
     ``probe`` the readings (``z0``, ``u_indenter``, ``u_block``, ``w_halfspace_*``)."""
-    it = model.interface
+    iface = model.interface
     z0 = model.probe_depth
     m = model.materials
     u_blk = float(model.P_blk @ lam)
     if model.rigid_indenter:
-        u_ind = -delta
+        u_ind = -d
         w1 = 0.0
     else:
-        u_ind = -delta + float(model.P_ind @ lam)
-        w1 = boussinesq_axis(lam, it.r, z0, m.E1, m.nu1)
-    w2 = boussinesq_axis(lam, it.r, z0, m.E2, m.nu2)
+        u_ind = -d + float(model.P_ind @ lam)
+        w1 = boussinesq_axis(lam, iface.r, z0, m.E1, m.nu1)
+    w2 = boussinesq_axis(lam, iface.r, z0, m.E2, m.nu2)
     d_hs = u_blk - u_ind + w1 + w2
     probe = {"z0": z0, "u_indenter": u_ind, "u_block": u_blk, "w_halfspace_indenter": w1,
              "w_halfspace_block": w2}

@@ -18,8 +18,8 @@ Own error of the plugin law: each geometry runs at ``L`` levels of its discretis
 coarsened by 2^(L-1) .. 2, 1 (``LawPlugin.make_law(coarsen=...)``; for the FE law the
 element size), and the error bar of the finest value is ``common.ladder.ladder_error`` over
 them (two levels: the last difference; three: Richardson where the order is observed).
-Rows: b, kx, delta_mdr, delta_<law> (finest level), <law>_error, difference (law - MDR),
-<law>_status (the ladder status) and delta_<law>_c<k> at each coarsening k.
+Rows: b, kx, slip_index_mdr, slip_index_<law> (finest level), <law>_error, difference (law - MDR),
+<law>_status (the ladder status) and slip_index_<law>_c<k> at each coarsening k.
 """
 from __future__ import annotations
 
@@ -78,7 +78,7 @@ def geometry_task(plugin, args, b: float, kxs, coarsen: float, R: float, load: d
     """One geometry (truncated sphere of radius R and flat-face radius b) at one level: the
     law set up once, then every apparatus point k_x of ``kxs`` from its rest state (``load``:
     F0, dF, mu1, mu2, ua; ``res``: cycles, steps; top level: picklable for any executor).
-    Returns {b, coarsen, kx, delta, setup_s, runtime_s, worker}."""
+    Returns {b, coarsen, kx, slip_index, setup_s, runtime_s, worker}."""
     from common.executors import worker_id
 
     t0 = time.perf_counter()
@@ -88,8 +88,8 @@ def geometry_task(plugin, args, b: float, kxs, coarsen: float, R: float, load: d
         law = plugin.make_law(TruncatedSphere(R, b), Materials(), mu1, F0 + dF, args, coarsen=coarsen)
         t1 = time.perf_counter()
         loading = Loading.apparatus(F0, dF, 0.0, load["ua"], cycles=res["cycles"], steps=res["steps"])
-        deltas = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), loading)["slip_index"]) for kx in kxs]
-    return {"b": b, "coarsen": coarsen, "kx": list(kxs), "delta": deltas, "setup_s": t1 - t0,
+        slip_indices = [float(run_apparatus(law, Apparatus(kx=kx, mu2=load["mu2"]), loading)["slip_index"]) for kx in kxs]
+    return {"b": b, "coarsen": coarsen, "kx": list(kxs), "slip_index": slip_indices, "setup_s": t1 - t0,
             "runtime_s": time.perf_counter() - t0, "worker": worker_id()}
 
 
@@ -128,19 +128,19 @@ def law_study(name: str, mdr_rows: list, law_name: str, plugin, args, *, R: floa
             say(f"[{name} {law_name} {i}/{len(jobs)}] b = {done[-1]['b'] * 1e6:g} um, coarsening "
                 f"{done[-1]['coarsen']:g}: {len(done[-1]['kx'])} points in {done[-1]['runtime_s']:.1f} s "
                 f"on {done[-1]['worker']}")
-    at = {(t["b"], t["coarsen"], k): d for t in done for k, d in zip(t["kx"], t["delta"])}
-    mdr = {(r["b"], r["kx"]): r["delta_truncated"] for r in mdr_rows}
+    at = {(t["b"], t["coarsen"], k): d for t in done for k, d in zip(t["kx"], t["slip_index"])}
+    mdr = {(r["b"], r["kx"]): r["slip_index_truncated"] for r in mdr_rows}
     rows = []
     for b, kxs in pts.items():
         for k in kxs:
             ladder = [at[(b, c, k)] for c in coarsen]
             err = ladder_error(coarsen, ladder)
-            row = {"b": b, "kx": k, "delta_mdr": mdr[(b, k)], f"delta_{law_name}": ladder[-1],
+            row = {"b": b, "kx": k, "slip_index_mdr": mdr[(b, k)], f"slip_index_{law_name}": ladder[-1],
                    f"{law_name}_error": err["error"], "difference": ladder[-1] - mdr[(b, k)],
                    f"{law_name}_status": err["status"]}
-            row.update({f"delta_{law_name}_c{c:g}": v for c, v in zip(coarsen, ladder)})
+            row.update({f"slip_index_{law_name}_c{c:g}": v for c, v in zip(coarsen, ladder)})
             rows.append(row)
-    tasks = [{k: v for k, v in t.items() if k not in ("kx", "delta")} | {"points": len(t["kx"])} for t in done]
+    tasks = [{k: v for k, v in t.items() if k not in ("kx", "slip_index")} | {"points": len(t["kx"])} for t in done]
     return rows, tasks
 
 
@@ -156,11 +156,11 @@ def law_figure(name: str, mdr_rows: list, rows: list, law_name: str):
     for c in sorted({r[curve] for r in mdr_rows}):
         sel = [r for r in mdr_rows if r[curve] == c]
         label = f"k_x = {c / 1e6:g} N/um" if curve == "kx" else f"b = {c * 1e6:g} um"
-        line, = ax.semilogx([r[x] * scale for r in sel], [r["delta_truncated"] for r in sel], lw=1.5,
+        line, = ax.semilogx([r[x] * scale for r in sel], [r["slip_index_truncated"] for r in sel], lw=1.5,
                             label=f"MDR, {label}")
         pts = [r for r in rows if r[curve] == c]
         if pts:
-            ax.errorbar([r[x] * scale for r in pts], [r[f"delta_{law_name}"] for r in pts],
+            ax.errorbar([r[x] * scale for r in pts], [r[f"slip_index_{law_name}"] for r in pts],
                         yerr=[r[f"{law_name}_error"] or 0.0 for r in pts], fmt="o", ms=5, mfc="none",
                         color=line.get_color(), capsize=3, label=f"{law_name.upper()}, {label}")
     ax.set_xlabel(xlabel)

@@ -43,8 +43,8 @@ def fig8(nb=25, app_kw=None, kx=(1e6, 2e6, 10e6, 20e6), b_range=(1e-6, 1e-3), re
     K = np.broadcast_to(kx[:, None], B.shape)
     d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K, res=res, app_kw=app_kw)
     d_fl, _ = _slip_index(FlatPunch(B.copy()), K, res=res, app_kw=app_kw)
-    rows = [{"kx": float(K[i, j]), "b": float(B[i, j]), "delta_truncated": float(d_tr[i, j]),
-             "delta_flat": float(d_fl[i, j])} for i in range(kx.size) for j in range(nb)]
+    rows = [{"kx": float(K[i, j]), "b": float(B[i, j]), "slip_index_truncated": float(d_tr[i, j]),
+             "slip_index_flat": float(d_fl[i, j])} for i in range(kx.size) for j in range(nb)]
     return rows
 
 
@@ -54,7 +54,7 @@ def fig9(nk=30, app_kw=None, res=RES):
     K = np.broadcast_to(kx, (b.size, nk))
     B = np.broadcast_to(b[:, None], K.shape)
     d_tr, _ = _slip_index(TruncatedSphere(np.full(B.shape, R_IND), B.copy()), K.copy(), res=res, app_kw=app_kw)
-    return [{"b": float(B[i, j]), "kx": float(K[i, j]), "delta_truncated": float(d_tr[i, j])}
+    return [{"b": float(B[i, j]), "kx": float(K[i, j]), "slip_index_truncated": float(d_tr[i, j])}
             for i in range(b.size) for j in range(nk)]
 
 
@@ -75,8 +75,8 @@ def sensitivity(points=SENS_POINTS, vary=SENS_VARY, res=RES):
     All scenes (every value at every (b, k_x) point of ``points``) run as one batch:
     the apparatus fields, dF and alpha are per-scene arrays. "bedding off" is run as
     mu2 = 0 (a frictionless bedding carries no tangential force; identical to
-    ``Apparatus(bedding=False)``). Returns rows {quantity, value, point, b, kx, delta,
-    change (delta minus the reference delta of the same point), stationary}.
+    ``Apparatus(bedding=False)``). Returns rows {quantity, value, point, b, kx, slip_index,
+    change (slip_index minus the reference slip_index of the same point), stationary}.
     """
     scenes = [(q, v) for q, values in vary for v in values]
     cols = {k: [] for k in SENS_BASE}
@@ -98,7 +98,7 @@ def sensitivity(points=SENS_POINTS, vary=SENS_VARY, res=RES):
                     plate_model=per_scene(np.array(cols["plate_model"])))
     loading = Loading.apparatus(F0, dF, per_scene(cols["alpha"]), ua, cycles=res["cycles"], steps=res["steps"])
     out = run_apparatus(law, app, loading)
-    delta = out["slip_index"]
+    slip_index = out["slip_index"]
     # stationary: the last loop repeats the previous one (the dissipation test of
     # analyse_cycles is void for a sticking contact whose dW is ~0)
     stat = out["cycles"].loop_change[..., -1] <= 1e-3
@@ -108,8 +108,8 @@ def sensitivity(points=SENS_POINTS, vary=SENS_VARY, res=RES):
         value = ("on" if v else "off") if isinstance(v, bool) else v if isinstance(v, str) else float(v)
         for i, p in enumerate(names):
             rows.append({"quantity": q, "value": value, "reference": j == base_j, "point": p, "b": float(B[i, j]),
-                         "kx": float(K[i, j]), "delta": float(delta[i, j]),
-                         "change": float(delta[i, j] - delta[i, base_j]), "stationary": bool(stat[i, j])})
+                         "kx": float(K[i, j]), "slip_index": float(slip_index[i, j]),
+                         "change": float(slip_index[i, j] - slip_index[i, base_j]), "stationary": bool(stat[i, j])})
     return rows
 
 
@@ -125,7 +125,7 @@ def sensitivity_markdown(rows, points=SENS_POINTS):
     fmt = {"R_bed": lambda v: f"{v * 1e3:g} mm", "alpha": lambda v: f"{v / np.pi:g} pi", "dF": lambda v: f"{v:g} N"}
     for (q, v), by_point in keyed.items():
         val = fmt.get(q, str)(v) + (" (ref.)" if by_point[names[0]]["reference"] else "")
-        cells = " | ".join(f"{by_point[p]['delta']:.4f} | {by_point[p]['change']:+.4f}" for p in names)
+        cells = " | ".join(f"{by_point[p]['slip_index']:.4f} | {by_point[p]['change']:+.4f}" for p in names)
         lines.append(f"| {q} | {val} | {cells} |")
     return "\n".join(lines) + "\n"
 
@@ -156,12 +156,12 @@ def loops(res=LOOP_RES, cases=None, app_kw=None, kx=TABLE1_KX):
         kind, F0, ua, mu1, mu2 = LOOP_CASES[name]
         R = np.full(shape, R_IND) if shape else R_IND
         prof = Sphere(R) if kind == "sphere" else TruncatedSphere(R, np.full(shape, TABLE1_B) if shape else TABLE1_B)
-        delta, o = _slip_index(prof, kx, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res, app_kw=app_kw)
+        slip_index, o = _slip_index(prof, kx, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res, app_kw=app_kw)
         last = slice((cycles - 1) * steps, cycles * steps + 1)
         ratio = np.abs(o["Fx"][..., last]) / (mu1 * o["FN"][..., last])
         stat = o["cycles"].last_is_stationary
         out[name] = {"profile": kind, "F0": F0, "ua": ua, "mu1": mu1, "mu2": mu2,
-                     "slip_index": float(delta) if not shape else np.asarray(delta),
+                     "slip_index": float(slip_index) if not shape else np.asarray(slip_index),
                      "friction_ratio_max": _scalar_or(np.max(ratio, axis=-1)),
                      "on_limit": _scalar_or(np.mean(ratio[..., 1:] >= 1 - 1e-9, axis=-1)),
                      "stationary": bool(stat) if not shape else np.asarray(stat),

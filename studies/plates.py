@@ -43,15 +43,15 @@ PAPER_POINTS = {
 PLATES_RES = dict(fig9_nk=31, fig8_nb=7)
 
 
-def _crossing(kx, delta, level):
-    """k_x (log-interpolated) where delta first rises through ``level``; nan if never, 0 if from the start."""
-    above = np.nonzero(delta >= level)[0]
+def _crossing(kx, slip_index, level):
+    """k_x (log-interpolated) where ``slip_index`` first rises through ``level``; nan if never, 0 if from the start."""
+    above = np.nonzero(slip_index >= level)[0]
     if above.size == 0:
         return float("nan")
     j = above[0]
     if j == 0:
         return 0.0
-    f = (level - delta[j - 1]) / (delta[j] - delta[j - 1])
+    f = (level - slip_index[j - 1]) / (slip_index[j] - slip_index[j - 1])
     return float(np.exp(np.log(kx[j - 1]) + f * (np.log(kx[j]) - np.log(kx[j - 1]))))
 
 
@@ -103,24 +103,24 @@ def plate_readings(readings=PLATE_READINGS + FX_COMPLIANCE_ROWS, res=RES, loop_r
         row = {"plate_model": model, "R_bed": R_bed, "fx_compliance": c, "k_plates": float(app.k_plates),
                "loss_contact": float(A + c), "loss_bedding": float(Bc)}
         for name in LOOP_CASES:
-            row[f"{name}_delta"] = float(lp[name]["slip_index"][i])
+            row[f"{name}_slip_index"] = float(lp[name]["slip_index"][i])
             row[f"{name}_on_limit"] = float(lp[name]["on_limit"][i])
             row[f"{name}_ratio_max"] = float(lp[name]["friction_ratio_max"][i])
             row[f"{name}_stationary"] = bool(lp[name]["stationary"][i])
         for j, b in enumerate(b9):
             row[f"fig9_k001_b{b * 1e6:g}um"] = _crossing(k9, d9[i, j], 0.01)
             row[f"fig9_k01_b{b * 1e6:g}um"] = _crossing(k9, d9[i, j], 0.1)
-        row["fig8_kx1_max_delta"] = float(np.max(d8[i, 0]))
-        row["fig8_kx2_delta_b10um"] = float(np.interp(np.log(10e-6), np.log(b8), d8[i, 1]))
+        row["fig8_kx1_max_slip_index"] = float(np.max(d8[i, 0]))
+        row["fig8_kx2_slip_index_b10um"] = float(np.interp(np.log(10e-6), np.log(b8), d8[i, 1]))
         stiff = d8[i, 1:]  # k_x = 2, 10, 20 N/um
-        row["fig8_stiff_max_delta"] = float(np.max(stiff))
+        row["fig8_stiff_max_slip_index"] = float(np.max(stiff))
         row["fig8_sphere_dev"] = float(np.max(np.abs(stiff[:, sph] - stiff[:, :1])))  # b = 1 um: the sphere
         row["fig8_flat_dev"] = float(np.max(np.abs(stiff[:, flat] - f8[i, 1:][:, flat])))
-        ok = {"fig4": row["fig4_on_limit"] == 0.0 and row["fig4_delta"] > 1e-3,
-              "fig5": row["fig5_on_limit"] == 0.0 and row["fig5_delta"] > 1e-3,
+        ok = {"fig4": row["fig4_on_limit"] == 0.0 and row["fig4_slip_index"] > 1e-3,
+              "fig5": row["fig5_on_limit"] == 0.0 and row["fig5_slip_index"] > 1e-3,
               "fig6": row["fig6_on_limit"] > 0.0, "fig7": row["fig7_on_limit"] > 0.0,
-              "fig8_kx1": row["fig8_kx1_max_delta"] < 0.05,
-              "fig8_profile": row["fig8_stiff_max_delta"] > 0.1 and row["fig8_sphere_dev"] < 0.01
+              "fig8_kx1": row["fig8_kx1_max_slip_index"] < 0.05,
+              "fig8_profile": row["fig8_stiff_max_slip_index"] > 0.1 and row["fig8_sphere_dev"] < 0.01
               and row["fig8_flat_dev"] < 0.01,
               "fig9": all(1e6 <= row[f"fig9_k01_b{b * 1e6:g}um"] <= 2e6 for b in b9)}
         row.update({f"ok_{k}": bool(v) for k, v in ok.items()})
@@ -146,10 +146,10 @@ def plates_markdown(rows):
         cells = [name, f"{r['R_bed'] * 1e3:g} mm", f"{r['k_plates'] / 1e6:.3g}",
                  f"{r['loss_contact'] * 1e6:.3g}, {r['loss_bedding'] * 1e6:.3g}"]
         for name in LOOP_CASES:
-            cells.append(f"{r[f'{name}_delta']:.3f} ({100 * r[f'{name}_on_limit']:.0f} %){mark(r[f'ok_{name}'])}")
-        cells.append(f"{r['fig8_kx1_max_delta']:.3f}{mark(r['ok_fig8_kx1'])}")
+            cells.append(f"{r[f'{name}_slip_index']:.3f} ({100 * r[f'{name}_on_limit']:.0f} %){mark(r[f'ok_{name}'])}")
+        cells.append(f"{r['fig8_kx1_max_slip_index']:.3f}{mark(r['ok_fig8_kx1'])}")
         cells.append(f"{r['fig8_sphere_dev']:.4f} / {r['fig8_flat_dev']:.4f}"
-                     + (" (delta 0)" if r["fig8_stiff_max_delta"] <= 0.1 else "") + mark(r["ok_fig8_profile"]))
+                     + (" (delta 0)" if r["fig8_stiff_max_slip_index"] <= 0.1 else "") + mark(r["ok_fig8_profile"]))
         cells.append(" / ".join(f"{k(r[f'fig9_k001_b{b}um'])}-{k(r[f'fig9_k01_b{b}um'])}" for b in (10, 50, 100))
                      + mark(r["ok_fig9"]))
         cells.append(f"{r['score']} of {len(PAPER_POINTS)}")

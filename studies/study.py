@@ -102,9 +102,9 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
         fig, ax = plt.subplots(figsize=(6, 4))
         for kx in sorted({r["kx"] for r in rows}):
             sel = [r for r in rows if r["kx"] == kx]
-            line, = ax.semilogx([r["b"] * 1e6 for r in sel], [r["delta_truncated"] for r in sel], lw=2,
+            line, = ax.semilogx([r["b"] * 1e6 for r in sel], [r["slip_index_truncated"] for r in sel], lw=2,
                                 label=f"k_x = {kx / 1e6:g} N/um")
-            ax.semilogx([r["b"] * 1e6 for r in sel], [r["delta_flat"] for r in sel], lw=0.8, color=line.get_color())
+            ax.semilogx([r["b"] * 1e6 for r in sel], [r["slip_index_flat"] for r in sel], lw=0.8, color=line.get_color())
         ax.set_xlabel("flat-face radius b (um)")
         ax.set_ylabel("slip index delta = dW / (4 mu1 u_A F0)")
         ax.set_title("Fig. 8: truncated sphere R = 6 mm (thick) and flat punch of radius b (thin)\n"
@@ -118,7 +118,7 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
         fig, ax = plt.subplots(figsize=(6, 4))
         for b in sorted({r["b"] for r in rows}):
             sel = [r for r in rows if r["b"] == b]
-            ax.semilogx([r["kx"] / 1e6 for r in sel], [r["delta_truncated"] for r in sel], label=f"b = {b * 1e6:g} um")
+            ax.semilogx([r["kx"] / 1e6 for r in sel], [r["slip_index_truncated"] for r in sel], label=f"b = {b * 1e6:g} um")
         ax.axvline(0.2 * 0.5 / 150e-9 / 1e6, color="k", ls=":", label="mu1 F0 / u_A")
         ax.set_xlabel("apparatus stiffness k_x (N/um)")
         ax.set_ylabel("slip index delta = dW / (4 mu1 u_A F0)")

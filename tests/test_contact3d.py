@@ -40,9 +40,9 @@ def model():
 def hertz(model):
     _, _, _, mi, D = model
     rf = RelativeFlexibility.from_bodies(D, D)
-    g0 = mi.B @ (mi.nodes.r**2 / (2 * R))  # the parabola is exact in the P2 space
-    p, d, gap, _ = solve_normal3d(rf.Dn, g0, mi.A, force=F / 2)
-    return rf, g0, p, d, gap
+    gap0 = mi.B @ (mi.nodes.r**2 / (2 * R))  # the parabola is exact in the P2 space
+    p, d, gap, _ = solve_normal3d(rf.Dn, gap0, mi.A, force=F / 2)
+    return rf, gap0, p, d, gap
 
 
 def test_mortar_matrix(model):
@@ -72,8 +72,8 @@ def test_mortar_flexibility_is_the_weighted_p2_flexibility(model):
 
 def test_hertz_pressure_and_radius(model, hertz):
     _, _, _, mi, _ = model
-    rf, g0, p, d, gap = hertz
-    scale = np.max(np.abs(g0))
+    rf, gap0, p, d, gap = hertz
+    scale = np.max(np.abs(gap0))
     # Signorini: p >= 0, weighted gap >= 0, complementary
     assert np.all(p >= 0) and np.all(gap >= -1e-9 * scale)
     assert np.max(np.abs(p * gap)) <= 1e-9 * p.max() * scale
@@ -89,11 +89,11 @@ def test_hertz_pressure_and_radius(model, hertz):
 
 def test_normal_approach_control_reproduces_force_control(model, hertz):
     _, _, _, mi, _ = model
-    rf, g0, p, d, _ = hertz
-    p2, _, _, _ = solve_normal3d(rf.Dn, g0, mi.A, approach=d)
+    rf, gap0, p, d, _ = hertz
+    p2, _, _, _ = solve_normal3d(rf.Dn, gap0, mi.A, approach=d)
     assert np.max(np.abs(p2 - p)) < 1e-9 * p.max()
     # contact lost: a negative approach leaves every vertex free
-    p3, _, gap3, _ = solve_normal3d(rf.Dn, g0, mi.A, approach=-1e-9)
+    p3, _, gap3, _ = solve_normal3d(rf.Dn, gap0, mi.A, approach=-1e-9)
     assert not np.any(p3) and np.all(gap3 > 0)
 
 
@@ -132,7 +132,7 @@ def test_force_beyond_friction_limit_raises(model, hertz):
 def test_gross_slip_under_displacement_control(model, hertz):
     """Driven beyond the gross-slip displacement u*, every vertex in contact slides; the slip
     direction departs from x by the elastic part of the slip, bounded while the rigid part grows,
-    so the force approaches mu F_N from below with the square of 1/delta."""
+    so the force approaches mu F_N from below with the square of 1/u."""
     _, _, _, mi, _ = model
     rf, _, p, _, _ = hertz
     g = MU * p
@@ -140,12 +140,12 @@ def test_gross_slip_under_displacement_control(model, hertz):
     us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
     short = []
     for k in (3, 30, 300):
-        res = solve_tangential3d(rf.Dt, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, delta=k * us)
+        res = solve_tangential3d(rf.Dt, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, u=k * us)
         qn = np.hypot(res.q[:, 0], res.q[:, 1])
         assert np.allclose(qn[c], g[c], rtol=1e-9)  # all slide
         short.append(1 - 2 * mi.A @ res.q[:, 0] / (MU * F))
     assert 0 < short[0] < 1e-3  # measured 2.5e-5
-    assert 50 < short[0] / short[1] < 200 and 50 < short[1] / short[2] < 200  # 1/delta^2: 100
+    assert 50 < short[0] / short[1] < 200 and 50 < short[1] / short[2] < 200  # 1/u^2: 100
 
 
 def test_cycle_dissipation(model, hertz):
@@ -159,8 +159,8 @@ def test_cycle_dissipation(model, hertz):
     cyc = tangential_history(rf.Dt, mi.A, MU * p, mi.on_plane, Fx=Qa * np.sin(2 * np.pi * t))
     assert np.all(cyc.work >= -1e-12 * cyc.work.max())
     W = cyc.work[steps + 1:].sum()
-    loop = np.trapezoid(cyc.Fx[steps:], cyc.delta[steps:])
-    assert abs(cyc.delta[-1] - cyc.delta[steps]) < 1e-6 * np.ptp(cyc.delta)  # closes: measured 2e-7
+    loop = np.trapezoid(cyc.Fx[steps:], cyc.u[steps:])
+    assert abs(cyc.u[-1] - cyc.u[steps]) < 1e-6 * np.ptp(cyc.u)  # closes: measured 2e-7
     assert abs(loop / W - 1) < 0.02  # trapezoidal rule over 40 steps: measured 0.5 %
     us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
     W_md = ref.mindlin_deresiewicz_dissipation_force(Qa, F, MU, us)
@@ -439,7 +439,7 @@ def test_masing_rule_at_the_mesh_scale(law3d):
         gradual = path(law, np.linspace(Q, -Q, 41)[1:], virgin)
         return virgin, np.max(np.abs(gradual.q[:, 0] + virgin.q[:, 0])) / (MU * law.normal(F_N=F).p.max())
 
-    law = law3d.variant(traction="x")
+    law = law3d.assuming(traction="x")
     virgin, dev = masing_deviation(law)
     one = path(law, [Q])
     assert np.max(np.abs(one.q[:, 0] - virgin.q[:, 0])) < 1e-10 * MU * law.normal(F_N=F).p.max()
@@ -596,7 +596,7 @@ def ring_pair(tmp_path_factory):
     def pair(h, r):
         if (h, r) not in cache:
             out, law = run_fem_contact(Sphere(R), MAT, MU, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=100), FEOptions(model="3d", h_contact=h, displacement="plate", refinement=Refinement(ring=(r, 0.18, h / 2)), cache_dir=tmp, traction="x"), return_law=True)
-            free = law.variant(traction="free")
+            free = law.assuming(traction="free")
             res = drive_3d(free, Loading.of(F, dF=0.0, alpha=0.0, fa=0.5 * MU * F, cycles=3, steps=100))
             res.update(free.result_keys(F, 0.0, 1.0, 2.0))
             cache[h, r] = {"x": out, "free": res}
@@ -674,8 +674,8 @@ def test_frictionless_dissimilar_pair_is_hertz(law_alu):
     from fem.solid3d.contact import solve_coupled3d
 
     mi = law_alu.model.mi
-    p, d, res, it = solve_coupled3d(law_alu.model.rf, law_alu.g0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
-                                    F_n=F / 2, delta=0.0)
+    p, d, res, it = solve_coupled3d(law_alu.model.rf, law_alu.gap0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
+                                    F_n=F / 2, u=0.0)
     hz = ref.hertz(F, R, ALU.E_star)
     assert np.all(res.q == 0) and it <= 2
     assert abs(p.max() / hz["p0"] - 1) < 0.04
@@ -710,7 +710,7 @@ def test_spence_normal_loading_locks_in_outward_traction(law_alu):
 
 def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
     """Tangential cycles after the frictional normal loading, the coupled pair against the same mesh
-    with the coupling off (``variant(coupling=False)``: identical discretisation, so the difference is
+    with the coupling off (``assuming(coupling=False)``: identical discretisation, so the difference is
     the coupling's alone). Uncoupled, the first closed loop +Q -> -Q -> +Q is the stationary one
     (Masing's rule) and the pressure centre stays on the axis; coupled, the traction the normal loading
     locked in (Spence 1975) raises the first closed loop above the uncoupled one (half-space codes at
@@ -727,7 +727,7 @@ def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
         return out, run_keys(law, F, runs[0])
 
     coupled, keys = run(law_alu)
-    uncoupled, keys0 = run(law_alu.variant(coupling=False))
+    uncoupled, keys0 = run(law_alu.assuming(coupling=False))
     W, W0 = (np.asarray(o["dissipation_per_cycle"]) for o in (coupled, uncoupled))
     assert np.all(W > 0) and coupled["stationary"] and uncoupled["stationary"]
     # uncoupled: the first closed loop is stationary already (Masing), to the solver's tolerance
@@ -779,7 +779,7 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
     newton = solve_tangential3d(rf.Dt, mi.A, g, P0, mi.on_plane, force=0.3 * MU * F / 2)
     secant = _tangential_force_by_secant(rf.Dt, mi.A, g, P0, mi.on_plane, 0.3 * MU * F / 2, None, 20000)
     assert newton.method == "newton" and secant.method == "secant"
-    assert abs(secant.delta / newton.delta - 1) < 1e-6
+    assert abs(secant.u / newton.u - 1) < 1e-6
     assert np.max(np.abs(secant.q - newton.q)) < 1e-6 * g.max()
 
 

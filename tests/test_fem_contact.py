@@ -468,7 +468,7 @@ def test_exact_start_equals_the_classical_augmented_lagrangian(cache, displaceme
         for key in ("Fx", "u", "work", "c"):
             a, b = getattr(Hn, key), getattr(Hr, key)
             assert np.max(np.abs(a - b)) <= 1e-10 * np.max(np.abs(b)), (key, drive.keys())
-        for key in ("T", "p"):
+        for key in ("T", "slip"):
             a, b = getattr(Hn.state, key), getattr(Hr.state, key)
             assert np.max(np.abs(a - b)) <= 1e-10 * np.max(np.abs(b)), key
         assert np.sum(Hr.work) > 0 and np.ptp(Hr.c) > 0  # partial slip with a moving stick edge

@@ -100,7 +100,7 @@ def test_fretting_fields_cerruti_far_field_and_rigid_plate():
         mean = 0.5 * (f["u_x0"][body] + f["u_x180"][body])
         assert np.allclose(mean, f["u"][body], atol=1e-15)
     # rigid plate displacement without pair forces: no mode-1 stress anywhere
-    st0 = type(st)(T=np.zeros_like(st.T), p=st.p, lam=st.lam, sgn=st.sgn, u=1e-8, d=st.d)
+    st0 = type(st)(T=np.zeros_like(st.T), slip=st.slip, lam=st.lam, sgn=st.sgn, u=1e-8, d=st.d)
     f0 = fretting_fields(law, st0, 0.5)
     assert np.allclose(f0["u_x0"]["indenter"][:, 0] - f0["u"]["indenter"][:, 0], 1e-8, rtol=1e-12)
     assert np.allclose(f0["mises_x0"]["indenter"], f0["mises_x180"]["indenter"], rtol=1e-9, atol=1.0)

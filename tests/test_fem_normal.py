@@ -160,11 +160,11 @@ def test_sphere_against_hertz(hertz_run):
 
 def test_interface_areas_and_interpolation(hertz_run):
     _, model, _ = hertz_run
-    it = model.interface
+    iface = model.interface
     rc = model.amesh.params.r_contact
-    assert np.isclose(it.w.sum(), np.pi * rc**2, rtol=1e-10)  # lumped areas integrate 2 pi r exactly
-    assert np.allclose(np.asarray(it.N.sum(axis=1)).ravel(), 1.0)  # partition of unity
-    assert np.allclose(it.gap0, it.r**2 / (2 * R))
+    assert np.isclose(iface.w.sum(), np.pi * rc**2, rtol=1e-10)  # lumped areas integrate 2 pi r exactly
+    assert np.allclose(np.asarray(iface.N.sum(axis=1)).ravel(), 1.0)  # partition of unity
+    assert np.allclose(iface.gap0, iface.r**2 / (2 * R))
 
 
 def test_stress_fields_for_plotting(hertz_run, tmp_path):

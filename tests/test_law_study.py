@@ -58,7 +58,7 @@ def test_plugin_points_equal_the_vectorised_mdr_study(threads):
             pool.shutdown()
     assert len(out) == 6 and len(tasks) == 6 and all(t["points"] == 2 for t in tasks)
     assert sorted({r["kx"] for r in out}) == pick([r["kx"] for r in rows], 2)
-    batch = {(r["b"], r["kx"]): r["delta_truncated"] for r in rows}
+    batch = {(r["b"], r["kx"]): r["slip_index_truncated"] for r in rows}
     from studies import study
 
     half = dict(RES, n=RES["n"] // 2)
@@ -68,10 +68,10 @@ def test_plugin_points_equal_the_vectorised_mdr_study(threads):
 
     d_half, _ = study._slip_index(TruncatedSphere(np.full(b.shape, R_IND), b), k, res=half)
     for r, dh in zip(out, d_half):
-        assert r["delta_mdr2"] == pytest.approx(batch[(r["b"], r["kx"])], rel=1e-9, abs=1e-12)
-        assert abs(r["difference"]) <= 1e-9 * max(r["delta_mdr"], 1e-3)
-        assert r["delta_mdr2_c2"] == pytest.approx(dh, rel=1e-9, abs=1e-12)
-        assert r["mdr2_error"] == pytest.approx(abs(r["delta_mdr2_c1"] - r["delta_mdr2_c2"]), rel=1e-12, abs=1e-15)
+        assert r["slip_index_mdr2"] == pytest.approx(batch[(r["b"], r["kx"])], rel=1e-9, abs=1e-12)
+        assert abs(r["difference"]) <= 1e-9 * max(r["slip_index_mdr"], 1e-3)
+        assert r["slip_index_mdr2_c2"] == pytest.approx(dh, rel=1e-9, abs=1e-12)
+        assert r["mdr2_error"] == pytest.approx(abs(r["slip_index_mdr2_c1"] - r["slip_index_mdr2_c2"]), rel=1e-12, abs=1e-15)
         assert r["mdr2_status"] == "two levels"
 
 
@@ -143,7 +143,7 @@ def test_fe_backed_fig9_agrees_with_mdr_and_is_the_same_on_dask(tmp_path):
         # docs/apparatus.md: own error <= 7e-4 and |FE - MDR| <= 4e-4 at a/10 (measured at 35 points)
         assert r["fem_error"] < 2e-3 and abs(r["difference"]) < 1e-3, r
     with open(tmp_path / "jobs" / "fig9_fem.csv") as f:
-        assert [float(x["delta_fem"]) for x in csv.DictReader(f)] == [r["delta_fem"] for r in rows]
+        assert [float(x["slip_index_fem"]) for x in csv.DictReader(f)] == [r["slip_index_fem"] for r in rows]
     assert (tmp_path / "jobs" / "fig9_fem.png").stat().st_size > 10_000
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         args = build_parser().parse_args(argv)

@@ -127,7 +127,7 @@ def test_sensitivity_mu2_acts_through_the_plate_compliance(sens):
         # plates bent across their thickness cannot push the block off its bedding: it sticks
         bend = Apparatus(plate_model="bending")
         assert bend.k_plates * 150e-9 < 0.1 * bend.m1 * G
-        assert sens[("plate_model", "bending", p)]["delta"] < 5e-13  # docs/apparatus.md: delta = 0 (measured 1.5e-13)
+        assert sens[("plate_model", "bending", p)]["slip_index"] < 5e-13  # docs/apparatus.md: delta = 0 (measured 1.5e-13)
         # the bedding sphere radius only changes the bedding's short stick phase (docs/apparatus.md:
         # < 1e-4, measured 3.4e-5)
         for R_bed in (1e-3, 2.5e-3, 10e-3):

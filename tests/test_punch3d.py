@@ -110,12 +110,12 @@ def test_flat_punch_mesh_and_input(punch):
     p = law.model.hmesh.params
     assert p.a_ref == B_F and p.contact_extent == 1.0
     assert np.max(law.model.mi.r) == pytest.approx(B_F, rel=1e-9)
-    assert np.all(law.g0 == 0)
+    assert np.all(law.gap0 == 0)
     with pytest.raises(InputError, match="contact_extent"):
         FEContact3D(FlatPunch(B_F), MAT, MU, contact_extent=1.25)
     for bad in (0.02, np.nan, np.inf, [1e-4]):
         with pytest.raises(InputError, match="tilt must be"):
-            law.variant(tilt=bad)
+            law.assuming(tilt=bad)
 
 
 def test_flat_punch_boussinesq_pressure(punch):
@@ -188,7 +188,7 @@ def test_tilted_punch_full_contact_below_theta_c(punch):
     err = {}
     for h, law in punch.items():
         for frac in (0.5, 0.8):
-            tl = law.variant(tilt=frac * THC)
+            tl = law.assuming(tilt=frac * THC)
             nr = tl.normal(F_N=F)
             keys = tl.tilt_keys(F)
             assert keys["tilt"] == frac * THC and keys["contact_area_fraction"] == 1.0
@@ -196,7 +196,7 @@ def test_tilted_punch_full_contact_below_theta_c(punch):
             assert keys["contact_x_max"] == pytest.approx(B_F, rel=1e-9)
         err[h] = _moment(tl, nr.p) / _m_halfspace(0.8 * THC) - 1
     assert all(0 < e < 0.06 for e in err.values()), err
-    tl = punch[0.2].variant(tilt=0.8 * THC)
+    tl = punch[0.2].assuming(tilt=0.8 * THC)
     nr = tl.normal(F_N=F)
     mi = tl.model.mi
     sel = mi.r <= 0.7 * B_F
@@ -214,15 +214,15 @@ def test_tilted_punch_loses_the_trailing_edge(punch):
     for law in punch.values():
         fr, xm = [], []
         for k in (1.25, 1.5, 2.0, 3.0, 4.0, 6.0):
-            keys = law.variant(tilt=k * THC).tilt_keys(F)
+            keys = law.assuming(tilt=k * THC).tilt_keys(F)
             assert keys["contact_x_min"] == pytest.approx(-B_F, rel=1e-9)
             fr.append(keys["contact_area_fraction"])
             xm.append(keys["contact_x_max"])
         assert xm[0] < 0.9 * B_F and fr[0] < 1.0
         assert np.all(np.diff(fr) < 0) and np.all(np.diff(xm) <= 0), (fr, xm)
     # the sign convention: theta < 0 lifts the -x side, the mirror image
-    a = punch[0.2].variant(tilt=2 * THC).tilt_keys(F)
-    b = punch[0.2].variant(tilt=-2 * THC).tilt_keys(F)
+    a = punch[0.2].assuming(tilt=2 * THC).tilt_keys(F)
+    b = punch[0.2].assuming(tilt=-2 * THC).tilt_keys(F)
     assert b["contact_x_max"] == pytest.approx(B_F, rel=1e-9)
     assert abs(b["contact_area_fraction"] - a["contact_area_fraction"]) < 0.05
 
@@ -248,7 +248,7 @@ def _tilt_run(law, theta, steps=20):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # a sticking punch's cycles are "not stationary" at 1e-26 J
-        out = drive_3d(law.variant(tilt=theta), Loading.of(F0_T, dF=DF_T, alpha=0.0, fa=FA_T, cycles=3, steps=steps))
+        out = drive_3d(law.assuming(tilt=theta), Loading.of(F0_T, dF=DF_T, alpha=0.0, fa=FA_T, cycles=3, steps=steps))
     return out["dissipation"] / (4 * MU * F0_T * out["displacement_amplitude"]), out
 
 
@@ -280,8 +280,8 @@ def test_tilt_zero_is_the_aligned_punch(punch):
     from mdr.drive import run_contact
 
     law = punch[0.3]
-    back = law.variant(tilt=2 * THC).variant(tilt=0.0)
-    assert back.tilt == 0.0 and np.array_equal(back.g0, law.g0)
+    back = law.assuming(tilt=2 * THC).assuming(tilt=0.0)
+    assert back.tilt == 0.0 and np.array_equal(back.gap0, law.gap0)
     s1 = s2 = law.rest_state()
     for fn, fx in ((0.5, 0.0), (0.6, 0.05), (0.4, -0.05)):
         r1, s1 = law.step(s1, Fx=fx, F_N=fn)
@@ -304,8 +304,8 @@ def test_tilted_punch_mesh_convergence(tmp_path):
     out = {}
     for h in (0.2, 0.1):
         law = FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=h, cache_dir=tmp_path)
-        half = law.variant(tilt=0.5 * THC)
-        out[h] = (law.variant(tilt=2 * THC).tilt_keys(F)["contact_area_fraction"],
+        half = law.assuming(tilt=0.5 * THC)
+        out[h] = (law.assuming(tilt=2 * THC).tilt_keys(F)["contact_area_fraction"],
                   _moment(half, half.normal(F_N=F).p) / _m_halfspace(0.5 * THC) - 1)
     assert abs(out[0.1][0] - out[0.2][0]) < 0.04
     assert 0.4 < out[0.1][0] < 0.8
@@ -364,13 +364,13 @@ def test_refined_edge_moment_and_paper_tilt(refined, punch):
     0.60, 0.26, 0.15 at 2, 4, 7.6 theta_c)."""
     e = {}
     for name, law in (("plain", punch[0.3]), ("refined", refined)):
-        tl = law.variant(tilt=0.8 * THC)
+        tl = law.assuming(tilt=0.8 * THC)
         e[name] = _moment(tl, tl.normal(F_N=F).p) / _m_halfspace(0.8 * THC) - 1
     assert abs(e["refined"]) <= abs(e["plain"]) and abs(e["refined"]) < 0.01, e
-    tl = refined.variant(tilt=TILT_PAPER)
+    tl = refined.assuming(tilt=TILT_PAPER)
     nc = int(est.contact_mask(tl.model, tl.normal(F_N=F).p).sum())
     assert nc >= 10, nc
-    fr = [refined.variant(tilt=k * THC).tilt_keys(F) for k in (2.0, 4.0, TILT_PAPER / THC)]
+    fr = [refined.assuming(tilt=k * THC).tilt_keys(F) for k in (2.0, 4.0, TILT_PAPER / THC)]
     assert all(k["contact_x_min"] == pytest.approx(-B_F, rel=1e-9) for k in fr)
     assert np.all(np.diff([k["contact_area_fraction"] for k in fr]) < 0)
 
@@ -385,7 +385,7 @@ def test_refined_edge_converges_at_the_paper_tilt(tmp_path):
     out = []
     for hr, rho in ((0.1, 0.8), (0.07, 0.8), (0.1, 1.0)):
         law = FEContact3D(FlatPunch(B_F), MAT, MU, h_contact=0.3, refine=(-1.0, hr, rho), cache_dir=tmp_path)
-        k = law.variant(tilt=TILT_PAPER).tilt_keys(F)
+        k = law.assuming(tilt=TILT_PAPER).tilt_keys(F)
         out.append((k["contact_area_fraction"], k["contact_x_max"] / B_F))
     fr, xm = np.array(out).T
     assert np.ptp(fr) < 0.03 and np.all((0.12 < fr) & (fr < 0.25)), out
@@ -450,7 +450,7 @@ def test_band_converges_at_the_paper_tilt(tmp_path):
     for bh in (0.02, 0.014):
         law = FEContact3D(TruncatedSphere(R, B_P), MAT, MU, F_max=F, h_contact=0.3, band=(bh, *BAND[1:]),
                           cache_dir=tmp_path)
-        tl = law.variant(tilt=TILT_PAPER)
+        tl = law.assuming(tilt=TILT_PAPER)
         c = est.contact_mask(tl.model, tl.normal(F_N=F).p)
         mi = tl.model.mi
         k = tl.tilt_keys(F)
@@ -506,7 +506,7 @@ def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
 
     law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=tmp_path)
     a = ref.hertz(F, R, ES)["a"]
-    t = law.variant(tilt=5e-4)
+    t = law.assuming(tilt=5e-4)
     nr = t.normal(F_N=F)
     w = t.model.mi.A * nr.p
     shift = -R * 5e-4
@@ -518,7 +518,7 @@ def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
     from common.errors import ConvergenceError
 
     with pytest.raises(ConvergenceError, match="rim"):
-        law.variant(tilt=1e-3).normal(F_N=F)
+        law.assuming(tilt=1e-3).normal(F_N=F)
 
 
 @pytest.mark.slow
@@ -547,7 +547,7 @@ def test_tilted_face_in_the_apparatus_fig6():
         law = FEContact3D(prof, MAT, mu1, F_max=1.2 * F0, h_contact=h, displacement="contact")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            d = [float(run_apparatus(law.variant(tilt=k * thc), app, Loading.apparatus(F0, **kw))["slip_index"]) for k in (0.0, 1.0, 3.0)]
+            d = [float(run_apparatus(law.assuming(tilt=k * thc), app, Loading.apparatus(F0, **kw))["slip_index"]) for k in (0.0, 1.0, 3.0)]
         assert abs(d[0] / d_md - 1) < 2e-3
         eff[h] = np.array(d[1:]) / d[0] - 1
     for e in eff.values():
@@ -571,7 +571,7 @@ def test_banded_face_in_the_apparatus_fig6_at_the_paper_tilt():
     prof, app = TruncatedSphere(R_IND, TABLE1_B), Apparatus(kx=TABLE1_KX, mu2=mu2)
     kw = dict(dF=0.2 * F0, alpha=0.0, ua=ua, cycles=3, steps=40)
     law = FEContact3D(prof, MAT, mu1, F_max=1.2 * F0, h_contact=0.3, displacement="contact", band=BAND)
-    tl = law.variant(tilt=TILT_PAPER)
+    tl = law.assuming(tilt=TILT_PAPER)
     assert int(est.contact_mask(tl.model, tl.normal(F_N=F0).p).sum()) >= 10
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)

@@ -90,8 +90,8 @@ def pairs(tmp_path_factory):
     cache = tmp_path_factory.mktemp("m3d")
     steel = FEContact3D(Sphere(6e-3), Materials(), MU, F_max=F0 + DF, h_contact=0.2, cache_dir=cache)
     alu = FEContact3D(Sphere(6e-3), Materials(E2=70e9, nu2=0.33), MU, F_max=F0 + DF, h_contact=0.2, cache_dir=cache)
-    return {"direction": (steel.variant(traction="free"), steel.variant(traction="x")),
-            "coupling": (alu.variant(traction="free", coupling=True), alu.variant(coupling=False))}
+    return {"direction": (steel.assuming(traction="free"), steel.assuming(traction="x")),
+            "coupling": (alu.assuming(traction="free", coupling=True), alu.assuming(coupling=False))}
 
 
 def _settled_pair(pair):

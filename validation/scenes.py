@@ -413,7 +413,7 @@ def _catalogue() -> dict:
                     notes="Table 2 loading (F0 = 0.5 N, dF = 0.1 N, mu = 0.2; force amplitude 0.06 N as the "
                           "geometry series), steel on steel, R = 6 mm. theta_c = F0 / (4 E* b^2), the tilted punch's "
                           "loss of full contact at F0 (for the truncated spheres the same formula with b as the "
-                          "scale). Every tilt runs on the same 3D mesh as the aligned face (FEContact3D.variant), "
+                          "scale). Every tilt runs on the same 3D mesh as the aligned face (FEContact3D.assuming), "
                           "so the effect of the tilt is free of the mesh error the two share; its error bar is the "
                           "effect's two-level ladder (b = 20 um: h = 0.2, 0.14 a_ref, since at 0.3 a_ref its slip "
                           "annulus is not resolved and the aligned dissipation is 10x off). The rotation is held by "

@@ -179,13 +179,13 @@ def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
         return _fe3d_outputs(s, law, out, st, h, t0, t1, t2)
     out.update(law.result_keys(s.F0, t0, t1, t2), h_contact=h)
     nr = law.normal(F_N=s.F0)
-    it = law.model.interface
-    T = np.asarray(st.T) if st is not None else np.zeros(it.n)
-    lam = np.asarray(st.lam) if st is not None else np.zeros(it.n)
+    iface = law.model.interface
+    T = np.asarray(st.T) if st is not None else np.zeros(iface.n)
+    lam = np.asarray(st.lam) if st is not None else np.zeros(iface.n)
     out["profiles"] = {"r": nr.r.tolist(), "pressure": nr.pressure.tolist(),
-                       "r_pairs": it.r.tolist(), "traction": (T / it.w).tolist() if st is not None else None}
-    field = {"r": it.r, "p": nr.lam / it.w, "tau": T / it.w, "contact": lam > 0,
-             "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(it.n, bool)}
+                       "r_pairs": iface.r.tolist(), "traction": (T / iface.w).tolist() if st is not None else None}
+    field = {"r": iface.r, "p": nr.lam / iface.w, "tau": T / iface.w, "contact": lam > 0,
+             "slip": (np.asarray(st.sgn) != 0) & (lam > 0) if st is not None else np.zeros(iface.n, bool)}
     if vtu_path is not None:
         if st is not None:  # modes 0 + 1 at the peak of the last cycle, in the x-z plane
             write_fretting_vtu(law, st, s.loading.last_peak()[1], vtu_path)

@@ -26,7 +26,7 @@ lbar this is the optimality condition of the strictly convex box-constrained
 quadratic programme
 
     min_T  1/2 T^T M T - T^T (b + u 1),   |T_i| <= g_i,
-    M = Ct + diag(1/k),   b = lbar/k - p_old,
+    M = Ct + diag(1/k),   b = lbar/k - slip_old,
 
 (with u as the multiplier of sum T = Fx under force control). It is solved by the
 primal-dual active-set method, the semi-smooth Newton method of this problem
@@ -40,7 +40,7 @@ makes it monotone. The Uzawa / augmented-Lagrangian loop then sets lbar <- T
 until the largest change is below ``al_tol`` times the largest slip limit;
 at that point the stick pairs do not move relative to each other (exact
 Coulomb), so the penalty error is removed, not just made small. That limit
-(lbar = T) is itself the box QP above with M = Ct and b = -p_old (the 1/k terms
+(lbar = T) is itself the box QP above with M = Ct and b = -slip_old (the 1/k terms
 cancel), so the same solver reaches it directly; ``fem.axisym.law.FEContact`` starts the
 AL loop there, and its first pass checks the answer.
 """
@@ -156,20 +156,20 @@ def solve_increment(M, fac, b, g, k, sgn0, *, u=None, F=None, max_iter=60):
     return _projected_newton(M, fac, b, g, k, u, np.clip(T, -g, g), max_iter, it)
 
 
-def slip_update(s, T, lbar, k, contact, p_old):
+def slip_update(s, T, lbar, k, contact, slip_old):
     """Plastic slip and friction work after a converged increment of :func:`solve_increment`.
 
     ``s``: relative tangential displacements ``u 1 - Ct T`` (module docstring), ``T`` the
     pair forces, ``lbar`` the augmented-Lagrangian multipliers of the last pass, ``k`` the
-    penalty stiffnesses, ``contact`` the pairs with a slip limit g > 0, ``p_old`` the slip of
-    the previous step. Returns ``(p_new, work)``: the penalty law's elastic part removed,
-    ``p_new = s - (T - lbar)/k`` in contact (the pair's new plastic slip), ``p_new = s`` out of
+    penalty stiffnesses, ``contact`` the pairs with a slip limit g > 0, ``slip_old`` the slip of
+    the previous step. Returns ``(slip_new, work)``: the penalty law's elastic part removed,
+    ``slip_new = s - (T - lbar)/k`` in contact (the pair's new plastic slip), ``slip_new = s`` out of
     contact (a free pair follows the relative displacement); ``work`` the friction work of the
-    increment, the sum over the contact pairs of the positive parts of ``T (p_new - p_old)`` (J).
+    increment, the sum over the contact pairs of the positive parts of ``T (slip_new - slip_old)`` (J).
     """
-    p_new = np.where(contact, s - (T - lbar) / k, s)
-    work = float(np.sum(np.maximum(np.where(contact, T * (p_new - p_old), 0.0), 0.0)))
-    return p_new, work
+    slip_new = np.where(contact, s - (T - lbar) / k, s)
+    work = float(np.sum(np.maximum(np.where(contact, T * (slip_new - slip_old), 0.0), 0.0)))
+    return slip_new, work
 
 
 def _projected_newton(M, fac, b, g, k, u, T, max_iter, it0):

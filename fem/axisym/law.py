@@ -151,8 +151,8 @@ class FEContact:
         self.mode1, self.Ct, self.bulk = condensed_mode1(self.model, self.amesh, self.materials, self.bulk_probe_depth,
                                                          backend)
         self.Ct_plate = self.Ct.copy()
-        it = self.model.interface
-        self.k = penalty_stiffness(self.penalty, self.materials.E_star, it)
+        iface = self.model.interface
+        self.k = penalty_stiffness(self.penalty, self.materials.E_star, iface)
         self._normal_cache = {}
         # steps: committed steps; trial_solves: tangential return-map solves (an apparatus step tries
         # several displacements before it commits one); newton, al: iterations of those solves
@@ -232,7 +232,7 @@ class FEContact:
     def rest_state(self) -> FEState:
         n = self.n_pairs
         z = frozen(np.zeros(n))
-        return FEState(T=z, p=z, lam=z, sgn=frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
+        return FEState(T=z, slip=z, lam=z, sgn=frozen(np.zeros(n, dtype=np.int8)), u=0.0, d=0.0)
 
     def plate_bulk_compliance(self, F_N) -> float:
         """c_bulk (m/N) at normal force F_N (> 0) in the plate measure: the bodies' series compliance
@@ -331,7 +331,7 @@ def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
     {name: (K, basis, dofs, Condensation)}, the symmetric tangential flexibility Ct of the pairs
     (indenter plus block through the interface map N) and the tangential bulk probes of
     ``fem.bulk`` at depth ``bulk_probe_depth`` a_ref on the axis of each body."""
-    it = model.interface
+    iface = model.interface
     m = materials
     bodies = model.bodies
     # tangential bulk correction (fem.bulk): axis probes at depth L in each body
@@ -347,14 +347,14 @@ def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
         K, basis = stiffness_mode1(mesh, E, nu)
         dofs = node_dofs_mode1(basis)
         fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
-        nodes = it.ind_nodes if name == "indenter" else it.blk_nodes
+        nodes = iface.ind_nodes if name == "indenter" else iface.blk_nodes
         pnodes, wts = axis_point(mesh, z)
         cond = Condensation(K, fixed, dofs[0, nodes],
                             probe_dofs=dofs[0, pnodes], backend=backend)
         rows[name] = wts @ cond.P
         out[name] = (K, basis, dofs, cond)
-    N = it.N
+    N = iface.N
     C2 = out["block"][3].C
     Ct = out["indenter"][3].C + N @ (N @ C2).T
     Ct = 0.5 * (Ct + Ct.T)
-    return out, Ct, bulk_probe(it, m, rows, L)
+    return out, Ct, bulk_probe(iface, m, rows, L)

@@ -32,11 +32,11 @@ from fem.stepping import frozen
 @dataclass(frozen=True)
 class FEState:
     """History of the FE contact (read-only arrays over the n pairs): tangential pair forces
-    ``T`` (N), plastic slip ``p`` (m), normal pair forces ``lam`` (N), last sliding sets
+    ``T`` (N), plastic slip ``slip`` (m), normal pair forces ``lam`` (N), last sliding sets
     ``sgn`` (warm start), plate displacement ``u`` and approach ``d`` (m)."""
 
     T: np.ndarray
-    p: np.ndarray
+    slip: np.ndarray
     lam: np.ndarray
     sgn: np.ndarray
     u: float
@@ -68,7 +68,7 @@ def normal_part(law, state, d, F_N) -> dict:
     contact = g > 0
     any_contact = bool(contact.any())
     return {"state": state, "lam": lam, "FN": FN, "d": dd, "a": a, "g": g, "T_old": T_old,
-            "p_old": np.where(np.asarray(state.lam) > 0, state.p, s_old), "contact": contact,
+            "slip_old": np.where(np.asarray(state.lam) > 0, state.slip, s_old), "contact": contact,
             "any_contact": any_contact, "gmax": float(g.max()) if any_contact else 0.0,
             "sgn_old": np.asarray(state.sgn), "u": None}
 
@@ -82,7 +82,7 @@ def tangential(law, ctx, u, Fx):
     Augmented Lagrangian (``fem.axisym.friction``): passes lbar <- T until the largest change is
     below ``friction_al_tol`` of the largest slip limit. Its limit lbar = T is the exact
     Coulomb return map: the box QP of ``fem.axisym.friction`` with M = Ct (no penalty) and
-    b = -p_old, whose active-set iteration has the same set test as an AL pass at that
+    b = -slip_old, whose active-set iteration has the same set test as an AL pass at that
     limit. With ``friction_exact_start`` that problem is solved first and its forces
     start the AL, so the first pass normally meets the tolerance (it then checks the
     solution, and carries on from it if not; should that solve fail, the classical start
@@ -93,7 +93,7 @@ def tangential(law, ctx, u, Fx):
     (one pass, the classical path), and with the pure penalty."""
     n = law.n_pairs
     FN, g = ctx["FN"], ctx["g"]
-    T_old, p_old = ctx["T_old"], ctx["p_old"]
+    T_old, slip_old = ctx["T_old"], ctx["slip_old"]
     if Fx is not None and abs(Fx) >= law.mu * FN * (1 - 1e-12) and Fx != 0.0:
         raise InputError(f"tangential force Fx={Fx:.4g} N must stay below the friction limit "
                          f"mu*F_N={law.mu * FN:.4g} N under force control")
@@ -107,14 +107,14 @@ def tangential(law, ctx, u, Fx):
     with blas_threads(1):
         if exact:
             try:
-                lbar, _, sgn, nit, _ = solve_increment(law.Ct, law._fac_exact, -p_old, g, k, sgn, u=u, F=Fx)
+                lbar, _, sgn, nit, _ = solve_increment(law.Ct, law._fac_exact, -slip_old, g, k, sgn, u=u, F=Fx)
                 newton += nit
             except (ConvergenceError, np.linalg.LinAlgError):  # the classical start below instead
                 exact = False
         if not exact:
             lbar = np.clip(T_old, -g, g) if law.friction_al_tol > 0 else np.zeros(n)
         for n_al in range(1, law.max_al + 1):
-            b = lbar / k - p_old
+            b = lbar / k - slip_old
             T, uu, sgn, nit, trial = solve_increment(law.M, law._fac, b, g, k, sgn, u=u, F=Fx)
             newton += nit
             change = float(np.max(np.abs(T - lbar)) / ctx["gmax"])
@@ -142,19 +142,19 @@ def finish(law, ctx, sol):
     if sol is None:  # no pair in contact: no force, the plastic slip follows the plate
         uu = state.u if ctx["u"] is None else ctx["u"]
         z = np.zeros(n)
-        new = FEState(T=frozen(z), p=frozen(np.full(n, uu)), lam=frozen(z),
+        new = FEState(T=frozen(z), slip=frozen(np.full(n, uu)), lam=frozen(z),
                       sgn=frozen(np.zeros(n, dtype=np.int8)), u=float(uu), d=float(dd))
         return StepResult(Fx=0.0, FN=FN, d=dd, a=a, c=0.0, u=float(uu), work=0.0, slack=z,
                           slipping=np.ones(n, dtype=bool)), new
     T, uu, sgn = sol["T"], sol["u"], sol["sgn"]
     contact = ctx["contact"]
     s = uu - law.Ct @ T
-    p_new, work = slip_update(s, T, sol["lbar"], law.k, contact, ctx["p_old"])
+    slip_new, work = slip_update(s, T, sol["lbar"], law.k, contact, ctx["slip_old"])
     w = law.model.interface.w
     slack = np.where(contact, (g - np.abs(T)) / w, 0.0)  # mu p - |tau| at the pairs
     slipping = (sgn != 0) | ~contact | at_limit(slack, g / w)
     c = float(per_step(law.stick_nodes, slack, slipping, a, law.stick_onset))
-    new = FEState(T=frozen(T), p=frozen(p_new), lam=frozen(lam), sgn=frozen(sgn),
+    new = FEState(T=frozen(T), slip=frozen(slip_new), lam=frozen(lam), sgn=frozen(sgn),
                   u=float(uu), d=float(dd))
     return StepResult(Fx=sol["Fx"], FN=float(FN), d=float(dd), a=float(a), c=c, u=float(uu),
                       work=work, slack=slack, slipping=slipping), new

@@ -4,11 +4,11 @@ Boundary conditions (mode 0):
 
 - both bodies: u_r = 0 on the axis (regularity);
 - block: bottom clamped (u_r = u_z = 0);
-- indenter: the top face moves as a rigid, frictionless plate: u_z = -delta
-  (delta, the *approach* of the indenter top to the block bottom, is an
+- indenter: the top face moves as a rigid, frictionless plate: u_z = -d
+  (d, the *approach* of the indenter top to the block bottom, is an
   unknown when the force is prescribed), u_r free. Because the elastic field
   of the prescribed translation alone is a rigid translation (no stress), the
-  indenter's interface displacement is -delta + C1 lam: the condensation
+  indenter's interface displacement is -d + C1 lam: the condensation
   with the top clamped covers everything else. The normal force F is the
   reaction of the plate (= the sum of the pair forces).
 
@@ -76,9 +76,9 @@ class AxisymContactModel:
     """Everything the contact solvers need, built once (see :func:`build_model`).
 
     ``C`` is the pair flexibility (n x n, m/N): the gap of the pairs is
-    ``gap0 - delta + C @ lam`` for pair forces ``lam`` (N, compressive > 0).
+    ``gap0 - d + C @ lam`` for pair forces ``lam`` (N, compressive > 0).
     ``P_ind``, ``P_blk`` (n,) give the axial displacement of the two probe
-    points per unit pair force (the indenter probe also moves by -delta).
+    points per unit pair force (the indenter probe also moves by -d).
     """
 
     amesh: object
@@ -101,17 +101,17 @@ class AxisymContactModel:
     def probe_depth(self) -> float:
         return float(self.amesh.params.probe_depth)
 
-    def fields(self, lam, delta):
-        """Full displacement vectors {body: u} for pair forces ``lam`` and approach ``delta``."""
-        it = self.interface
+    def fields(self, lam, d):
+        """Full displacement vectors {body: u} for pair forces ``lam`` and approach ``d``."""
+        iface = self.interface
         out = {}
         ind = self.bodies["indenter"]
         if ind.cond is not None:
             rigid = np.zeros(ind.ndofs)
-            rigid[ind.dofs[1]] = -delta
+            rigid[ind.dofs[1]] = -d
             out["indenter"] = ind.cond.displacement(lam, u_fixed=rigid)
         blk = self.bodies["block"]
-        out["block"] = blk.cond.displacement(-(it.N.T @ lam))
+        out["block"] = blk.cond.displacement(-(iface.N.T @ lam))
         return out
 
 

@@ -2,9 +2,9 @@
 
 Problem (pairs i of ``fem.axisym.interface``, forces lam_i >= 0 in compression):
 
-    gap_i = gap0_i - delta + (C lam)_i,        C = C_indenter + N C_block N^T,
+    gap_i = gap0_i - d + (C lam)_i,        C = C_indenter + N C_block N^T,
 
-with either the force ``F = sum lam_i`` or the approach ``delta`` prescribed.
+with either the force ``F = sum lam_i`` or the approach ``d`` prescribed.
 Contact law (penalty, augmented Lagrangian form):
 
     lam_i = max(0, lbar_i - k_i gap_i),        k_i = eps * w_i,  eps = penalty * E* / h,
@@ -20,12 +20,12 @@ method, which for this piecewise-linear law is a primal-dual active-set
 iteration (Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2002) 865): on the
 active set A the equations are linear and symmetric,
 
-    (C_AA + diag(1/k_A)) lam_A - delta 1 = lbar_A / k_A - gap0_A,   1^T lam_A = F,
+    (C_AA + diag(1/k_A)) lam_A - d 1 = lbar_A / k_A - gap0_A,   1^T lam_A = F,
 
 solved by a dense Cholesky of an |A| x |A| matrix; A is updated from the sign of
 lbar - k gap until it repeats.
 
-Outputs (``NormalResult``): F_N, the approach ``delta`` (indenter top to block
+Outputs (``NormalResult``): F_N, the approach ``d`` (indenter top to block
 bottom, includes the finite bodies' bulk compliance), the half-space-comparable
 indentation (``fem.bulk``), nodal pressures p_i = lam_i / w_i, the contact radius and
 the penalty error (relative penetration), and ``pressure_radius``, the pressure's
@@ -86,7 +86,7 @@ class NormalResult:
 
 
 def _active_solve(C, gap0, k, lbar, A, force, approach):
-    """Solve the linear equations on active set A; return (lam, delta)."""
+    """Solve the linear equations on active set A; return (lam, d)."""
     n = gap0.size
     lam = np.zeros(n)
     if not np.any(A):
@@ -98,24 +98,24 @@ def _active_solve(C, gap0, k, lbar, A, force, approach):
     chol = sla.cho_factor(M, lower=True, check_finite=False)
     x = sla.cho_solve(chol, rhs, check_finite=False)
     if force is None:
-        delta = approach
-        lam[A] = x + delta * sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
+        d = approach
+        lam[A] = x + d * sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
     else:
         y = sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
-        delta = (force - x.sum()) / y.sum()
-        lam[A] = x + delta * y
-    return lam, delta
+        d = (force - x.sum()) / y.sum()
+        lam[A] = x + d * y
+    return lam, d
 
 
 def _semismooth_newton(C, gap0, k, lbar, force, approach, A0, max_iter):
     A = A0.copy()
     seen = set()
     for it in range(1, max_iter + 1):
-        lam, delta = _active_solve(C, gap0, k, lbar, A, force, approach)
-        gap = gap0 - delta + C @ lam
+        lam, d = _active_solve(C, gap0, k, lbar, A, force, approach)
+        gap = gap0 - d + C @ lam
         A_new = (lbar - k * gap) > 0.0
         if np.array_equal(A_new, A):
-            return np.maximum(lam, 0.0), delta, gap, A, it
+            return np.maximum(lam, 0.0), d, gap, A, it
         key = A_new.tobytes()
         if key in seen:
             # cycling between active sets: damp by keeping the union (monotone safeguard)
@@ -162,7 +162,7 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
                  max_al=50, max_newton=100) -> NormalResult:
     """Normal contact under a prescribed ``force`` (N) or ``approach`` (m, indenter top to
     block bottom). ``penalty``: dimensionless, eps = penalty * E*/h; ``al_tol``: relative
-    penetration (max(-gap)/delta) at which augmented-Lagrangian iterations stop (0: pure
+    penetration (max(-gap)/d) at which augmented-Lagrangian iterations stop (0: pure
     penalty, one solve)."""
     t0 = time.perf_counter()
     if (force is None) == (approach is None):
@@ -174,10 +174,10 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     penalty = positive("penalty", penalty)
     al_tol = nonnegative("al_tol", al_tol)
     max_al = positive_int("max_al", max_al)
-    it = model.interface
-    C, gap0 = model.C, it.gap0
-    k = penalty_stiffness(penalty, model.materials.E_star, it)
-    lbar = np.zeros(it.n)
+    iface = model.interface
+    C, gap0 = model.C, iface.gap0
+    k = penalty_stiffness(penalty, model.materials.E_star, iface)
+    lbar = np.zeros(iface.n)
     A = gap0 <= np.min(gap0) + 1e-300  # start from first contact
     if force is not None:
         # a better start: pairs inside a rough contact radius (fewer Newton steps)
@@ -185,10 +185,10 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     n_newton = 0
     with blas_threads(1):
         for n_al in range(1, max_al + 1):
-            lam, delta, gap, A, nit = _semismooth_newton(C, gap0, k, lbar, force, approach, A, max_newton)
+            lam, d, gap, A, nit = _semismooth_newton(C, gap0, k, lbar, force, approach, A, max_newton)
             n_newton += nit
             pen = max(float(np.max(-gap[lam > 0], initial=0.0)), 0.0)
-            rel_pen = pen / abs(delta) if delta != 0 else np.inf
+            rel_pen = pen / abs(d) if d != 0 else np.inf
             if al_tol == 0.0 or rel_pen <= al_tol:
                 break
             lbar = lam.copy()
@@ -199,17 +199,17 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
         warnings.warn(f"pure penalty (al_tol = 0): the penetration is {rel_pen:.3g} of the approach, above "
                       f"{PENALTY_WARN:g}; raise the penalty (now {penalty:g}) or use the augmented Lagrangian "
                       f"(al_tol > 0) to remove this error", RuntimeWarning, stacklevel=2)
-    p = lam / it.w
+    p = lam / iface.w
     F = float(lam.sum())
     if getattr(model.profile, "edge_fixed", False):
         a = float(model.profile.b)
     else:
-        a = _edge_radius(it.r, p, lam)
-    p0 = _axis_pressure(it.r, p)
-    d_hs, probe = normal_indentation(model, lam, delta)  # half-space-comparable indentation
-    return NormalResult(force=F, approach=float(delta), indentation=float(d_hs), contact_radius=a,
-                        r=np.concatenate([[0.0], it.r]), pressure=np.concatenate([[p0], p]), lam=lam,
+        a = _edge_radius(iface.r, p, lam)
+    p0 = _axis_pressure(iface.r, p)
+    d_hs, probe = normal_indentation(model, lam, d)  # half-space-comparable indentation
+    return NormalResult(force=F, approach=float(d), indentation=float(d_hs), contact_radius=a,
+                        r=np.concatenate([[0.0], iface.r]), pressure=np.concatenate([[p0], p]), lam=lam,
                         gap=gap, p0=p0, penetration=rel_pen, active=int(np.count_nonzero(lam > 0)),
                         newton_iterations=n_newton, al_iterations=n_al, probe=probe,
                         runtime_s=time.perf_counter() - t0,
-                        pressure_radius=moment_radius(F, float(lam @ it.r ** 2)))
+                        pressure_radius=moment_radius(F, float(lam @ iface.r ** 2)))

@@ -51,7 +51,7 @@ def fretting_fields(law, state, F_N) -> dict:
     Assumes linear elasticity (superposition) and the law's small-sliding pairing.
     """
     model = law.model
-    it = model.interface
+    iface = model.interface
     res = law.normal(F_N=float(F_N))
     base = nodal_fields(model, res)
     T = np.asarray(state.T, dtype=float)
@@ -65,7 +65,7 @@ def fretting_fields(law, state, F_N) -> dict:
             rigid[dofs[0]] = u_plate  # S = u_plate: a rigid translation along x
             u1 = cond.displacement(-T, u_fixed=rigid)
         else:
-            u1 = cond.displacement(it.N.T @ T)
+            u1 = cond.displacement(iface.N.T @ T)
         nd = node_dofs_mode1(basis)
         U, W = u1[nd[0]] + u1[nd[1]], u1[nd[2]]  # U = S + D
         s1 = stress_mode1(basis, u1, body.E, body.nu)
@@ -93,17 +93,17 @@ def contact_fields(law, state, res) -> dict:
     weight: the traction along x), ``contact_status`` (``STATUS``: 0 no contact, 1 stick, 2 slip)
     and ``slip_x`` (m, the accumulated plastic slip of the pair). ``res``: the normal solution at the
     state's normal force; ``state``: an ``fem.axisym.law.FEState``."""
-    it = law.model.interface
+    iface = law.model.interface
     lam = np.asarray(state.lam, dtype=float)
-    values = {"contact_pressure": lam / it.w, "shear_traction_x": np.asarray(state.T, dtype=float) / it.w,
+    values = {"contact_pressure": lam / iface.w, "shear_traction_x": np.asarray(state.T, dtype=float) / iface.w,
               "contact_status": np.where(lam > 0, np.where(np.asarray(state.sgn) != 0, STATUS["slip"],
                                                            STATUS["stick"]), STATUS["none"]).astype(float),
-              "slip_x": np.asarray(state.p, dtype=float)}
+              "slip_x": np.asarray(state.slip, dtype=float)}
     nodes = {name: Basis(body.mesh, ElementTriP2(), intorder=1).N for name, body in law.model.bodies.items()}
     out = {}
     for key, v in values.items():
         out[key] = {name: np.zeros(n) for name, n in nodes.items()}
-        out[key]["indenter"][it.ind_nodes] = v
+        out[key]["indenter"][iface.ind_nodes] = v
     return out
 
 

@@ -6,11 +6,11 @@ q_j = (q_x, q_y) on the block (Pa); q_y = 0 on the symmetry plane y = 0. The kin
 are weighted by the mortar matrix, so every displacement-like quantity below is a
 weighted one (m^3: integral of phi_j times a displacement):
 
-    gap_j  = g0_j - d A_j + (D_n p)_j            (weighted normal gap, >= 0)
-    s_j    = delta A_j e_x - (D_t q)_j           (weighted relative tangential displacement,
+    gap_j  = gap0_j - d A_j + (D_n p)_j           (weighted normal gap, >= 0)
+    s_j    = u A_j e_x - (D_t q)_j                (weighted relative tangential displacement,
                                                   indenter minus block)
 
-with g0_j = (B f)_j the weighted initial gap of the profile f, d the approach and delta the
+with gap0_j = (B f)_j the weighted initial gap of the profile f, d the approach and u the
 tangential displacement of the indenter's clamped top against the block's clamped bottom,
 A_j the vertex areas, D_n = D1_zz + D2_zz and D_t = D1_tt + D2_tt the relative
 flexibilities of block (1) and indenter (2). The indenter is modelled as the mirror image
@@ -25,9 +25,9 @@ Coulomb with the slip limit g_j = mu p_j: |q_j| <= g_j, the slip increment
 s_j - P_j,old (P the weighted slip of the last step) vanishes where |q_j| < g_j and is
 parallel to q_j where |q_j| = g_j. Each increment is the convex programme
 
-    min_q 1/2 q^T D_t q - q^T (delta A e_x - P_old),   |q_j| <= g_j,
+    min_q 1/2 q^T D_t q - q^T (u A e_x - P_old),   |q_j| <= g_j,
 
-(force control: sum_j A_j q_xj = F_x/2 with delta its multiplier; the half model carries
+(force control: sum_j A_j q_xj = F_x/2 with u its multiplier; the half model carries
 half of every force). Both problems are solved by semi-smooth Newton methods on their
 nonlinear complementarity functions, the min-map for Signorini and the disk projection
 for Coulomb (Alart & Curnier, Comput. Methods Appl. Mech. Eng. 92 (1991) 353; Hueeber,
@@ -91,7 +91,7 @@ def _factor(M):
     return sla.lu_factor(M, check_finite=False)
 
 
-def solve_normal3d(Dn, g0, A, *, force=None, approach=None, p0=None, max_iter=100):
+def solve_normal3d(Dn, gap0, A, *, force=None, approach=None, p0=None, max_iter=100):
     """Signorini problem of the weighted gap (module docstring).
 
     Give the half model's normal force ``force`` (N; sum A_j p_j) or the ``approach`` d (m).
@@ -105,10 +105,10 @@ def solve_normal3d(Dn, g0, A, *, force=None, approach=None, p0=None, max_iter=10
     if p0 is not None and np.any(np.asarray(p0) > 0):
         act = np.asarray(p0) > 0
     elif force is not None:  # rigid-indenter guess: the vertices of smallest initial gap
-        act = g0 / A <= np.quantile(g0 / A, 0.1)
+        act = gap0 / A <= np.quantile(gap0 / A, 0.1)
     else:
-        act = g0 - d * A < 0
-    scale_gap = float(np.max(np.abs(g0))) + abs(d) * float(np.max(A)) + 1e-300
+        act = gap0 - d * A < 0
+    scale_gap = float(np.max(np.abs(gap0))) + abs(d) * float(np.max(A)) + 1e-300
     seen = set()
     for it in range(1, max_iter + 1):
         ia = np.flatnonzero(act)
@@ -116,17 +116,17 @@ def solve_normal3d(Dn, g0, A, *, force=None, approach=None, p0=None, max_iter=10
         if ia.size == 0:
             if force is not None and force > 0:
                 raise ConvergenceError("normal contact: no vertex in contact under a positive force")
-            return p, d, g0 - d * A, it
+            return p, d, gap0 - d * A, it
         M = Dn[np.ix_(ia, ia)]
         cho = sla.cho_factor(M, check_finite=False)
         if force is None:
-            p[ia] = sla.cho_solve(cho, d * A[ia] - g0[ia], check_finite=False)
+            p[ia] = sla.cho_solve(cho, d * A[ia] - gap0[ia], check_finite=False)
         else:
-            x = sla.cho_solve(cho, -g0[ia], check_finite=False)
+            x = sla.cho_solve(cho, -gap0[ia], check_finite=False)
             y = sla.cho_solve(cho, A[ia], check_finite=False)
             d = (force - A[ia] @ x) / (A[ia] @ y)
             p[ia] = x + d * y
-        gap = g0 - d * A + Dn @ p
+        gap = gap0 - d * A + Dn @ p
         new = p - c * gap > TOL * float(np.max(np.abs(p)) + 1e-300)
         if np.array_equal(new, act) and np.all(p >= 0) and np.all(gap[~act] >= -TOL * scale_gap):
             return p, d, gap, it
@@ -150,28 +150,28 @@ def project_disk(z, g):
 @dataclass
 class TangentialResult:
     q: np.ndarray  # (n, 2) tangential traction on the block (Pa)
-    delta: float  # tangential displacement of the indenter's top (m)
+    u: float  # tangential displacement of the indenter's top (m)
     s: np.ndarray  # (n, 2) weighted relative tangential displacement (m^3)
     iterations: int
     method: str
 
 
-def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=None, delta0=None,
+def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None, u0=None,
                        max_iter=50, fista_iter=20000):
-    """One Coulomb increment (module docstring): displacement ``delta`` (m) or the half model's
+    """One Coulomb increment (module docstring): displacement ``u`` (m) or the half model's
     tangential force ``force`` (N; sum A_j q_xj) prescribed. ``g`` (n,) slip limits mu p (Pa),
     ``P_old`` (n, 2) the weighted slip of the last step, ``on_plane`` (n,) vertices on y = 0
-    (q_y = 0 there). ``q0``, ``delta0``: a start (e.g. the previous step); by default under force
+    (q_y = 0 there). ``q0``, ``u0``: a start (e.g. the previous step); by default under force
     control the full-stick solution scaled to the force. Returns a :class:`TangentialResult`."""
-    if (force is None) == (delta is None):
-        raise ValueError("give exactly one of force and delta")
+    if (force is None) == (u is None):
+        raise ValueError("give exactly one of force and u")
     n = A.size
-    # unknown layout: q_x (n), q_y at vertices off the plane (ny), [delta]
+    # unknown layout: q_x (n), q_y at vertices off the plane (ny), [u]
     yi = np.flatnonzero(~on_plane)
     idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
     D = Dt[np.ix_(idx, idx)]
     m = idx.size
-    ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d delta, restricted
+    ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d u, restricted
     Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
     cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
     c = cd[:n]
@@ -206,7 +206,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
 
     v = pack(q0) if q0 is not None else np.zeros(m)
     v = pack(project_disk(unpack(v), g))
-    dl = float(delta) if delta is not None else (0.0 if delta0 is None else float(delta0))
+    dl = float(u) if u is not None else (0.0 if u0 is None else float(u0))
     if fc and q0 is None:  # full stick of the vertices in contact, scaled to the force
         kin = np.flatnonzero(np.concatenate([g > 0, g[yi] > 0]))
         if kin.size:
@@ -217,10 +217,10 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
             dl = (force - A @ x0[:n]) / max(A @ x1[:n], 1e-300)
             v = pack(project_disk(unpack(x0 + dl * x1), g))
     tolR = TOL * gmax
-    dscale = 1.0 / float(np.mean(c * A))  # delta column scaling: O(1) entries (delta in m, q in Pa)
+    dscale = 1.0 / float(np.mean(c * A))  # u column scaling: O(1) entries (u in m, q in Pa)
     Cvec = np.concatenate([c, cy[yi]])
-    dz_dv = np.eye(m) - Cvec[:, None] * D  # dz/dv = I - C D (C = diag(c)), dz/d delta = C ex
-    dz_dd = Cvec * ex
+    dz_dv = np.eye(m) - Cvec[:, None] * D  # dz/dv = I - C D (C = diag(c)), dz/du = C ex
+    dz_du = Cvec * ex
     off = np.concatenate([g <= 0, g[yi] <= 0])  # packed unknowns of vertices out of contact
     kept = np.flatnonzero(np.append(~off, True) if fc else ~off)
     out = np.flatnonzero(off)
@@ -230,10 +230,10 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
             return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
         # generalized Jacobian of R (module docstring)
         J = np.zeros((m + fc, m + fc))
-        Pdz, Pdd = _projection_jacobian(z, g, yi, dz_dv, dz_dd)
+        Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, dz_du)
         J[:m, :m] = np.eye(m) - Pdz
         if fc:
-            J[:m, m] = -Pdd * dscale
+            J[:m, m] = -Pdu * dscale
             J[m, :n] = A / (A.sum() + 1e-300)
         # the rows of vertices out of contact (g = 0) are identity rows (their traction is zero):
         # eliminated, so the dense solve has the size of the contact, not of the candidate disk
@@ -261,8 +261,8 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, delta=None, force=None, q0=
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
 
 
-def _projection_jacobian(z, g, yi, dz_dv, dz_dd):
-    """The chain rule through the disk projections of the Coulomb residual: (P' dz/dv, P' dz/d delta)
+def _projection_jacobian(z, g, yi, dz_dv, dz_du):
+    """The chain rule through the disk projections of the Coulomb residual: (P' dz/dv, P' dz/du)
     in the packed layout (q_x of every vertex, q_y of the vertices ``yi`` off the plane), with the
     per-vertex 2x2 derivative P'_j = fac_j (I - t_j t_j^T) where z_j slips (|z_j| > g_j, t_j its
     direction, fac_j = g_j / |z_j|), I where it sticks and 0 out of contact (g_j = 0)."""
@@ -281,19 +281,19 @@ def _projection_jacobian(z, g, yi, dz_dv, dz_dd):
     rows_x[yi] += Pxy[yi, None] * dz_dv[n:]
     rows_y = Pyy[yi, None] * dz_dv[n:] + Pxy[yi, None] * dz_dv[yi]
     Pdz = np.vstack([rows_x, rows_y])
-    Pdd = np.concatenate([Pxx * dz_dd[:n], Pxy[yi] * dz_dd[yi]])  # dz_y/d delta = 0
-    return Pdz, Pdd
+    Pdu = np.concatenate([Pxx * dz_du[:n], Pxy[yi] * dz_du[yi]])  # dz_y/du = 0
+    return Pdz, Pdu
 
 
 def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
-    """d(sum_j A_j q_xj)/d delta (N/m, half model) of a displacement-controlled Coulomb increment at
+    """d(sum_j A_j q_xj)/du (N/m, half model) of a displacement-controlled Coulomb increment at
     its solution: traction ``q`` (n, 2), slip increments ``r`` (n, 2) = s - P_old (weighted, m^3).
     The consistent tangent of the semi-smooth residual (:func:`solve_tangential3d`): stick
     vertices follow the elastic flexibility, slipping ones keep |q_j| = g_j and turn with their
     slip direction, vertices out of contact carry nothing. At fixed slip limits (a dissimilar
-    pair's pressure change with delta is left out: a secant-free, O(beta^2) approximation there).
+    pair's pressure change with u is left out: a secant-free, O(beta^2) approximation there).
     Where a vertex is exactly at the stick-slip switch it is the one-sided derivative of the
-    side the projection picks (the force is piecewise smooth in delta, so Newton on it still
+    side the projection picks (the force is piecewise smooth in u, so Newton on it still
     converges)."""
     n = A.size
     if not np.any(g > 0):
@@ -309,8 +309,8 @@ def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
     cy[yi] = cd[n:]
     z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
     Cvec = np.concatenate([c, cy[yi]])
-    Pdz, Pdd = _projection_jacobian(z, g, yi, np.eye(m) - Cvec[:, None] * D, Cvec * ex)
-    dv = sla.solve(np.eye(m) - Pdz, Pdd, check_finite=False)
+    Pdz, Pdu = _projection_jacobian(z, g, yi, np.eye(m) - Cvec[:, None] * D, Cvec * ex)
+    dv = sla.solve(np.eye(m) - Pdz, Pdu, check_finite=False)
     return float(A @ dv[:n])
 
 
@@ -342,15 +342,15 @@ def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
 
 
 def _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter):
-    """Force control fallback: the total force is continuous and nondecreasing in delta; regula
+    """Force control fallback: the total force is continuous and nondecreasing in u; regula
     falsi (Illinois) on displacement-controlled increments."""
     def total(dl):
-        out = solve_tangential3d(Dt, A, g, P_old, on_plane, delta=dl, q0=q0, fista_iter=fista_iter)
+        out = solve_tangential3d(Dt, A, g, P_old, on_plane, u=dl, q0=q0, fista_iter=fista_iter)
         return A @ out.q[:, 0] - force, out
 
     scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(Dt)) / np.min(A)) + 1e-300
     _, out = regula_falsi_increasing(total, -scale, scale, 1e-10 * float(np.sum(A * g)),
-                                     what="Coulomb increment under force control: secant search on delta")
+                                     what="Coulomb increment under force control: secant search on u")
     out.method = "secant"
     return out
 
@@ -360,21 +360,21 @@ class Cycle3D:
     """A tangential history at fixed pressure (half model; forces and work of the full body)."""
 
     Fx: np.ndarray  # (k,) tangential force, full body (N)
-    delta: np.ndarray  # (k,) tangential displacement of the indenter's top (m)
+    u: np.ndarray  # (k,) tangential displacement of the indenter's top (m)
     work: np.ndarray  # (k,) friction work of each increment, full body (J)
     q: list  # tractions (n, 2) per step
     P: list  # weighted slip (n, 2) per step
 
 
-def tangential_history(Dt, A, g, on_plane, Fx=None, delta=None):
-    """Run a tangential history (full-body forces ``Fx`` or displacements ``delta``, starting from
+def tangential_history(Dt, A, g, on_plane, Fx=None, u=None):
+    """Run a tangential history (full-body forces ``Fx`` or displacements ``u``, starting from
     a tangentially unloaded contact) at fixed slip limits ``g`` (Pa). The friction work of an
     increment is sum_j q_j . (P_j,new - P_j,old) over the vertices in contact (weighted slip,
     exact for the P1 traction field: the power of q against the slip rate), doubled for the
     full body; it is >= 0 by the normal-cone condition of the Coulomb law."""
-    if (Fx is None) == (delta is None):
-        raise ValueError("give exactly one of Fx and delta")
-    hist = np.asarray(Fx if Fx is not None else delta, dtype=float)
+    if (Fx is None) == (u is None):
+        raise ValueError("give exactly one of Fx and u")
+    hist = np.asarray(Fx if Fx is not None else u, dtype=float)
     n = A.size
     P = np.zeros((n, 2))
     q, dl = None, None
@@ -387,32 +387,32 @@ def tangential_history(Dt, A, g, on_plane, Fx=None, delta=None):
 def _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact):
     for k, h in enumerate(hist):
         if Fx is not None:
-            r = solve_tangential3d(Dt, A, g, P, on_plane, force=h / 2, q0=q, delta0=dl)
+            r = solve_tangential3d(Dt, A, g, P, on_plane, force=h / 2, q0=q, u0=dl)
         else:
-            r = solve_tangential3d(Dt, A, g, P, on_plane, delta=h, q0=q)
-        q, dl = r.q, r.delta
+            r = solve_tangential3d(Dt, A, g, P, on_plane, u=h, q0=q)
+        q, dl = r.q, r.u
         Pn = r.s
         out.work[k] = 2.0 * float(np.sum((r.q * (Pn - P))[contact]))
         P = Pn
         out.Fx[k] = 2.0 * float(A @ r.q[:, 0])
-        out.delta[k] = r.delta
+        out.u[k] = r.u
         out.q.append(r.q)
         out.P.append(P)
     return out
 
 
-def solve_coupled3d(rf: RelativeFlexibility, g0, A, mu, P_old, on_plane, *, F_n=None, d=None, delta=None,
-                    F_t=None, q0=None, delta0=None, p0=None, tol=1e-9, max_iter=200):
+def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_n=None, d=None, u=None,
+                    F_t=None, q0=None, u0=None, p0=None, tol=1e-9, max_iter=200):
     """One increment of the coupled problem of a dissimilar pair (module docstring): the normal
     gap feels the tangential traction and the slip the pressure through ``rf.K``,
 
-        gap = g0 - d A + D_n p - K^T q,     s = delta A e_x - D_t q + K p,
+        gap = gap0 - d A + D_n p - K^T q,     s = u A e_x - D_t q + K p,
 
     solved by alternating the Signorini and the Coulomb solves (block Gauss-Seidel) until the
     pressure and the traction change by less than ``tol`` of their largest values; the
     coupling of elastic pairs is weak (its size is Dundurs' beta, |beta| <= 1/2 and ~0.1 for
     steel on aluminium), so this converges linearly at a rate of about beta^2. ``F_n``/``d``:
-    half-model normal force or approach; ``delta``/``F_t``: tangential displacement or
+    half-model normal force or approach; ``u``/``F_t``: tangential displacement or
     half-model force; ``P_old`` the weighted slip (true, including K p) of the last step.
     Returns ``(p, d, TangentialResult with s the true slip, iterations)``; raises
     ``ConvergenceError`` if the alternation does not settle."""
@@ -420,18 +420,18 @@ def solve_coupled3d(rf: RelativeFlexibility, g0, A, mu, P_old, on_plane, *, F_n=
     K = rf.K
     q = np.zeros((n, 2)) if q0 is None else np.asarray(q0, dtype=float)
     p = p0
-    dl = delta0
+    dl = u0
     for it in range(1, max_iter + 1):
         qv = np.concatenate([q[:, 0], q[:, 1]])
-        p_new, dd, _, _ = solve_normal3d(rf.Dn, g0 - (K.T @ qv if K is not None else 0.0), A, force=F_n, approach=d,
+        p_new, dd, _, _ = solve_normal3d(rf.Dn, gap0 - (K.T @ qv if K is not None else 0.0), A, force=F_n, approach=d,
                                          p0=p)
         Kp = K @ p_new if K is not None else np.zeros(2 * n)
         Kp2 = np.column_stack([Kp[:n], Kp[n:]])
-        res = solve_tangential3d(rf.Dt, A, mu * p_new, np.asarray(P_old) - Kp2, on_plane, delta=delta,
-                                 force=F_t, q0=q, delta0=dl)
+        res = solve_tangential3d(rf.Dt, A, mu * p_new, np.asarray(P_old) - Kp2, on_plane, u=u,
+                                 force=F_t, q0=q, u0=dl)
         dp = np.max(np.abs(p_new - p)) if p is not None else np.inf
         dq = np.max(np.abs(res.q - q))
-        p, q, dl = p_new, res.q, res.delta
+        p, q, dl = p_new, res.q, res.u
         scale = max(float(np.max(p)), 1e-300)
         if K is None or (dp <= tol * scale and dq <= tol * mu * scale):
             res.s = res.s + Kp2

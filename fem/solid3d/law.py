@@ -191,9 +191,9 @@ class FEContact3D:
     F_x = mu F_N / 2: (0.9, 0.18, h) covers 0.72-1.08 a); ``band`` = (h, width, angle[, growth]),
     the arc |phi - pi| <= angle of the flat face's edge circle (the flat punch: its rim), the thin
     edge crescent of a face tilted far beyond theta_c (theta > 0 loads the -x side; it assumes the
-    crescent lies within the band). Every h <= h_contact. The variants share them.
+    crescent lies within the band). Every h <= h_contact. The laws of :meth:`assuming` share them.
 
-    The built model is ``model`` (``fem.solid3d.model.Model3D``), shared by :meth:`variant`; the law
+    The built model is ``model`` (``fem.solid3d.model.Model3D``), shared by :meth:`assuming`; the law
     adds the assumptions of a run and a cache of normal solutions per load (a memo: the answer does
     not depend on it). ``stats`` counts the steps and solves (diagnostics).
     """
@@ -216,7 +216,7 @@ class FEContact3D:
         """Set the model and the assumptions of a run (checked), with an empty normal cache (seeded
         with the model's aligned solution at F_max)."""
         self.model, self.mu, self.traction, self.coupling, self.tilt = model, mu, traction, coupling, tilt
-        self.g0 = model.gap(tilt)  # the weighted initial gap of the (tilted) face
+        self.gap0 = model.gap(tilt)  # the weighted initial gap of the (tilted) face
         #: vertices whose q_y is held at zero: the symmetry plane, or every vertex under Mindlin's
         #: assumption (``traction="x"``)
         self._qy_zero = _qy_zero(model.mi, traction)
@@ -227,7 +227,7 @@ class FEContact3D:
             self._normal_cache[("F", float(f"{model.F_max:.13g}"), "aligned")] = self._normal3d(p, dd, it, True)
             self.stats["normal_solves"] = 1
 
-    def variant(self, *, traction=None, coupling=None, tilt=None) -> "FEContact3D":
+    def assuming(self, *, traction=None, coupling=None, tilt=None) -> "FEContact3D":
         """The same model (mesh, flexibilities, probes shared, not copied: nothing is rebuilt) with
         another ``traction``, ``coupling`` or ``tilt`` (rad): the pair of runs isolates that
         assumption from the discretisation, and a tilt sweep pays for one set-up."""
@@ -319,8 +319,8 @@ class FEContact3D:
         key = key + ("aligned",) if aligned else key
         res = self._normal_cache.get(key)
         if res is None:
-            g0 = self.model.g0_aligned if aligned else self.g0
-            res = self._normal3d(*normal_solution(self.model, g0, F_N=F_N, d=d), aligned)
+            gap0 = self.model.gap0_aligned if aligned else self.gap0
+            res = self._normal3d(*normal_solution(self.model, gap0, F_N=F_N, d=d), aligned)
             self._normal_cache[key] = res
             self.stats["normal_solves"] += 1
         return res
@@ -370,9 +370,9 @@ class FEContact3D:
             if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
                 self._check_force_limit(Fx, F_N)
             p, dd, res, _ = solve_coupled3d(
-                m.rf, self.g0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
-                F_n=None if F_N is None else F_N / 2, d=d, delta=u,
-                F_t=None if Fx is None else Fx / 2, q0=q0, delta0=state.u,
+                m.rf, self.gap0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
+                F_n=None if F_N is None else F_N / 2, d=d, u=u,
+                F_t=None if Fx is None else Fx / 2, q0=q0, u0=state.u,
                 p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
             self.stats["normal_solves"] += 1
             m.check_rim(p)
@@ -382,14 +382,14 @@ class FEContact3D:
         self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
         if not np.any(g > 0):
             uu = float(state.u if u is None else u)
-            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=uu)
+            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, u=uu)
         elif u is not None:
             q0, _ = predict(state, mi.A, g, u, None)
-            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, delta=u, q0=q0)
+            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, u=u, q0=q0)
         else:
             q0, u0 = predict(state, mi.A, g, None, Fx)
             res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
-                                     force=Fx / 2, q0=q0, delta0=u0)
+                                     force=Fx / 2, q0=q0, u0=u0)
         return p, nr, res
 
     def _tangential(self, ctx, u, Fx):
@@ -411,9 +411,9 @@ class FEContact3D:
         c = est.stick_radius_x(m, slack, slipping, p, a, self.tilted)
         self.stats["trial_solves"] += 1
         self.stats["newton"] += res.iterations
-        new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.delta),
+        new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.u),
                         d=float(nr.approach if nr is not None else (d or 0.0)),
-                        dq=_frozen(res.q - np.asarray(state.q)), du=float(res.delta) - float(state.u))
+                        dq=_frozen(res.q - np.asarray(state.q)), du=float(res.u) - float(state.u))
         return StepResult(Fx=2.0 * float(m.mi.A @ res.q[:, 0]), FN=nr.force if nr is not None else 0.0, d=new.d,
                           a=a, c=c, u=new.u, work=work, slack=slack[ray], slipping=slipping[ray]), new, \
             (g, res, res.s - np.asarray(state.P))

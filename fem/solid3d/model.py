@@ -16,7 +16,8 @@ What is built (the assumptions are those of ``fem.solid3d.law``'s module docstri
   facets' adjacency, the rim).
 
 A model knows nothing of friction, of the traction's direction, of the tilt or of any load history:
-those belong to the law (``fem.solid3d.law.FEContact3D``), so one model serves every variant.
+those belong to the law (``fem.solid3d.law.FEContact3D``), so one model serves every law built on it
+(``FEContact3D.assuming``).
 """
 from __future__ import annotations
 
@@ -55,8 +56,8 @@ class Model3D:
     the plate measure; ``bulk``: the axis probes' per-vertex corrections (``depth`` m, ``x`` and
     ``z`` (n,) m/Pa); ``c_bulk`` (m/N) the series compliance; ``beta`` Dundurs' second constant
     (Dundurs 1969, J. Appl. Mech. 36, 650), positive when the block (body 2) is the more compressible
-    one (steel on aluminium: +0.11); ``g0_aligned`` (n,) the weighted gap of the aligned profile,
-    ``g_tilt`` (n,) that of a unit tilt (theta x); ``plane`` the vertices on the symmetry plane by
+    one (steel on aluminium: +0.11); ``gap0_aligned`` (n,) the weighted gap of the aligned profile,
+    ``gap_tilt`` (n,) that of a unit tilt (theta x); ``plane`` the vertices on the symmetry plane by
     increasing x; ``rays`` the stick rays "+x", "-x" (on the plane) and "y" (within ``SECTOR``),
     ``ys`` the vertices of the y sector; ``adj`` the contact facets' vertex adjacency; ``rim`` the
     vertices on the candidate disk's rim; ``timings`` (s): mesh, setup and its parts;
@@ -76,8 +77,8 @@ class Model3D:
     bulk: dict
     c_bulk: float
     beta: float
-    g0_aligned: np.ndarray
-    g_tilt: np.ndarray
+    gap0_aligned: np.ndarray
+    gap_tilt: np.ndarray
     plane: np.ndarray
     rays: dict
     ys: np.ndarray
@@ -97,7 +98,7 @@ class Model3D:
 
     def gap(self, tilt: float) -> np.ndarray:
         """The weighted initial gap (n,) of the face tilted by ``tilt`` (rad; small slopes)."""
-        return self.g0_aligned + tilt * self.g_tilt
+        return self.gap0_aligned + tilt * self.gap_tilt
 
     @cached_property
     def r2_hat(self) -> np.ndarray:
@@ -206,14 +207,14 @@ def build_model3d(profile: Profile, materials: Materials, *, F_max, h_contact, c
     plate = Model3D(profile=profile, materials=m, flat=flat, F_max=F_max, a_ref=a_ref, refinement=refinement,
                     hmesh=hmesh, mi=mi, rf=rf, Dt_plate=rf.Dt, bulk=_bulk_rows(hmesh, mi, m, zp, R_blk, R_ind),
                     c_bulk=float("nan"), beta=dundurs_beta(m),
-                    g0_aligned=mi.B @ f,  # the profile in the P2 space, weighted by the P1 hats
-                    g_tilt=mi.B @ mi.nodes.x,  # the weighted gap of a unit tilt, theta x (exact in the P2 space)
+                    gap0_aligned=mi.B @ f,  # the profile in the P2 space, weighted by the P1 hats
+                    gap_tilt=mi.B @ mi.nodes.x,  # the weighted gap of a unit tilt, theta x (exact in the P2 space)
                     **_vertex_sets(mesh, mi), displacement=displacement, backend=blk.params.backend, ndofs=ndofs,
                     condensed=condensed, timings={})
     # the bodies' series compliance (m/N) at F_max (the flat punch: its face): plate = contact + c_bulk F_x
     seed = None
     if F_max is not None:
-        seed = normal_solution(plate, plate.g0_aligned, F_N=F_max)
+        seed = normal_solution(plate, plate.gap0_aligned, F_N=F_max)
         c_bulk = plate.stick_x_compliance(seed[0] > 0)
     else:
         c_bulk = plate.stick_x_compliance(np.ones(mi.n, dtype=bool))
@@ -227,12 +228,12 @@ def build_model3d(profile: Profile, materials: Materials, *, F_max, h_contact, c
     return replace(plate, rf=rf, c_bulk=c_bulk, normal_at_F_max=seed, timings=timings)
 
 
-def normal_solution(model: Model3D, g0, *, F_N=None, d=None) -> tuple:
-    """The frictionless normal contact of the weighted gap ``g0`` at full-body force F_N or plate
+def normal_solution(model: Model3D, gap0, *, F_N=None, d=None) -> tuple:
+    """The frictionless normal contact of the weighted gap ``gap0`` at full-body force F_N or plate
     approach d: (vertex pressures p, plate approach, iterations); a contact reaching the rim of the
     candidate disk is an error (``Model3D.check_rim``)."""
     with blas_threads(1):
-        p, dd, _, it = solve_normal3d(model.rf.Dn, g0, model.mi.A, force=None if F_N is None else F_N / 2,
+        p, dd, _, it = solve_normal3d(model.rf.Dn, gap0, model.mi.A, force=None if F_N is None else F_N / 2,
                                       approach=d)
     model.check_rim(p)
     return p, float(dd), it

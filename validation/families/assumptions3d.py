@@ -104,7 +104,7 @@ def pressure_against_mdr(s: Scene, levels) -> dict:
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     """Mindlin's assumptions, one at a time, on the 3D model: every variant at every 3D mesh level
-    twice on the same mesh (``FEContact3D.variant``) with the assumption relaxed ("on": the free
+    twice on the same mesh (``FEContact3D.assuming``) with the assumption relaxed ("on": the free
     traction direction, or the normal-tangential coupling of a dissimilar pair) and imposed ("off":
     q_y = 0, or no coupling, as in MDR and the axisymmetric model). The effect on, minus off, cancels
     the discretisation error the two runs share, so its ladder (``metrics.ladder_error``) resolves an
@@ -123,8 +123,8 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
         levels = []
         for h in sv.fe_levels:
             law = fe_law(sv, h)
-            pair = (law.variant(traction="free", coupling=True),
-                    law.variant(traction="x") if relax == "direction" else law.variant(coupling=False))
+            pair = (law.assuming(traction="free", coupling=True),
+                    law.assuming(traction="x") if relax == "direction" else law.assuming(coupling=False))
             runs = dict(zip(("on", "off"), drive_3d_together(pair, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))))
             a = runs["off"]["contact_radius"]
             eff = {}

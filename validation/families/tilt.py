@@ -111,7 +111,7 @@ def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     """Misalignment of the flat face (``tilt`` family): per profile, the aligned face and every tilt
-    (``v["tilts"]``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.variant``), the
+    (``v["tilts"]``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.assuming``), the
     normal load applied with friction active and the force-driven cycles of the scene
     (``fem.contact_run.drive_3d``), and MDR (aligned; its own ladder). Each tilt's metrics
     (``TILT_METRICS``) against the aligned 3D run on the same mesh: the mesh error the two share
@@ -145,7 +145,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             law = fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
             setup = time.perf_counter() - t0
             runs = []
-            laws = [law.variant(tilt=th) for th in tilts]
+            laws = [law.assuming(tilt=th) for th in tilts]
             with warnings.catch_warnings():  # stationarity is reported per run
                 warnings.simplefilter("ignore", RuntimeWarning)
                 outs = drive_3d_together(laws, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
