@@ -200,9 +200,10 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
     """The normal force-approach curve of the indenter (+ ``heights``) at the forces ``loads`` (N,
     increasing): (approaches d (m), forces (N)), the input of MDR's equivalent profile
     (``mdr.equivalent.EquivalentProfile``). Sample the loads geometrically from a small fraction of
-    the largest: near first contact a ~ sqrt(d). The smallest loads whose contact is a single pixel (one
-    asperity's tip) are left out (the curve then starts at the first resolved load, and the equivalent
-    profile joins it to first contact); a single-pixel contact above a resolved load is an error."""
+    the largest: near first contact a ~ sqrt(d). A load whose contact the solver cannot resolve (a
+    single pixel, one asperity's tip; tamaas can also fail so at a load between two resolved ones) is
+    left out: a sample less of a monotone curve (near first contact the equivalent profile joins the
+    first resolved load to d = 0). At least 4 loads and the largest must be resolved."""
     loads = np.asarray(loads, dtype=float)
     if loads.ndim != 1 or loads.size < 4 or np.any(np.diff(loads) <= 0) or loads[0] <= 0:
         raise InputError(f"loads must be >= 4 increasing positive forces (N), got {loads!r}")
@@ -211,10 +212,10 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
         try:
             d.append(normal_contact(profile, materials, F, grid, heights)["approach"])
             kept.append(F)
-        except ConvergenceError:
-            if kept:  # only the smallest loads may touch a single pixel (one asperity's tip)
-                raise
-    if len(kept) < 4:
-        raise ConvergenceError(f"only {len(kept)} of the loads give a contact of more than one pixel: raise them or "
-                               "refine the grid")
+        except ConvergenceError:  # a load whose contact the solver cannot resolve (one pixel) is a sample less
+            pass
+    if len(kept) < 4 or kept[-1] != loads[-1]:
+        raise ConvergenceError(f"{len(kept)} of {loads.size} loads give a contact the solver resolves, the largest "
+                               f"{'among them' if kept and kept[-1] == loads[-1] else 'not'}: the curve needs 4 and "
+                               "its top; raise the loads or refine the grid")
     return np.array(d), np.array(kept)
