@@ -167,13 +167,10 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
         raise ValueError("give exactly one of force and u")
     n = A.size
     # unknown layout: q_x (n), q_y at vertices off the plane (ny), [u]
-    yi = np.flatnonzero(~on_plane)
-    idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
-    D = Dt[np.ix_(idx, idx)]
-    m = idx.size
+    yi, D, cd, dz_dv = _reduced(Dt, on_plane)
+    m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d u, restricted
     Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
-    cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
     c = cd[:n]
     cy = np.zeros(n)
     cy[yi] = cd[n:]
@@ -218,8 +215,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
             v = pack(project_disk(unpack(x0 + dl * x1), g))
     tolR = TOL * gmax
     dscale = 1.0 / float(np.mean(c * A))  # u column scaling: O(1) entries (u in m, q in Pa)
-    Cvec = np.concatenate([c, cy[yi]])
-    dz_dv = np.eye(m) - Cvec[:, None] * D  # dz/dv = I - C D (C = diag(c)), dz/du = C ex
+    Cvec = np.concatenate([c, cy[yi]])  # = cd; dz/dv = I - C D (C = diag(c), ``_reduced``), dz/du = C ex
     dz_du = Cvec * ex
     off = np.concatenate([g <= 0, g[yi] <= 0])  # packed unknowns of vertices out of contact
     kept = np.flatnonzero(np.append(~off, True) if fc else ~off)
@@ -228,19 +224,13 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R)) <= tolR:
             return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
-        # generalized Jacobian of R (module docstring)
-        J = np.zeros((m + fc, m + fc))
-        Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, dz_du)
-        J[:m, :m] = np.eye(m) - Pdz
-        if fc:
-            J[:m, m] = -Pdu * dscale
-            J[m, :n] = A / (A.sum() + 1e-300)
-        # the rows of vertices out of contact (g = 0) are identity rows (their traction is zero):
-        # eliminated, so the dense solve has the size of the contact, not of the candidate disk
+        # generalized Jacobian of R (module docstring); the rows of vertices out of contact (g = 0) are
+        # identity rows (their traction is zero): eliminated, so the dense solve has the size of the
+        # contact, not of the candidate disk, and only the kept rows are formed
+        Jkk, Jko = _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale)
         step = -R.copy()
         try:
-            step[kept] = -sla.solve(J[np.ix_(kept, kept)], R[kept] - J[np.ix_(kept, out)] @ R[out],
-                                    check_finite=False)
+            step[kept] = -sla.solve(Jkk, R[kept] - Jko @ R[out], check_finite=False)
         except (sla.LinAlgError, ValueError):
             break
         dv = step[:m]
@@ -261,11 +251,64 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
 
 
-def _projection_jacobian(z, g, yi, dz_dv, dz_du):
+#: the reduced operators of the last few (Dt, on_plane) pairs (``_reduced``): a law's flexibility is
+#: fixed, its steps many
+_REDUCED: dict = {}
+_REDUCED_MAX = 4
+
+
+def _reduced(Dt, on_plane) -> tuple:
+    """(yi, D, cd, dz_dv) of the packed layout: the vertices off the plane ``yi`` (their q_y is free), Dt
+    restricted to q_x of every vertex and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D.
+    Formed once per flexibility and plane set (the arrays are read-only and shared; the key holds
+    ``Dt`` itself, so a new matrix at a reused address is never taken for the old one)."""
+    key = (id(Dt), np.asarray(on_plane, dtype=bool).tobytes())
+    hit = _REDUCED.get(key)
+    if hit is not None and hit[0] is Dt:
+        return hit[1]
+    n = np.size(on_plane)
+    yi = np.flatnonzero(~np.asarray(on_plane, dtype=bool))
+    idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
+    D = Dt[np.ix_(idx, idx)]
+    cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
+    dz_dv = np.eye(idx.size) - cd[:, None] * D
+    for a in (yi, D, cd, dz_dv):
+        a.setflags(write=False)
+    if len(_REDUCED) >= _REDUCED_MAX:
+        _REDUCED.pop(next(iter(_REDUCED)))
+    _REDUCED[key] = (Dt, (yi, D, cd, dz_dv))
+    return yi, D, cd, dz_dv
+
+
+def _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale) -> tuple:
+    """The semi-smooth Newton matrix of ``solve_tangential3d`` at z, restricted to the ``kept`` unknowns
+    (rows and columns; with ``fc`` the last is u, scaled by ``dscale``) and its columns ``out``: the
+    entries of I - P' dz/dv (``_projection_jacobian``), -P' dz/du dscale and the force row A / sum A,
+    formed for the kept rows only (the rows out of contact are identity rows)."""
+    m = dz_dv.shape[0]
+    kv = kept[kept < m]
+    Pk, Puk = _projection_jacobian(z, g, yi, dz_dv, dz_du, rows=kv)
+    k = kept.size
+    Jkk = np.zeros((k, k))
+    Jkk[:kv.size, :kv.size] = np.eye(kv.size) - Pk[:, kv]
+    Jko = np.zeros((k, out.size))
+    Jko[:kv.size] = 0.0 - Pk[:, out]
+    if fc:
+        n = A.size
+        row = np.zeros(m)
+        row[:n] = A / (A.sum() + 1e-300)
+        Jkk[:kv.size, -1] = -Puk * dscale
+        Jkk[-1, :kv.size] = row[kv]
+        Jko[-1] = row[out]
+    return Jkk, Jko
+
+
+def _projection_jacobian(z, g, yi, dz_dv, dz_du, rows=None):
     """The chain rule through the disk projections of the Coulomb residual: (P' dz/dv, P' dz/du)
     in the packed layout (q_x of every vertex, q_y of the vertices ``yi`` off the plane), with the
     per-vertex 2x2 derivative P'_j = fac_j (I - t_j t_j^T) where z_j slips (|z_j| > g_j, t_j its
-    direction, fac_j = g_j / |z_j|), I where it sticks and 0 out of contact (g_j = 0)."""
+    direction, fac_j = g_j / |z_j|), I where it sticks and 0 out of contact (g_j = 0). ``rows``: only
+    those packed rows (sorted), each entry computed as in the whole."""
     n = z.shape[0]
     nz = np.hypot(z[:, 0], z[:, 1])
     slip = (nz > g) & (g > 0)
@@ -277,6 +320,17 @@ def _projection_jacobian(z, g, yi, dz_dv, dz_du):
     Pxx = fac * (1 - tx * tx)
     Pyy = fac * (1 - ty * ty)
     Pxy = -fac * tx * ty
+    if rows is not None:
+        jx = rows[rows < n]  # x rows: vertex j
+        iy = rows[rows >= n] - n  # y rows: position in yi
+        ypos = np.full(n, -1)
+        ypos[yi] = np.arange(yi.size)
+        rows_x = Pxx[jx, None] * dz_dv[jx]
+        has_y = ypos[jx] >= 0
+        rows_x[has_y] += Pxy[jx[has_y], None] * dz_dv[n + ypos[jx[has_y]]]
+        jy = yi[iy]
+        rows_y = Pyy[jy, None] * dz_dv[n + iy] + Pxy[jy, None] * dz_dv[jy]
+        return np.vstack([rows_x, rows_y]), np.concatenate([Pxx[jx] * dz_du[jx], Pxy[jy] * dz_du[jy]])
     rows_x = Pxx[:, None] * dz_dv[:n]
     rows_x[yi] += Pxy[yi, None] * dz_dv[n:]
     rows_y = Pyy[yi, None] * dz_dv[n:] + Pxy[yi, None] * dz_dv[yi]
@@ -298,18 +352,15 @@ def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
     n = A.size
     if not np.any(g > 0):
         return 0.0
-    yi = np.flatnonzero(~on_plane)
-    idx = np.concatenate([np.arange(n), n + yi])
-    D = Dt[np.ix_(idx, idx)]
-    m = idx.size
+    yi, D, cd, dz_dv = _reduced(Dt, on_plane)
+    m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])
-    cd = 1.0 / np.diag(D)
     c = cd[:n]
     cy = np.zeros(n)
     cy[yi] = cd[n:]
     z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
     Cvec = np.concatenate([c, cy[yi]])
-    Pdz, Pdu = _projection_jacobian(z, g, yi, np.eye(m) - Cvec[:, None] * D, Cvec * ex)
+    Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, Cvec * ex)
     dv = sla.solve(np.eye(m) - Pdz, Pdu, check_finite=False)
     return float(A @ dv[:n])
 
