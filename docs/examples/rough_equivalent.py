@@ -59,8 +59,9 @@ def surface(rms, seed):
 def pct(values) -> str:
     """mean +- standard error of the mean, in %."""
     v = 100 * np.asarray(values)
-    sem = v.std(ddof=1) / np.sqrt(v.size) if v.size > 1 else 0.0
-    return f"{v.mean():+.1f} +- {sem:.1f} %"
+    if v.size == 1:
+        return f"{v[0]:+.2f} %"
+    return f"{v.mean():+.1f} +- {v.std(ddof=1) / np.sqrt(v.size):.1f} %"
 
 
 # ## The runs
