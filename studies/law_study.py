@@ -35,6 +35,7 @@ from common.ladder import ladder_error
 from mdr.materials import Materials
 from mdr.profiles import TruncatedSphere
 from mdr.loading import Loading
+from mdr.paper import R_INDENTER as R_IND, TABLE2
 
 LAW_STUDIES = ("fig8", "fig9")
 #: points per curve and mesh levels when not given
@@ -165,8 +166,9 @@ def law_figure(name: str, mdr_rows: list, rows: list, law_name: str):
                         color=line.get_color(), capsize=3, label=f"{law_name.upper()}, {label}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel("slip index delta")
-    ax.set_title(f"{name}: MDR (lines) and {law_name.upper()} (markers, own error bars), truncated sphere",
-                 fontsize=9)
+    ax.set_title(f"{name}: MDR (lines) and {law_name.upper()} (markers, own error bars), truncated sphere "
+                 f"R = {R_IND * 1e3:g} mm in the apparatus\nTable 2: F0 = {TABLE2['F0']:g} N, dF = {TABLE2['dF']:g} N, "
+                 f"mu1 = {TABLE2['mu1']:g}, mu2 = {TABLE2['mu2']:g}, u_A = {TABLE2['ua'] * 1e9:g} nm", fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig

@@ -136,7 +136,7 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
             row[0].set_xlabel("F_N (N)")
             row[0].set_ylabel("F_x (mN)")
             row[1].plot(np.asarray(d["du"]) * 1e9, np.asarray(d["Fx"]) * 1e3, "r")
-            row[1].set_xlabel("du (nm)")
+            row[1].set_xlabel("du = u_2 - u_1 (nm): block minus indenter foundation, the contact's slip")
             row[0].set_title(f"{key}: {d['profile']} F0 = {d['F0']} N, u_A = {d['ua'] * 1e9:g} nm, "
                              f"delta = {d['slip_index']:.2f}, on limit {100 * d['on_limit']:.0f} %",
                              fontsize=8, loc="left")

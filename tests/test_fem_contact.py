@@ -516,6 +516,16 @@ def test_fem_contact_vtu_holds_the_cattaneo_mindlin_contact_fields(tmp_path, cac
     assert r[stick].max() < c + h * a and r[slip].min() > c - h * a
     q_cm = cattaneo_mindlin_traction(r[inner], fa, F0, MU, a)
     assert np.max(np.abs(pd["shear_traction_x"][inner] - q_cm)) < 0.02 * MU * p0
+    # the stress components at theta = 0 on the block's surface (nodal averages of the P2 stresses):
+    # szz = -p (measured within 0.8 % of p0) and srz = q (9.5 % of mu p0; the averaging smears the
+    # traction's gradient); a swapped sign or component fails by ~100 %
+    blk = np.unique(m.cells[0].data[m.cell_data["body"][0] == 1])
+    top = blk[(np.abs(m.points[blk, 1]) < 1e-12) & (m.points[blk, 0] < 0.8 * a)]
+    rb = m.points[top, 0]
+    assert top.size > 10
+    assert np.max(np.abs(m.point_data["szz_x0"][top] + hertz_pressure(rb, F0, R, MAT.E_star))) < 0.02 * p0
+    assert np.max(np.abs(m.point_data["srz_x0"][top] - cattaneo_mindlin_traction(rb, fa, F0, MU, a))) < 0.2 * MU * p0
+    assert np.allclose(m.point_data["szz_x180"][top], m.point_data["szz_x0"][top], rtol=0, atol=0.02 * p0)
 
 
 def test_a_run_of_the_fe_law_reports_the_fe_contact_not_the_half_space_one(cache):

@@ -17,6 +17,8 @@ from fem.bulk import plate_from_contact
 from fem.axisym.mode1 import node_dofs_mode1, stress_mode1
 
 STRESS_KEYS = ("srr", "szz", "stt", "srz", "mises")
+#: the stress components (Pa, r-z axes)
+COMPONENTS = STRESS_KEYS[:4]
 
 
 def _nodal_average(mesh, quadrature, values: dict) -> dict:
@@ -46,8 +48,10 @@ def fretting_fields(law, state, F_N) -> dict:
     x-z plane: theta = 0 (the +x half) and theta = pi (the -x half), where the
     sin(theta) stresses vanish. Returns point data over each body's P2 nodes (for
     ``meshes.export_vtu``): ``u_x0``/``u_x180`` ((n, 3): x, z, 0 of each half, the
-    x component given as the radial one, u_r = +-u_x) and ``mises_x0``/``mises_x180`` (Pa), and the
-    contact fields at theta = 0 (``contact_fields``: pressure, shear traction, status, slip).
+    x component given as the radial one, u_r = +-u_x), ``mises_x0``/``mises_x180`` and the stress
+    components ``srr_x0``, ``szz_x0``, ``stt_x0``, ``srz_x0`` and their ``_x180`` (Pa; at theta = pi the
+    radial direction is -x, so ``srz_x180`` is the shear on the -x side in r-z axes), and the contact
+    fields at theta = 0 (``contact_fields``: pressure, shear traction, status, slip).
     Assumes linear elasticity (superposition) and the law's small-sliding pairing.
     """
     model = law.model
@@ -56,7 +60,8 @@ def fretting_fields(law, state, F_N) -> dict:
     base = nodal_fields(model, res)
     T = np.asarray(state.T, dtype=float)
     u_plate = plate_from_contact(float(state.u), float(T.sum()), law.c_bulk)  # law.u may exclude c_bulk
-    out = {k: {} for k in ("u_x0", "u_x180", "mises_x0", "mises_x180")}
+    out = {k: {} for k in ("u_x0", "u_x180", "mises_x0", "mises_x180",
+                           *(f"{c}_{half}" for c in COMPONENTS for half in ("x0", "x180")))}
     for name in ("indenter", "block"):
         _, basis, dofs, cond = law.mode1[name]
         body = model.bodies[name]
@@ -75,8 +80,11 @@ def fretting_fields(law, state, F_N) -> dict:
         # theta = 0: u_r = ur0 + U, u_z = uz0 + W; theta = pi: u_r = ur0 - U, u_z = uz0 - W
         out["u_x0"][name] = np.column_stack([ur0 + U, uz0 + W, z])
         out["u_x180"][name] = np.column_stack([ur0 - U, uz0 - W, z])
-        for key, sg in (("mises_x0", 1.0), ("mises_x180", -1.0)):
-            out[key][name] = _mises(*(base[k][name] + sg * a1[k] for k in ("srr", "szz", "stt", "srz")))
+        for half, sg in (("x0", 1.0), ("x180", -1.0)):
+            comps = {k: base[k][name] + sg * a1[k] for k in ("srr", "szz", "stt", "srz")}
+            out[f"mises_{half}"][name] = _mises(*comps.values())
+            for k in COMPONENTS:
+                out[f"{k}_{half}"][name] = comps[k]
     out.update({k: base[k] for k in ("u", "mises")})
     out.update(contact_fields(law, state, res))
     return out
