@@ -236,3 +236,16 @@ def test_time_step_error_explains_the_gap_to_mindlin_deresiewicz():
     assert -3e-3 < mdr_g["shift"] < -5e-4 and 5e-4 < fe_g["shift"] < 3e-3
     with pytest.raises(ValueError, match="exactly one"):
         time_step_error(s, {})
+
+
+def test_a_row_of_effects_is_graded_by_its_judged_verdicts_only():
+    """``metrics.judged_grade``: the one rule of the assumptions-3d and tilt rows: a verdict without a
+    tolerance (reported, not judged) changes neither the row's ``holds`` nor its grade; a judged one does."""
+    from validation import metrics
+
+    ok = {"tolerance": 0.01, "holds": True, "grade": "holds"}
+    loose = {"tolerance": 0.01, "holds": None, "grade": "consistent within its spread"}
+    info = {"tolerance": None, "holds": None, "grade": "undetermined"}
+    assert metrics.judged_grade({"a": ok, "b": info}) == (True, "holds")
+    assert metrics.judged_grade({"a": ok, "b": loose, "c": info}) == (None, "consistent within its spread")
+    assert metrics.judged_grade({"a": {**ok, "holds": False, "grade": "fails"}, "b": loose}) == (False, "fails")

@@ -193,6 +193,17 @@ def verdict(mdr, fem, fem_ladder: dict, mdr_ladder: dict, tolerance, *, signed=T
             "error_parts": {side: {k: b.get("error") for k, b in bars.items()} for side, bars in parts.items()}}
 
 
+def judged(verdicts: dict) -> dict:
+    """The verdicts that carry a tolerance: those a scene's or a point's grade is made of."""
+    return {q: x for q, x in verdicts.items() if x.get("tolerance") is not None}
+
+
+def judged_grade(verdicts: dict) -> tuple:
+    """(``family_holds``, ``scene_grade``) of the judged verdicts (``judged``): the one rule of a row
+    of effects (the assumptions-3d and tilt families)."""
+    return family_holds(verdicts.values()), scene_grade(judged(verdicts))
+
+
 def family_holds(verdicts) -> bool | None:
     """``holds`` of several judged verdicts (those with a tolerance): False if any fails, None if any
     is not graded ``holds`` (or there is none), else True."""

@@ -159,8 +159,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             verdicts[q] = {**metrics.with_settling(ev, settle), "kind": kind, "resolution": floor[res], "ladder": lad}
         rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
                      "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
-                     "holds": metrics.family_holds(verdicts.values()),
-                     "grade": metrics.scene_grade({q: x for q, x in verdicts.items() if x["tolerance"] is not None}),
+                     **dict(zip(("holds", "grade"), metrics.judged_grade(verdicts))),
                      "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})
     return result_of(s, KEY, rows, t0, out_dir, figure)
 

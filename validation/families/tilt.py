@@ -205,9 +205,9 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 vm = metrics.effect_verdict(lf["value"], lf, tm if resolved else None, error=errm,
                                             bounded=lf["bounded"] and lm["bounded"])
                 pt["mdr"][q] = metrics.with_settling(vm, settlem[q])
-            pt["holds"] = metrics.family_holds(pt["aligned"].values())
-            pt["grade"] = metrics.scene_grade({q: x for q, x in pt["aligned"].items() if x["tolerance"] is not None}) \
-                if resolved else "undetermined"
+            pt["holds"], pt["grade"] = metrics.judged_grade(pt["aligned"])
+            if not resolved:
+                pt["grade"] = "undetermined"
             points.append(pt)
             a = pt["aligned"]
             log(f"  {sv.name} theta = {th:.3g} rad ({th / thc:.3g} theta_c): dissipation "
