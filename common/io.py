@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import sys
 import tempfile
 from pathlib import Path
@@ -133,3 +134,24 @@ def write_json(path, obj) -> None:
         sys.stdout.flush()
     else:
         write_bytes_atomic(path, data)
+
+
+def write_vtu_atomic(out, path) -> str:
+    """Write the ``meshio.Mesh`` ``out`` to ``path`` (.vtu) atomically: a failed write leaves any
+    earlier file intact; returns the path."""
+    import meshio
+
+    path = os.fspath(check_output_path(path, "VTU path"))  # InputError if it cannot be a file
+    d = os.path.dirname(os.path.abspath(path))
+    os.makedirs(d, exist_ok=True)
+    # a fresh name opened by meshio with open(): the file gets the umask's mode like every
+    # other file the project writes (tempfile.mkstemp would leave it 0600)
+    tmp = os.path.join(d, f".{os.path.basename(path)}.{os.getpid()}.{secrets.token_hex(6)}.vtu")
+    try:
+        meshio.write(tmp, out, file_format="vtu")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path

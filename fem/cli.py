@@ -102,7 +102,8 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--vtu", default=None, metavar="PATH",
                    help="also write the fields at the drive's peak in the last cycle to this .vtu file "
                         "(axisymmetric model: displacements, von Mises stress and the stress components, contact "
-                        "pressure, shear traction, stick/slip status, slip)")
+                        "pressure, shear traction, stick/slip status, slip; --model 3d: the contact disk with the "
+                        "pressure, both shear traction components, stick/slip status and slip)")
     c.add_argument("--model", choices=("axisym", "3d"), default="axisym",
                    help="'axisym' (default): Fourier modes 0 + 1, traction along x (Mindlin's assumption); '3d': "
                         "the 3D half model (y >= 0) with a two-component traction of free direction and exact "

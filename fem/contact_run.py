@@ -23,7 +23,6 @@ from dataclasses import replace
 
 from mdr.drive import run_contact
 from mdr.loading import Loading, gross_slip_work
-from common.errors import InputError
 
 from fem.options import FEOptions
 from fem.solid3d import runs
@@ -34,15 +33,15 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
     """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``) with the FE side
     of ``options`` (``fem.options.FEOptions``: the axisymmetric model ``fem.axisym.law.FEContact`` or
     the 3D model ``fem.solid3d.law.FEContact3D``); returns the result dict (and the law if
-    ``return_law``). ``vtu`` (a path, axisymmetric model): the fields at the peak of the drive in the
-    last cycle, in the x-z plane (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises
-    stress, contact pressure, shear traction, stick/slip status and slip), written after the run;
-    its path is the key ``vtu``."""
+    ``return_law``). ``vtu`` (a path): the fields at the peak of the drive in the last cycle, written
+    after the run, its path the key ``vtu``: of the axisymmetric model in the x-z plane
+    (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises stress and the stress
+    components, contact pressure, shear traction, stick/slip status and slip), of the 3D model the
+    contact disk (``fem.solid3d.output``: pressure, both shear traction components, stick/slip
+    status, slip; without ``per_cycle``, the run being cut at that step)."""
     loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
-    if vtu is not None and options.model == "3d":
-        raise InputError("vtu applies to the axisymmetric model only (the 3D model writes no VTU yet)")
     if options.model == "3d":
-        return _run_3d(profile, materials, mu, loading, options, return_law)
+        return _run_3d(profile, materials, mu, loading, options, return_law, vtu)
     t0 = time.perf_counter()
     F0 = loading.F0
     law = options.law(profile, materials, mu, loading.F_max)
@@ -67,13 +66,19 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
 RAMP_STEPS = 20
 
 
-def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law):
+def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None):
     import resource
 
     t0 = time.perf_counter()
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
-    out = drive_3d(law, loading, t_setup=t1 - t0)
+    if vtu is None:
+        out = drive_3d(law, loading, t_setup=t1 - t0)
+    else:  # the contact fields at the drive's peak in the last cycle (fem.solid3d.output)
+        from fem.solid3d.output import write_contact_vtu
+
+        out, st = drive_3d(law, loading, t_setup=t1 - t0, state_at=loading.last_peak()[0])
+        out["vtu"] = str(write_contact_vtu(law, st, vtu))
     out["peak_memory_bytes"] = int(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss) * 1024  # Linux: KiB
     return (out, law) if return_law else out
 

@@ -50,7 +50,6 @@ import contextlib
 import io
 import math
 import os
-import secrets
 import tempfile
 import threading
 from dataclasses import asdict, dataclass, field
@@ -58,7 +57,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from common.errors import InputError, in_range, nonnegative, positive
-from common.io import check_output_path
+from common.io import write_vtu_atomic
 
 PROFILES = ("sphere", "truncated", "flat")
 BODIES = ("indenter", "block")
@@ -478,17 +477,5 @@ def export_vtu(amesh: AxisymMesh, path, point_data=None):
     out = meshio.Mesh(np.vstack(pts), [("triangle6", np.vstack(cells))],
                       point_data={k: np.concatenate(v) for k, v in pdata.items()},
                       cell_data={"body": [np.concatenate(bodyid)]})
-    path = os.fspath(check_output_path(path, "VTU path"))  # InputError if it cannot be a file
-    d = os.path.dirname(os.path.abspath(path))
-    os.makedirs(d, exist_ok=True)
-    # a fresh name opened by meshio with open(): the file gets the umask's mode like every
-    # other file the project writes (tempfile.mkstemp would leave it 0600)
-    tmp = os.path.join(d, f".{os.path.basename(path)}.{os.getpid()}.{secrets.token_hex(6)}.vtu")
-    try:
-        meshio.write(tmp, out, file_format="vtu")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return write_vtu_atomic(out, path)
+
