@@ -22,10 +22,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from common.errors import InputError
-from fem.axisym.normal_run import mesh_params
+from fem.axisym.normal_run import mesh_params, reference_radius
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
-from mdr.reference import hertz
 from meshes.axisym import GMSH_LOCK, contact_size_field  # gmsh's state is global: one mesher at a time
 
 #: default contact element size / a_ref (as ``fem normal``)
@@ -50,7 +49,7 @@ class Geometry:
 
     @property
     def a_ref(self) -> float:
-        return float(hertz(self.F, self.R, self.materials.E_star)["a"])
+        return reference_radius("sphere", self.R, 0.0, self.F, self.materials.E_star)  # the FE mesh's a_ref
 
     def run_kwargs(self) -> dict:
         """Keywords of ``fem.axisym.normal_run.run_normal`` for these bodies."""
