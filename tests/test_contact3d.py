@@ -845,3 +845,27 @@ def test_stick_ellipse_fit_recovers_cattaneo_mindlin_slack():
     assert abs(fx / cx - 1) < 1e-9 and abs(fy / cy - 1) < 1e-9 and abs(fc - x0) < 1e-9 * cx
     assert np.all(np.isnan(stick_ellipse_fit(x[:4], y[:4], s[:4], np.ones(4))))
     assert np.all(np.isnan(stick_ellipse_fit(x, y, 1e7 * np.hypot(x, y) / cx, np.ones(300))))
+
+
+def test_reduced_operators_are_formed_once_and_freed_with_their_flexibility():
+    """``fem.solid3d.contact._reduced``: the same (Dt, plane set) gives the same read-only arrays (formed
+    once per law, not per step), another plane set others, and the entry goes when Dt does."""
+    import gc
+
+    from fem.solid3d import contact
+
+    n = 6
+    rng = np.random.default_rng(1)
+    M = rng.normal(size=(2 * n, 2 * n))
+    Dt = M @ M.T + 2 * n * np.eye(2 * n)
+    plane = np.array([True, True, False, False, False, False])
+    a, b = contact._reduced(Dt, plane), contact._reduced(Dt, plane)
+    assert all(x is y for x, y in zip(a, b)) and not a[1].flags.writeable
+    yi, D, cd, dz_dv = a
+    idx = np.concatenate([np.arange(n), n + yi])
+    assert np.array_equal(D, Dt[np.ix_(idx, idx)]) and np.array_equal(dz_dv, np.eye(idx.size) - cd[:, None] * D)
+    assert contact._reduced(Dt, ~plane)[1].shape == (8, 8) and D.shape == (10, 10)
+    keys = [k for k in contact._REDUCED if k[0] == id(Dt)]
+    del Dt, a, b, D, dz_dv
+    gc.collect()
+    assert not any(k in contact._REDUCED for k in keys)

@@ -44,6 +44,7 @@ problem of this kind. A solve that does not reach its tolerance raises
 """
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -260,11 +261,12 @@ _REDUCED_MAX = 4
 def _reduced(Dt, on_plane) -> tuple:
     """(yi, D, cd, dz_dv) of the packed layout: the vertices off the plane ``yi`` (their q_y is free), Dt
     restricted to q_x of every vertex and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D.
-    Formed once per flexibility and plane set (the arrays are read-only and shared; the key holds
-    ``Dt`` itself, so a new matrix at a reused address is never taken for the old one)."""
+    Formed once per flexibility and plane set (the arrays are read-only and shared). The cache holds
+    ``Dt`` weakly: its entry goes when the law's flexibility does (no memory kept for a finished law),
+    and a new matrix at a reused address is never taken for the old one."""
     key = (id(Dt), np.asarray(on_plane, dtype=bool).tobytes())
     hit = _REDUCED.get(key)
-    if hit is not None and hit[0] is Dt:
+    if hit is not None and hit[0]() is Dt:
         return hit[1]
     n = np.size(on_plane)
     yi = np.flatnonzero(~np.asarray(on_plane, dtype=bool))
@@ -276,7 +278,8 @@ def _reduced(Dt, on_plane) -> tuple:
         a.setflags(write=False)
     if len(_REDUCED) >= _REDUCED_MAX:
         _REDUCED.pop(next(iter(_REDUCED)))
-    _REDUCED[key] = (Dt, (yi, D, cd, dz_dv))
+    _REDUCED[key] = (weakref.ref(Dt), (yi, D, cd, dz_dv))
+    weakref.finalize(Dt, _REDUCED.pop, key, None)  # the law's flexibility gone: its operators too
     return yi, D, cd, dz_dv
 
 
