@@ -24,7 +24,7 @@ from scipy.interpolate import PchipInterpolator
 
 from common.errors import InputError
 from .materials import Materials
-from .profiles import Profile
+from .profiles import TabulatedProfile
 from .solve import bisect_increasing
 
 # Gauss-Legendre rule on [0, pi/2] for the inverse transform f(r) = (2/pi) int_0^{pi/2} g(r sin t) dt
@@ -32,7 +32,7 @@ _T, _W = np.polynomial.legendre.leggauss(64)
 _T, _W = 0.25 * np.pi * (_T + 1.0), 0.25 * np.pi * _W
 
 
-class EquivalentProfile(Profile):
+class EquivalentProfile(TabulatedProfile):
     """The plane profile g of the MDR law whose normal force-approach curve is (``d``, ``F``) (m, N;
     1D samples, at least 4) on ``materials`` (module docstring). ``repair``: the largest change the
     running maximum made to the contact radius a(d), over a_max (0 for a convex curve)."""
@@ -63,30 +63,8 @@ class EquivalentProfile(Profile):
         if x[0] > 0:  # a finite contact radius at first touch: g is flat (zero) out to it
             x, y = np.concatenate([[0.0], x]), np.concatenate([[0.0], y])
         self._x, self._y, self.materials = x, y, materials
-        self._g = PchipInterpolator(x, y, extrapolate=False)
-        self._dg = self._g.derivative()
-        self._G = self._g.antiderivative()
+        self._tabulate(x, y)
         self._d, self._F = d, F
-
-    @property
-    def x_limit(self):
-        return self._x[-1]
-
-    def g(self, x):
-        x = np.abs(np.asarray(x, dtype=float))
-        val = self._g(np.minimum(x, self._x[-1]))
-        return np.where(x > self._x[-1], np.inf, val)
-
-    def dg(self, x):
-        x = np.abs(np.asarray(x, dtype=float))
-        return self._dg(np.minimum(x, self._x[-1]))
-
-    def G(self, x):
-        x = np.asarray(x, dtype=float)
-        return self._G(np.minimum(x, self._x[-1])) - self._G(0.0)
-
-    def cell_integral(self, lo, hi):
-        return self.G(hi) - self.G(lo)
 
     def g_inv(self, d, hi=None):
         """The contact radius a with g(a) = d: bisection on the bracketing interval of the table (the
@@ -96,7 +74,7 @@ class EquivalentProfile(Profile):
             raise InputError(f"approach d={float(np.max(d)):.4g} m is beyond the curve's largest approach "
                              f"{self._y[-1]:.4g} m: measure the curve to a larger load")
         j = np.clip(np.searchsorted(self._y, d), 1, self._x.size - 1)
-        return np.where(d > 0, bisect_increasing(self._g, d, self._x[j - 1], self._x[j], rtol=0.0, max_iter=80),
+        return np.where(d > 0, bisect_increasing(self._interp, d, self._x[j - 1], self._x[j], rtol=0.0, max_iter=80),
                         0.0)
 
     def f(self, r):

@@ -331,7 +331,39 @@ class FlatPunch(Profile):
         return {"profile": "flat", "b": self.b}
 
 
-class GeneralProfile(Profile):
+class TabulatedProfile(Profile):
+    """A profile whose plane profile g is one monotone cubic (PCHIP) over a table (x, g) from x = 0 to
+    ``x_limit``: g, g', G and the cells' integrals all from that interpolant, g = inf beyond the table
+    (``GeneralProfile``, ``mdr.equivalent.EquivalentProfile``). Assumes the table nondecreasing."""
+
+    def _tabulate(self, x, gtab):
+        self._xg = np.asarray(x, dtype=float)
+        self._interp = PchipInterpolator(self._xg, gtab, extrapolate=False)
+        self._dinterp = self._interp.derivative()
+        self._Ginterp = self._interp.antiderivative()
+
+    @property
+    def x_limit(self):
+        return self._xg[-1]
+
+    def g(self, x):
+        x = np.abs(np.asarray(x, dtype=float))
+        val = self._interp(np.minimum(x, self._xg[-1]))
+        return np.where(x > self._xg[-1], np.inf, val)
+
+    def dg(self, x):
+        x = np.abs(np.asarray(x, dtype=float))
+        return self._dinterp(np.minimum(x, self._xg[-1]))
+
+    def G(self, x):
+        x = np.asarray(x, dtype=float)
+        return self._Ginterp(np.minimum(x, self._xg[-1])) - self._Ginterp(0.0)
+
+    def cell_integral(self, lo, hi):
+        return self.G(hi) - self.G(lo)
+
+
+class GeneralProfile(TabulatedProfile):
     """Any axisymmetric profile from a callable ``f(r)`` or samples ``(r, f)``.
 
     The gap is interpolated piecewise linearly between samples (the callable is
@@ -395,36 +427,14 @@ class GeneralProfile(Profile):
             raise InputError("the profile's MDR transform g(x) is not monotone: the contact would not be "
                              "a disk, which the MDR contact law does not cover")
         self._gtab = np.maximum.accumulate(gtab)
-        self._interp = PchipInterpolator(rr, self._gtab, extrapolate=False)
-        self._dinterp = self._interp.derivative()
-        self._Ginterp = self._interp.antiderivative()
+        self._tabulate(rr, self._gtab)
 
     @property
     def kinks(self):
         return self._kinks
 
-    @property
-    def x_limit(self):
-        return self._r[-1]
-
     def f(self, r):
         return np.interp(np.asarray(r, dtype=float), self._r, self._f, right=np.inf)
-
-    def g(self, x):
-        x = np.abs(np.asarray(x, dtype=float))
-        val = self._interp(np.minimum(x, self._r[-1]))
-        return np.where(x > self._r[-1], np.inf, val)
-
-    def dg(self, x):
-        x = np.abs(np.asarray(x, dtype=float))
-        return self._dinterp(np.minimum(x, self._r[-1]))
-
-    def G(self, x):
-        x = np.asarray(x, dtype=float)
-        return self._Ginterp(np.minimum(x, self._r[-1])) - self._Ginterp(0.0)
-
-    def cell_integral(self, lo, hi):
-        return self.G(hi) - self.G(lo)
 
     def g_inv(self, d, hi=None):
         d = np.asarray(d, dtype=float)
