@@ -77,13 +77,11 @@ class FEOptions:
                 if getattr(self, name) is not None:
                     raise InputError(f"{name} applies to the axisymmetric model only (the 3D model's contact "
                                      "constraints are exact)")
-            from fem.solid3d.law import TILT_MAX, TRACTIONS
+            from fem.solid3d.law import check_assumptions, check_tilt
 
-            if self.traction is not None and self.traction not in TRACTIONS:
-                raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {self.traction!r}")
-            if np.ndim(self.tilt) != 0 or not np.isfinite(self.tilt) or abs(float(self.tilt)) > TILT_MAX:
-                raise InputError(f"tilt must be one finite number in [-{TILT_MAX:g}, {TILT_MAX:g}] rad (small "
-                                 f"slopes), got {self.tilt!r}")
+            if self.traction is not None:
+                check_assumptions(self.traction, True)
+            check_tilt(self.tilt)
 
     def _only_3d(self):
         if self.traction is not None:

@@ -112,14 +112,21 @@ def halfspace_displacement(p, pixel, E_star) -> np.ndarray:
     pixel-wise uniform pressure ``p`` (n, n) (Pa), without periodic images (Boussinesq's 1 / (pi E* r)
     integrated over each pixel, a zero-padded FFT convolution): the approach of a contact whose
     pressure vanishes at the grid's border, as a half-space has it."""
-    import scipy.fft as sfft
-
     n = p.shape[0]
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
-    K = _pixel_kernel(X, Y, pixel) / (np.pi * E_star)
+    return convolve_pixels(p, _pixel_kernel(X, Y, pixel) / (np.pi * E_star))
+
+
+def convolve_pixels(field, K) -> np.ndarray:
+    """sum_j K(x_i - x_j) field_j at the pixel centres of ``field`` (n, n) for a kernel ``K`` (2n - 1,
+    2n - 1) sampled at the offsets -(n - 1) .. n - 1 pixels: a linear (not circular) convolution by
+    zero-padded FFTs, so no periodic image enters."""
+    import scipy.fft as sfft
+
+    n = field.shape[0]
     m = 3 * n - 2  # linear (not circular) convolution of n and 2n - 1 samples
-    full = sfft.irfft2(sfft.rfft2(p, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
+    full = sfft.irfft2(sfft.rfft2(field, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
     return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
 
 

@@ -208,9 +208,7 @@ def halfspace_tangential_displacement(q, pixel, materials) -> np.ndarray:
     x ln(y + r) + y ln(x + r) for 1 / r and of y ln(x + r) for x^2 / r^3), a zero-padded FFT
     convolution. Unlike the periodic grid's ``delta`` it holds the rigid mode: the displacement of a
     sticking contact relative to the bodies far away, hence its tangential stiffness."""
-    import scipy.fft as sfft
-
-    from .normal import _pixel_kernel
+    from .normal import _pixel_kernel, convolve_pixels
 
     n = q.shape[0]
     k = np.arange(-n + 1, n) * pixel
@@ -230,6 +228,4 @@ def halfspace_tangential_displacement(q, pixel, materials) -> np.ndarray:
     for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
         G = E / (2.0 * (1.0 + nu))
         K += ((1.0 - nu) * inv_r + nu * x2_r3) / (2.0 * np.pi * G)
-    m = 3 * n - 2
-    full = sfft.irfft2(sfft.rfft2(q, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
-    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+    return convolve_pixels(q, K)

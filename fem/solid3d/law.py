@@ -92,7 +92,7 @@ TRACTIONS = ("free", "x")
 TILT_MAX = 1e-2
 
 
-def _check_assumptions(traction, coupling) -> tuple[str, bool]:
+def check_assumptions(traction, coupling) -> tuple[str, bool]:
     if traction not in TRACTIONS:
         raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
     if coupling not in (True, False):
@@ -105,7 +105,7 @@ def _qy_zero(mi, traction) -> np.ndarray:
     return mi.on_plane if traction == "free" else np.ones(mi.n, dtype=bool)
 
 
-def _check_tilt(tilt) -> float:
+def check_tilt(tilt) -> float:
     if np.ndim(tilt) != 0 or not np.isfinite(tilt) or abs(float(tilt)) > TILT_MAX:
         raise InputError(f"tilt must be one finite number in [-{TILT_MAX:g}, {TILT_MAX:g}] rad (small slopes), "
                          f"got {tilt!r}")
@@ -147,7 +147,7 @@ def _checked(profile, materials, mu, F_max, h_contact, contact_extent, displacem
         kind = profile.describe()["profile"] if isinstance(profile, Profile) else type(profile).__name__
         raise InputError(f"profile must be sphere, truncated or flat for the 3D model, got {kind!r}")
     flat = isinstance(profile, FlatPunch)
-    tilt = _check_tilt(tilt)
+    tilt = check_tilt(tilt)
     if flat:
         if contact_extent is not None and contact_extent != 1.0:
             raise InputError("contact_extent is the punch face for the flat punch (1, its radius b); got "
@@ -158,7 +158,7 @@ def _checked(profile, materials, mu, F_max, h_contact, contact_extent, displacem
     m = materials if materials is not None else Materials()
     if displacement not in ("contact", "plate"):
         raise InputError(f"displacement must be 'contact' or 'plate', got {displacement!r}")
-    traction, coupling = _check_assumptions(traction, coupling)
+    traction, coupling = check_assumptions(traction, coupling)
     if np.ndim(mu) != 0:
         raise InputError(f"mu must be one number, got an array of shape {np.shape(mu)}")
     mu = float(nonnegative("mu", mu))
@@ -232,9 +232,9 @@ class FEContact3D:
         another ``traction``, ``coupling`` or ``tilt`` (rad): the pair of runs isolates that
         assumption from the discretisation, and a tilt sweep pays for one set-up."""
         new = copy.copy(self)
-        traction, coupling = _check_assumptions(self.traction if traction is None else traction,
+        traction, coupling = check_assumptions(self.traction if traction is None else traction,
                                                 self.coupling if coupling is None else coupling)
-        tilt = self.tilt if tilt is None else _check_tilt(tilt)
+        tilt = self.tilt if tilt is None else check_tilt(tilt)
         cache = dict(self._normal_cache) if tilt == self.tilt else {}
         new._assume(self.model, self.mu, traction, coupling, tilt)
         new._normal_cache, new.stats["normal_solves"] = cache, 0
