@@ -62,8 +62,9 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
         return _approach_compiled(profile, Es, F, rtol)
     Fp = np.maximum(F, 0.0)
     lo = np.zeros(Fp.shape)
-    for k in profile.kinks:
-        lo = np.maximum(lo, np.broadcast_to(_bcast(k, Fp), Fp.shape))
+    for k in profile.kinks:  # a kink below which g vanishes (a flat face) lies inside every contact
+        kb = np.broadcast_to(_bcast(k, Fp), Fp.shape)
+        lo = np.where(np.asarray(profile.g(kb)) == 0.0, np.maximum(lo, kb), lo)
 
     def F_of_a(a):
         return 2.0 * Es * (a * profile.g(a) - profile.G(a))

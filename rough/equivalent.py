@@ -40,7 +40,8 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     """The three models of the module docstring at normal force F0 (N) and tangential force amplitude
     fa (N, below mu F0) on ``grid``: per model ``dissipation`` (J, the last cycle's) and
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
-    dissipation and stiffness over the rough half-space's, minus 1."""
+    dissipation and stiffness over the rough half-space's, minus 1; ``curve``: the rough half-space's
+    normal force-approach samples (``d``, ``F``) the equivalent profile was built from."""
     F0, fa = positive("F0", F0), positive("fa", fa)
     if fa >= mu * F0:
         raise InputError(f"fa must stay below mu F0 = {mu * F0:.4g} N (force control), got {fa!r}")
@@ -57,7 +58,7 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     loading = Loading.of(F0, fa=fa, cycles=cycles, steps=steps)
     out = {"rough_halfspace": {"dissipation": hs["dissipation"], "stiffness": float(k_hs),
                                "contact_area": normal["contact_area"], "approach": normal["approach"]},
-           "equivalent": eq.describe()}
+           "equivalent": eq.describe(), "curve": {"d": d.tolist(), "F": F.tolist()}}
     for name, prof in (("mdr_equivalent", eq), ("mdr_smooth", profile)):
         res = run_mdr_contact(prof, materials, mu, loading)
         out[name] = {"dissipation": res["dissipation"], "stiffness": 2.0 * materials.G_star * res["contact_radius"],

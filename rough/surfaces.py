@@ -163,3 +163,24 @@ def rms_slope(m: HeightMap) -> float:
     KX, KY = np.meshgrid(kx, ky, indexing="ij")
     gx, gy = np.real(np.fft.ifft2(1j * KX * H)), np.real(np.fft.ifft2(1j * KY * H))
     return float(np.sqrt(np.mean(gx ** 2 + gy ** 2)))
+
+
+def resample(m: HeightMap, n: int) -> HeightMap:
+    """The same periodic surface on n x n pixels (n >= the map's): spectral interpolation, the map's
+    Fourier coefficients kept and zeros above its Nyquist wavenumber. Exact for a band-limited map (a
+    generated one has nothing above ``lambda_short``): a grid ladder then refines one surface, not a
+    new realisation per level."""
+    h = m.h
+    n0 = h.shape[0]
+    if h.shape[0] != h.shape[1]:
+        raise InputError(f"resample needs a square map, got shape {h.shape}")
+    n = positive_int("n", n, minimum=n0)
+    if n == n0:
+        return m
+    H = np.fft.fftshift(np.fft.fft2(h))
+    pad = (n - n0) // 2
+    big = np.zeros((n, n), dtype=complex)
+    big[pad:pad + n0, pad:pad + n0] = H
+    # the real part splits an even map's Nyquist coefficient between +- its wavenumber, as it should
+    fine = np.real(np.fft.ifft2(np.fft.ifftshift(big))) * (n / n0) ** 2
+    return HeightMap(h=fine, pixel=m.pixel * n0 / n)

@@ -127,22 +127,42 @@ class TangentialContact:
         return TangentialState(s=state.s + ds, q=q, delta=delta, work=state.work + work)
 
     def _shift_to_force(self, q, lim, free, Q):
-        """q + c on the free cells, clipped to the box, with the force Q (c by bisection: the force is
-        monotone in c)."""
-        def force(c):
-            return float(np.clip(np.where(free, q + c, q), -lim, lim).sum()) * self.dA
+        """q + c on the free cells, clipped to the box, with the force Q: the one c where the clipped sum,
+        piecewise linear and non-decreasing in c, meets Q (exact: its kinks sorted, the crossing
+        interpolated on its linear piece; on a flat piece at Q, its left end)."""
+        x, l = q[free], lim[free]
+        fixed = float(np.clip(np.where(free, 0.0, q), -lim, lim).sum())
+        target = float(Q) / self.dA - fixed
+        # sum_i clip(x_i + c, -l_i, l_i) = -sum(l) + sum_i (c - lo_i)_+ - sum_i (c - hi_i)_+
+        lo, hi = np.sort(-l - x), np.sort(l - x)
+        knots = np.concatenate([lo, hi])
+        knots.sort()
+        c_lo, c_hi = np.cumsum(lo), np.cumsum(hi)
 
-        span = float(2.0 * lim.max()) + 1.0
-        lo, hi = -span, span
-        for _ in range(200):
-            mid = 0.5 * (lo + hi)
-            if force(mid) < Q:
-                lo = mid
-            else:
-                hi = mid
-            if hi - lo <= 1e-15 * span:
-                break
-        return np.clip(np.where(free, q + 0.5 * (lo + hi), q), -lim, lim)
+        def clipped_sum(c):
+            i, j = np.searchsorted(lo, c, side="right"), np.searchsorted(hi, c, side="right")
+            return (-float(l.sum()) + (i * c - (c_lo[i - 1] if i else 0.0))
+                    - (j * c - (c_hi[j - 1] if j else 0.0)))
+
+        if knots.size == 0:
+            return np.clip(q, -lim, lim)
+        vals = np.array([clipped_sum(c) for c in (knots[0], knots[-1])])
+        if target <= vals[0]:
+            c = knots[0]
+        elif target >= vals[1]:
+            c = knots[-1]
+        else:
+            # bisection over the sorted knots for the piece that holds the target, then linear on it
+            a, b = 0, knots.size - 1
+            while b - a > 1:
+                m = (a + b) // 2
+                if clipped_sum(knots[m]) < target:
+                    a = m
+                else:
+                    b = m
+            fa, fb = clipped_sum(knots[a]), clipped_sum(knots[b])
+            c = knots[a] if fb == fa else knots[a] + (target - fa) * (knots[b] - knots[a]) / (fb - fa)
+        return np.clip(np.where(free, q + c, q), -lim, lim)
 
     def _solve(self, s, lim, Q, q):
         inside = lim > 0

@@ -113,3 +113,18 @@ def test_the_commands_take_the_fillet_and_refuse_it_without_a_kink(capsys):
                  "--json", "-"]) == 0
     out = capsys.readouterr().out
     assert '"fillet": 1e-06' in out and '"profile": "rounded"' in out
+
+
+def test_a_contact_edge_inside_the_fillet_is_found():
+    """The wide face (b = 0.6 mm, Table 1) at Fig. 6's load: the contact edge lies in the fillet, the
+    approach is the flat punch's (Boussinesq d = F / (2 E* b)) within the fillet's share of the radius,
+    and the force of that approach is the load (the inverse was bracketed above the fillet: d 1700x too
+    large, no slip in the apparatus)."""
+    from mdr.normal import force_from_approach
+
+    p = RoundedTruncatedSphere(R, 0.6e-3, 3e-6)
+    d = float(approach_from_force(p, MAT, 0.31))
+    a = float(p.g_inv(d))
+    assert p.r1 < a < p.r2
+    assert d == pytest.approx(0.31 / (2 * MAT.E_star * 0.6e-3), rel=3 * (p.r2 - p.r1) / 0.6e-3)
+    assert float(force_from_approach(p, MAT, d)) == pytest.approx(0.31, rel=1e-6)  # g_inv on the fillet: 2.5e-8

@@ -60,7 +60,7 @@ def test_the_example_file_runs_and_its_sphere_is_hertz(tmp_path):
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "validity"\nvariants = [{block = -3.0}]\n',
      "validity variant"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nvariants = [{block = 3.0}]\n', "variants need a family"),
-    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "roughness"\n', "family must be one of"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "wobble"\n', "family must be one of"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfamily = "tilt"\nvariants = [{block = 3.0}]\n',
      "needs variants, each holding tilts"),
     ('[[scene]\nname = "x"\n', "not valid TOML"),

@@ -43,6 +43,7 @@ from common.errors import ConvergenceError, InputError
 from . import report
 from common.executors import check_choice, executor_for, worker_id
 
+from .runner import scene_tasks
 from .store import install_scene_files, load_scene, scene_files, write_scene
 from .scenes import CATALOGUE, code_version, select
 
@@ -174,12 +175,17 @@ def _summary(res) -> str:
 
 
 def expected_cost(scene, out) -> float:
-    """A scene's expected run time (s), to schedule the longest first: its last stored run's, else a
-    rough count of its runs (3D levels cost about ten axisymmetric ones; each variant runs the ladder
+    """A scene's expected run time (s), to schedule the longest first: its last stored run's (of a scene
+    of tasks: their CPU time), else a rough count of its runs (3D levels cost about ten axisymmetric ones; each variant runs the ladder
     or a pair of runs again)."""
     old = load_scene(out, scene.name)
+    if old is not None and isinstance(old.get("members_cpu_s"), (int, float)):
+        return float(old["members_cpu_s"])
     if old is not None and isinstance(old.get("runtime_s"), (int, float)):
         return float(old["runtime_s"])
+    tasks = scene_tasks(scene)
+    if tasks:  # a rough member: about 12 s at 128^2 pixels on one core, growing with the pixel count
+        return sum(12.0 * (t.get("n", 128) / 128.0) ** 2 for t in tasks)
     per_level = 10.0 if scene.fe_model == "3d" else 1.0
     return per_level * len(scene.fe_levels) * max(1, len(scene.variants)) * scene.cycles * scene.steps / 600.0
 
@@ -213,7 +219,7 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
     n = len(todo)
     t0 = time.perf_counter()
     own = None
-    if executor is None and jobs > 1 and n > 1:
+    if executor is None and jobs > 1 and (n > 1 or any(len(scene_tasks(s) or ()) > 1 for s, _ in todo)):
         # spawn, not fork: a forked child of a process whose BLAS, gmsh or VTK threads hold a
         # lock deadlocks (seen under pytest); spawned workers import afresh (~1 s each)
         executor = own = futures.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
@@ -228,23 +234,75 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
                     status[s.name] = f"{type(e).__name__}: {e}"
                     log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
         else:
-            futs = {executor.submit(_remote, s, fp, version, fields): s for s, fp in todo}
-            log(f"running {n} scene(s) on {jobs if own else 'the given'} executor workers")
-            for i, f in enumerate(futures.as_completed(futs), 1):
-                s = futs[f]
-                try:
-                    msg, files = f.result()
-                    install_scene_files(out, s.name, files)
-                    status[s.name] = "ok"
-                    log(f"[{i}/{n}] {s.name} done: {msg} ({time.perf_counter() - t0:.0f} s elapsed)")
-                except Exception as e:  # a failed scene must not stop the others
-                    status[s.name] = f"{type(e).__name__}: {e}"
-                    log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
-                    traceback.print_exception(e, file=sys.stderr)
+            _run_on(executor, todo, out, version, fields, status, log, t0, jobs if own else "the given")
     finally:
         if own is not None:
             own.shutdown(cancel_futures=True)
     return status
+
+
+def _member_remote(scene, task, version):
+    """One task of a scene of independent tasks (``runner.scene_tasks``) on a worker of an executor
+    (top level: picklable); refuses other sources than the caller's, as ``_remote``."""
+    here = code_version()
+    if here != version:
+        raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({version}): "
+                           "install the same version of the project on every worker")
+    from fem.solvers import blas_threads
+
+    from .runner import run_member
+
+    with blas_threads(1):
+        return run_member(scene, task)
+
+
+def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
+    """The scenes ``todo`` on ``executor``: a scene of independent tasks (``runner.scene_tasks``) as one
+    job per task, reduced and stored here when its last task is back (a failed task fails its scene);
+    every other scene as one job. Jobs go out longest first (``expected_cost``, a scene's split over its
+    tasks by their pixel count squared)."""
+    jobs, pending, got, failed = [], {}, {}, {}
+    for s, fp in todo:
+        tasks = scene_tasks(s)
+        cost = expected_cost(s, out)
+        if not tasks:
+            jobs.append((cost, s, fp, None))
+            continue
+        weight = [float(t.get("n", 1)) ** 2 for t in tasks]
+        pending[s.name], got[s.name] = len(tasks), []
+        jobs += [(cost * w / sum(weight), s, fp, t) for t, w in zip(tasks, weight)]
+    jobs.sort(key=lambda j: -j[0])
+    futs = {(executor.submit(_remote, s, fp, version, fields) if t is None
+             else executor.submit(_member_remote, s, t, version)): (s, fp, t) for _, s, fp, t in jobs}
+    n = len(todo)
+    log(f"running {n} scene(s) as {len(futs)} job(s) on {workers} executor workers")
+    done = 0
+    for f in futures.as_completed(futs):
+        s, fp, t = futs[f]
+        try:
+            if t is None:
+                msg, files = f.result()
+                install_scene_files(out, s.name, files)
+            else:
+                got[s.name].append(f.result())
+                pending[s.name] -= 1
+                log(f"  {s.name}: task {len(got[s.name])} of {len(got[s.name]) + pending[s.name]} done "
+                    f"({time.perf_counter() - t0:.0f} s elapsed)")
+                if pending[s.name] or s.name in failed:
+                    continue
+                res = write_scene(s, out, fp, fields=fields, meta={"worker": worker_id()}, members=got[s.name])
+                msg = _summary(res)
+            done += 1
+            status[s.name] = "ok"
+            log(f"[{done}/{n}] {s.name} done: {msg} ({time.perf_counter() - t0:.0f} s elapsed)")
+        except Exception as e:  # a failed scene must not stop the others
+            if s.name in failed:
+                continue
+            done += 1
+            failed[s.name] = True
+            status[s.name] = f"{type(e).__name__}: {e}"
+            log(f"[{done}/{n}] {s.name} FAILED: {status[s.name]}")
+            traceback.print_exception(e, file=sys.stderr)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -59,9 +59,18 @@ def _family_table(scene: str):
     return table
 
 
+def budget_table(scenes: dict) -> list:
+    """The error budget of the paper's model (``validation.budget``) from the run's scenes: its table and
+    the sticking transition's (the kink, plates and transition computed with MDR, about a minute)."""
+    from . import budget
+
+    lines = budget.markdown(budget.budget(scenes))
+    return [x for x in lines[lines.index(next(x for x in lines if x.startswith("| "))):] if not x.startswith("Stored")]
+
+
 #: the generated tables: name -> function of results.json's ``scenes``
-TABLES = {"catalogue": catalogue_table, **{n: _family_table(n) for n in ("assumptions-3d", "validity",
-                                                                         "validity-curvature")}}
+TABLES = {"catalogue": catalogue_table, "budget": budget_table,
+          **{n: _family_table(n) for n in ("assumptions-3d", "validity", "validity-curvature", "roughness")}}
 
 
 def blocks(text: str) -> list:
@@ -135,7 +144,7 @@ def main(argv=None) -> int:
               f"of a catalogue run ({type(e).__name__}); run python -m validation.compare --jobs 2 first",
               file=sys.stderr)
         return 2
-    missing = [n for n in TABLES if n != "catalogue" and n not in scenes]
+    missing = [n for n in TABLES if n not in ("catalogue", "budget") and n not in scenes]
     if missing:
         print(f"python -m validation.docs: error: {path} lacks the scenes {', '.join(missing)}: a full catalogue "
               "run is needed", file=sys.stderr)

@@ -91,7 +91,7 @@ DRIVES = ("force", "displacement", "apparatus")
 #: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
 #: table, its figure), and the key each family's variants hold (the pair has none)
 FAMILIES = {"pair": None, "validity": ("block", "cap"), "curvature": ("a_over_R",), "assumptions3d": ("relax",),
-            "tilt": ("tilts",)}
+            "tilt": ("tilts",), "roughness": ("rms",)}
 
 #: What "MDR holds" claims, beyond both models' own error bars (the verdict of a metric is
 #: |MDR - FE| <= FE error + MDR error + tolerance). The half-space assumptions themselves
@@ -223,10 +223,49 @@ class Scene:
                 if k in v and len(v[k]) != len(v.get("fe_levels", self.fe_levels)):
                     raise InputError(f"scene {self.name}: a tilt variant's {k} needs one {k} tuple per FE level "
                                      f"({len(v.get('fe_levels', self.fe_levels))}), got {v[k]!r}")
+        self._check_rough()
         unknown = set(self.tolerance) - set(TOLERANCES)
         if unknown:
             raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
                              f"valid: {', '.join(TOLERANCES)}")
+
+    def _check_rough(self):
+        """The roughness family's variants (``validation.families.roughness``): the sphere under force
+        control at constant F_N; rms >= 0 (m), at least 2 seeds where rms > 0, at least 2 grids
+        increasing from 16 pixels, a period of at least 4 Hertz radii, the cut-offs inside the grid."""
+        rough = [v for v in self.variants if "rms" in v]
+        if not rough:
+            return
+        if self.family != "roughness" or len(rough) != len(self.variants) or self.profile != "sphere" \
+                or self.drive != "force" or self.dF != 0.0:
+            raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere', "
+                             "drive 'force' and dF = 0 on every variant")
+        for v in rough:
+            def bad(key, rng):
+                return InputError(f"scene {self.name}: rough variant {v!r}: {key} must be {rng}")
+
+            try:
+                rms, seeds = float(v["rms"]), [int(x) for x in v.get("seeds", (0, 1))]
+                grids = [int(x) for x in v.get("grids", (128, 256))]
+                period, short = float(v.get("period", 16.0)), float(v.get("short", 4.0))
+                long_, hurst = float(v.get("long", 0.25)), float(v.get("hurst", 0.8))
+            except (TypeError, ValueError):
+                raise bad("rms, seeds, grids, period, short, long, hurst", "numbers (seeds and grids lists of "
+                          "integers)") from None
+            if not (math.isfinite(rms) and rms >= 0):
+                raise bad("rms", ">= 0 (m)")
+            if rms > 0 and (len(set(seeds)) < 2 or min(seeds) < 0):
+                raise bad("seeds", "at least 2 distinct integers >= 0 (one realisation is no answer)")
+            if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
+                raise bad("grids", "at least 2 pixel counts, increasing, from 16")
+            if not period >= 4.0:
+                raise bad("period", ">= 4 (Hertz contact radii)")
+            if not 2.0 <= short <= grids[0] / 2:
+                raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
+            if not short / grids[0] < long_ <= 1.0:
+                raise bad("long", f"in ({short / grids[0]:.3g}, 1] (fractions of the period)")
+            if not 0.0 < hurst < 1.0:
+                raise bad("hurst", "in (0, 1)")
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene
@@ -422,6 +461,19 @@ def _catalogue() -> dict:
                           "crescent up to pi/3600; b = 0.6 mm at pi/3600 has its own row on meshes banded along "
                           "the loaded rim arc (band_h = b/33, b/50), where its edge crescent is resolved. A tilted "
                           "contact of fewer than 10 vertices (half model, at F0) is undetermined."))
+    # roughness: the sphere on self-affine surfaces, the rough half-space against MDR (smooth, equivalent)
+    sc.append(Scene("roughness", "Rough surfaces: the sphere on self-affine roughness, smooth and equivalent MDR",
+                    "sphere", dF=0.0, amplitude=0.5 * 0.2 * 0.5, cycles=3, steps=40, group="rough",
+                    family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
+                    variants=({"rms": 0.0, "grids": (128, 192, 256)}, {"rms": 30e-9}, {"rms": 100e-9},
+                              {"rms": 1e-6, "period": 32.0}, {"rms": 3.2e-6, "period": 32.0}),
+                    notes="Table 2's normal load (F0 = 0.5 N) held, force amplitude mu F0 / 2, mu = 0.2, steel on "
+                          "steel, R = 6 mm; the combined roughness of both bodies as one self-affine surface "
+                          "(Hurst 0.8, roll-off at a quarter period, cut off at 4 pixels of the coarsest grid), "
+                          "4 realisations per rms on grids of 128 and 256 pixels (the smooth sphere: one, on 128, "
+                          "192, 256); period 16 Hertz radii (32 at the paper's rms: 1 um, its sphere's, and 3.2 um, "
+                          "the sphere's and the block's 3 um combined, whose contacts spread over several). Needs "
+                          "tamaas (pip install -e '.[rough]')."))
     out = {}
     for s in sc:
         if s.name in out:

@@ -29,10 +29,12 @@ def load_scene(out_root, name) -> dict | None:
         return None
 
 
-def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, log=None, meta=None) -> dict:
+def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, log=None, meta=None,
+                members: list | None = None) -> dict:
     """Run a scene into a temporary directory and move it into place when complete: an
     interrupted run leaves the previous result (or nothing) and never half a scene.
-    ``meta``: extra keys stored in result.json (e.g. the ``worker`` that ran it)."""
+    ``meta``: extra keys stored in result.json (e.g. the ``worker`` that ran it); ``members``: the
+    results of the scene's tasks where they ran elsewhere (``runner.run_scene``)."""
     final = scene_dir(out_root, s.name)
     final.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{s.name}.", dir=final.parent))
@@ -40,7 +42,7 @@ def write_scene(s: Scene, out_root, fingerprint: str, *, fields: bool = True, lo
     try:
         from . import runner
 
-        result = runner.run_scene(s, tmp, fields=fields, log=log)
+        result = runner.run_scene(s, tmp, fields=fields, log=log, members=members)
         result["fingerprint"] = fingerprint
         result.update(meta or {})
         write_json(tmp / "result.json", result)

@@ -1,0 +1,115 @@
+"""The error budget of the paper's model (validation.budget).
+
+Truths: the verdict rule (a bound never "matters", a non-finite number is undetermined); exact zeros
+where the physics has them (no kink on the sphere, a tilted sphere is the sphere, identical steels do
+not couple); MDR with the equivalent profile of the smooth sphere's own Hertz curve is the smooth sphere
+in the apparatus (its "roughness" is zero); the fillet's effect vanishes with its width; the sticking
+transition of the smooth sphere where docs/apparatus.md measures it (delta = 0.1 at 1.0 N/um for the
+sphere-like b = 10 um), moved by a softer contact; missing scenes name the command that runs them.
+"""
+import math
+import subprocess
+import sys
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from mdr import reference as ref
+from mdr.materials import Materials
+from mdr.paper import R_INDENTER
+from validation import budget as B
+
+MAT = Materials()
+
+
+@pytest.mark.parametrize("effect,error,kind,verdict", [
+    (0.004, 0.005, "measured", "negligible"), (0.02, 0.005, "measured", "matters"),
+    (0.012, 0.005, "measured", "undetermined"), (0.02, 0.0, "bound", "undetermined"),
+    (0.004, 0.0, "bound", "negligible"), (float("nan"), 0.0, "measured", "undetermined"),
+    (None, None, "measured", "undetermined"), (0.02, float("inf"), "spread", "undetermined")])
+def test_the_verdict_rule(effect, error, kind, verdict):
+    assert B.cell(effect, error, kind, "x")["verdict"] == verdict
+
+
+def test_a_result_matters_if_one_point_does_and_is_negligible_only_if_all_are():
+    small, big, gap = B.cell(0.001, 0.001, "measured", "a"), B.cell(0.05, 0.001, "measured", "b"), B.missing("tilt")
+    assert B.combine([small, big, gap], "x")["verdict"] == "matters"
+    assert B.combine([small, gap], "x")["verdict"] == "undetermined"
+    assert B.combine([small, small], "x")["verdict"] == "negligible"
+    assert "python -m validation.compare --scenes tilt" in gap["source"]
+
+
+def test_exact_zeros_on_the_sphere():
+    p = B._loop("fig4")
+    assert p.b == 0
+    for c in (B.kink_cell(p), B.tilt_cell(p, lambda name: None)):
+        assert c["effect"] == 0.0 and c["kind"] == "exact" and c["verdict"] == "negligible"
+
+
+def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
+    p = B._loop("fig6")
+    wide = B.kink_cell(p)
+    assert abs(wide["effect"]) < 1e-3  # b = 0.6 mm: the fillet is 0.5 % of the radius (measured 1.6e-5)
+    assert wide["verdict"] == "negligible"
+    q = B.Point(b=20e-6)
+    e3 = B.kink_cell(q)["effect"]
+    old = B.FILLET_MAX
+    try:
+        B.FILLET_MAX = 0.5e-6
+        e05 = B.kink_cell(q)["effect"]
+    finally:
+        B.FILLET_MAX = old
+    assert abs(e05) < abs(e3)
+
+
+def _hertz_store(rms, members=3):
+    """A stored roughness scene whose 'rough' curves are the smooth sphere's own (Hertz) and whose
+    equivalent MDR matched the half-space exactly."""
+    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
+    d = np.array([float(ref.hertz(f, R_INDENTER, MAT.E_star)["d"]) for f in F])
+    row = {"rms": rms, "seeds": list(range(members)),
+           "verdicts": {"mdr_equivalent:dissipation": {"difference": 0.0, "error": 0.0}},
+           "curves": [{"d": d.tolist(), "F": F.tolist()}] * members}
+    return lambda name: {"roughness": [row]} if name == "roughness" else None
+
+
+def test_the_equivalent_profile_of_a_smooth_sphere_is_no_roughness_in_the_apparatus():
+    for p in (B._loop("fig4"), B._loop("fig5")):
+        c = B.roughness_cell(p, _hertz_store(1e-6), 1e-6)
+        assert abs(c["effect"]) < 2e-3 and c["verdict"] == "negligible"  # the curve's sampling: 24 forces
+
+
+def test_a_softer_contact_moves_the_sticking_transition_up():
+    from mdr.profiles import TruncatedSphere
+
+    smooth = B.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6))
+    assert smooth == pytest.approx(1.0e6, rel=0.05)  # docs/apparatus.md: 1.00 N/um
+    soft = B.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6), replace(B.Point(b=10e-6), ua=110e-9))
+    assert soft > 1.2 * smooth  # less stroke: the contact must be stiffer-driven to slip
+
+
+def test_missing_scenes_are_undetermined_and_name_their_command():
+    b = B.budget("/nonexistent", mdr_cells=False)
+    for r in b["rows"]:
+        for col in ("size", "curvature", "direction", "roughness"):
+            c = r["cells"][col]
+            if c["effect"] is None:
+                assert c["verdict"] == "undetermined"
+        assert r["cells"]["coupling"]["effect"] == 0.0
+    assert B.markdown(b)  # renders
+
+
+def test_the_command_refuses_a_folder_without_scenes_in_one_line(tmp_path):
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--out", str(tmp_path)], capture_output=True,
+                       text=True)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--out" in r.stderr
+    assert not (tmp_path / "budget.md").exists()
+
+
+def test_scaled_turns_a_relative_effect_into_a_slip_index_change():
+    c = B.scaled(B.cell(0.1, 0.01, "measured", "x"), 0.5)
+    assert c["effect"] == pytest.approx(0.05) and c["error"] == pytest.approx(0.005) and c["verdict"] == "matters"
+    a = B.cell(0.02, 0.001, "absolute", "x")
+    assert B.scaled(a, 0.5) is a
+    assert math.isclose(B.scaled(B.cell(0.1, 0.01, "bound", "x"), 0.05)["effect"], 0.005)

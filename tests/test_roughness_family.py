@@ -1,0 +1,94 @@
+"""The ``roughness`` scene family (validation.families.roughness): an ensemble of rough realisations,
+each on a grid ladder of one band-limited surface, reduced to verdicts with error bars.
+
+Truths: the spectral resampling is exact on a band-limited map (the coarse pixels are reproduced to
+round-off, the rms kept); the verdict rule of every family (an MDR dissipation off by an injected 10 %
+fails, the measured one does not); the tasks run anywhere and reduce to the same rows as a run in one
+process (the reduction is a function of the members alone); bad variants are one line before any work.
+"""
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from common.errors import InputError
+from validation.compare import run_all
+from validation.families import roughness as R
+from validation.scenes import CATALOGUE, Scene
+from validation.store import load_scene
+
+pytest.importorskip("tamaas")
+
+#: a small scene: rms 30 nm (the contact breaks into patches but keeps its outline) with wavelengths of 8
+#: coarse pixels and more, three seeds on grids of 48 and 96 pixels (a/3 and a/6), F_x = 0.8 mu F0 (a slip
+#: annulus of 0.4 a, resolved on these grids), short cycles
+SMALL = replace(CATALOGUE["roughness"], name="roughness-small", steps=24, amplitude=0.08,
+                variants=({"rms": 30e-9, "grids": (48, 96), "seeds": (0, 1, 2), "short": 8.0},))
+
+
+@pytest.fixture(scope="module")
+def members():
+    return [R.member(SMALL, t) for t in R.tasks(SMALL)]
+
+
+def test_resampling_refines_one_surface():
+    from rough.surfaces import RoughnessParams, generate, resample
+
+    m = generate(RoughnessParams(rms=1e-7, hurst=0.8, lambda_short=4e-6, lambda_long=32e-6, size=128e-6, n=64))
+    for k in (2, 3):
+        f = resample(m, 64 * k)
+        assert np.max(np.abs(f.h[::k, ::k] - m.h)) < 1e-12 * m.rms
+        assert f.rms == pytest.approx(m.rms, rel=1e-12) and f.pixel * 64 * k == pytest.approx(128e-6, rel=1e-12)
+
+
+def test_the_tasks_are_every_seed_on_every_grid_finest_first():
+    ts = R.tasks(SMALL)
+    assert sorted((t["seed"], t["n"]) for t in ts) == [(s, n) for s in (0, 1, 2) for n in (48, 96)]
+    assert [t["n"] for t in ts] == sorted((t["n"] for t in ts), reverse=True)
+    smooth = replace(SMALL, variants=({"rms": 0.0, "grids": (32, 64, 128)},))
+    assert [(t["seed"], t["n"]) for t in R.tasks(smooth)] == [(0, 128), (0, 64), (0, 32)]
+
+
+def test_an_injected_error_of_10_percent_fails_and_the_measured_difference_does_not(members):
+    row = R._variant_row(SMALL, 0, members)
+    v = row["verdicts"]["mdr_equivalent:dissipation"]
+    assert v["grade"] != "fails" and v["error"] < 0.06  # the equivalent profile's: a few per cent (3.5 %)
+    assert row["verdicts"]["mdr_smooth:stiffness"]["grade"] == "fails"  # the smooth sphere is too stiff
+    bad = []
+    for m in members:
+        rel = {**m["relative"], "mdr_equivalent": {**m["relative"]["mdr_equivalent"]}}
+        rel["mdr_equivalent"]["dissipation"] = (1 + rel["mdr_equivalent"]["dissipation"]) * 1.10 - 1
+        bad.append({**m, "relative": rel})
+    assert R._variant_row(SMALL, 0, bad)["verdicts"]["mdr_equivalent:dissipation"]["grade"] == "fails"
+
+
+def test_a_failed_member_makes_its_seed_undetermined_not_a_crash(members):
+    broken = [({**m, "failed": "did not converge"} if (m["seed"], m["n"]) == (1, 48) else m) for m in members]
+    row = R._variant_row(SMALL, 0, broken)
+    assert row["verdicts"]["mdr_equivalent:dissipation"]["grade"] == "undetermined"
+    assert row["failed"] == [{"seed": 1, "n": 48, "failed": "did not converge"}]
+    assert R.table({"errors": {"a_ref": 27e-6}, "roughness": [row]})  # renders
+
+
+def test_tasks_on_an_executor_reduce_to_the_rows_of_one_process(members, tmp_path):
+    status = run_all([SMALL], tmp_path, executor=ThreadPoolExecutor(2), fields=False, log=lambda m: None)
+    assert status == {SMALL.name: "ok"}
+    stored = load_scene(tmp_path, SMALL.name)["roughness"][0]["verdicts"]
+    here = R._variant_row(SMALL, 0, members)["verdicts"]
+    for k, x in here.items():
+        assert stored[k]["difference"] == pytest.approx(x["difference"], rel=1e-6, abs=1e-9)
+        assert stored[k]["grade"] == x["grade"]
+
+
+@pytest.mark.parametrize("variant,word", [({"rms": -1e-9}, "rms"), ({"rms": 1e-8, "seeds": (0,)}, "seeds"),
+                                          ({"rms": 1e-8, "grids": (128, 64)}, "grids"),
+                                          ({"rms": 1e-8, "period": 2.0}, "period"),
+                                          ({"rms": 1e-8, "short": 1.0}, "short"),
+                                          ({"rms": 1e-8, "hurst": 1.2}, "hurst")])
+def test_a_bad_variant_is_one_line_naming_its_key(variant, word):
+    with pytest.raises(InputError, match=word) as e:
+        replace(SMALL, variants=(variant,))
+    assert "\n" not in str(e.value)
+    with pytest.raises(InputError, match="sphere"):
+        Scene("x", "x", "flat", b=50e-6, dF=0.0, family="roughness", variants=({"rms": 1e-8},))

@@ -1,0 +1,521 @@
+"""The error budget of the paper's model: what each of its assumptions costs each of its results.
+
+``python -m validation.budget [--out DIR]`` prints (and writes to ``DIR/budget.md``) one table: a row
+per result of Willert, Machines 11 (2023) 484 (the loops of Figs. 4-5 on the sphere and of Figs. 6-7
+on the truncated sphere b = 0.6 mm, the slip-index curves of Figs. 8 and 9, the Table 2 point), a
+column per assumption of the half-space MDR model in the paper's apparatus, each cell the change of the
+result's slip index (its dissipation per cycle over 4 mu F0 u_A, what Figs. 8-9 plot and the loops of
+Figs. 4-7 enclose) when the assumption is dropped, with its error bar, where it was measured, and a
+verdict against the figures' resolution ``RESOLUTION``:
+
+- ``negligible``: |effect| + error <= resolution;
+- ``matters``: |effect| - error > resolution (a measured effect, not a bound);
+- ``undetermined``: in between, a bound above the resolution, or not measured at the result's
+  conditions (the cell says what would measure it).
+
+Where the cells come from (``COLUMNS``):
+
+- *half-space size*, *curvature*, *traction direction*, *tilt*, *roughness*: the stored results of the
+  catalogue's scenes (``validity``, ``validity-curvature``, ``assumptions-3d``, ``tilt``,
+  ``roughness``; ``python -m validation.compare`` in the same ``--out``), measured at Table 2's
+  loading under force control, mapped to a result by its geometry. Size and curvature effects grow
+  monotonically with the body's smallness and with a/R, so the row measured at the nearest smaller
+  body or larger a/R is a *bound*: the true effect lies between 0 and it;
+- *coupling*: exactly 0: the paper's indenter and block are the same steel (Dundurs' beta = 0);
+- *tilt* of the sphere: exactly 0 (a tilted sphere is the same sphere displaced);
+- *kink rounding* and *plates*: computed here with the MDR apparatus (cheap) at every point of the
+  result: the fillet of the kink (``mdr.profiles.RoundedTruncatedSphere``, width ``FILLET_MAX``, the
+  paper's bound "less than the rms roughness") against the sharp kink, a bound; the spread of the slip
+  index over the readings of the brass plates (``studies.plates.PLATE_READINGS``, the reading the
+  paper leaves open) against this project's reference reading.
+
+Assumptions of the mapping (stated in the table's notes): an effect measured under force control at
+Table 2's load is applied as the same relative change of the apparatus's dissipation, i.e. times the
+point's slip index (MDR in the apparatus, ``point_slip_index``), except the tilt's, measured as a change
+of the slip index itself (the aligned face hardly slips there); a result spanning
+a range of b (Figs. 8, 9, Table 2's two points) is "negligible" only if every b of its range is
+covered, and "matters" as soon as one measured point of it does.
+"""
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from mdr.materials import Materials
+from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, TABLE2
+
+from .scenes import CATALOGUE, TOLERANCES, code_version
+from .store import load_scene
+from .text import num
+
+#: the resolution of a result read from the paper's figures, as a change of the slip index (the
+#: dissipation over 4 mu F0 u_A; 1 is gross slip): 1 % of its full scale, as a loop is read to 1 % of
+#: its height (the catalogue's loop tolerance, ``TOLERANCES["loop_Fx"]``)
+RESOLUTION = TOLERANCES["loop_Fx"]
+RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross slip), as a loop is read to 1 % of "
+                     "its height")
+#: the widest rounding of the kink the paper allows: "less than the rms roughness", up to 3 um
+FILLET_MAX = 3e-6
+#: the paper's block: the indenter's contact lies h = 19 mm above the bedding (Table 1)
+BLOCK_HEIGHT = 19e-3
+#: the paper's bound on the tilt of the flat faces (rad)
+TILT_BOUND = math.pi / 3600
+COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "kink", "plates")
+TITLES = {"size": "half-space size", "curvature": "curvature a/R", "direction": "traction direction",
+          "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness", "kink": "kink rounding",
+          "plates": "brass plates' reading"}
+
+
+@dataclass(frozen=True)
+class Point:
+    """One apparatus point of a result: the indenter (``b`` = 0: the sphere), the load and the axis."""
+
+    b: float
+    F0: float = TABLE2["F0"]
+    dF: float = TABLE2["dF"]
+    ua: float = TABLE2["ua"]
+    mu1: float = TABLE2["mu1"]
+    mu2: float = TABLE2["mu2"]
+    kx: float = KX_TABLE1
+
+
+@dataclass(frozen=True)
+class Result:
+    key: str
+    title: str
+    points: tuple
+
+
+def _loop(fig):
+    from studies.paper import LOOP_CASES
+
+    kind, F0, ua, mu1, mu2 = LOOP_CASES[fig]
+    return Point(b=0.0 if kind == "sphere" else B_TABLE1, F0=F0, dF=0.1 * F0 / 0.5, ua=ua, mu1=mu1, mu2=mu2)
+
+
+def results() -> tuple:
+    """The paper's results and their points (Figs. 8, 9: the ends and the middle of their ranges)."""
+    fig8 = tuple(Point(b=b, kx=kx) for b in (1e-6, 10e-6, 100e-6, 1e-3) for kx in (1e6, 20e6))
+    fig9 = tuple(Point(b=b, kx=kx) for b in (10e-6, 50e-6, 100e-6) for kx in (0.3e6, 3e6, 30e6))
+    return (Result("figs4-5", "Figs. 4-5: loops, sphere", (_loop("fig4"), _loop("fig5"))),
+            Result("figs6-7", "Figs. 6-7: loops, truncated b = 0.6 mm", (_loop("fig6"), _loop("fig7"))),
+            Result("fig8", "Fig. 8: slip index against b = 1 um - 1 mm", fig8),
+            Result("fig9", "Fig. 9: slip index against k_x, b = 10-100 um", fig9),
+            Result("table2", "Table 2 point: b = 0.6 mm and 10 um", (Point(b=B_TABLE1), Point(b=10e-6))))
+
+
+# ----------------------------------------------------------------------------------- cells
+def cell(effect, error, kind, source, note="") -> dict:
+    """One cell: ``effect`` (relative change of the result's quantity), its ``error``, ``kind``
+    (``measured``, ``bound``: the effect lies between 0 and ``effect``, ``exact``, ``spread``: the
+    largest change over readings of an unknown, ``absolute``: a change of the slip index itself), where
+    it comes from and the verdict."""
+    finite = effect is not None and error is not None and math.isfinite(effect) and math.isfinite(error)
+    if not finite:
+        v = "undetermined"
+    elif abs(effect) + error <= RESOLUTION:
+        v = "negligible"
+    elif kind != "bound" and abs(effect) - error > RESOLUTION:
+        v = "matters"
+    else:
+        v = "undetermined"
+    return {"effect": effect if finite else None, "error": error if finite else None, "kind": kind,
+            "source": source, "note": note, "verdict": v}
+
+
+def missing(scene: str, why: str = "") -> dict:
+    return cell(None, None, "measured", f"not run: python -m validation.compare --scenes {scene}", why)
+
+
+def combine(cells: list, source: str) -> dict:
+    """A result over several points: ``matters`` if one measured point matters; ``negligible`` only if
+    every point is; else undetermined. The largest |effect| is shown."""
+    verdicts = [c["verdict"] for c in cells]
+    shown = max((c for c in cells if c["effect"] is not None), key=lambda c: abs(c["effect"]) + c["error"],
+                default=cells[0])
+    out = dict(shown)
+    out["source"] = source if len(cells) > 1 else shown["source"]
+    out["verdict"] = "matters" if "matters" in verdicts else ("negligible" if all(v == "negligible" for v in verdicts)
+                                                              else "undetermined")
+    notes = sorted({c["note"] for c in cells if c["note"]})
+    out["note"] = "; ".join(notes)
+    return out
+
+
+def contact_radius(p: Point) -> float:
+    from fem.axisym.normal_run import reference_radius
+
+    kind = "sphere" if p.b == 0 else "truncated"
+    return reference_radius(kind, R_INDENTER, p.b or None, p.F0 + p.dF, Materials().E_star)
+
+
+# --------------------------------------------------------------- cells from stored scenes
+def size_cell(p: Point, store) -> dict:
+    """The bodies shrunk (``validity``): the indenter's cap R / a and the block's height over a, each
+    bounded by the measured row at the largest size not above it (the effect falls with size)."""
+    res = store("validity")
+    if res is None:
+        return missing("validity")
+    a = contact_radius(p)
+    rows = {r["variant"]: r for r in res["validity"]}
+    total, parts = 0.0, []
+    for body, size in (("cap", R_INDENTER / a), ("block", BLOCK_HEIGHT / a)):
+        measured = sorted(x for x in (3.0, 5.0, 10.0, 30.0)
+                          if any(k.startswith(f"{body} {x:g} a (") for k in rows))
+        below = [x for x in measured if x <= size]
+        if not below:
+            return cell(None, None, "bound", "validity", f"{body} {size:.2g} a: smaller than any measured body")
+        x = below[-1]
+        r = next(v for k, v in rows.items() if k.startswith(f"{body} {x:g} a ("))
+        total += r["dissipation_vs_default"]
+        parts.append(f"{body} {size:.0f} a (row {x:g} a)")
+    return cell(total, 0.0, "bound", "validity", ", ".join(parts))
+
+
+def curvature_cell(p: Point, store) -> dict:
+    """The curvature a/R (``validity-curvature``, nu = 0.29), bounded by the row at the smallest
+    measured a/R not below the point's (the effect grows with a/R)."""
+    res = store("validity-curvature")
+    if res is None:
+        return missing("validity-curvature")
+    x = contact_radius(p) / R_INDENTER
+    rows = sorted((r for r in res["curvature"] if abs(r["nu"] - 0.29) < 1e-9), key=lambda r: r["a_over_R"])
+    above = [r for r in rows if r["a_over_R"] >= x]
+    if not above:
+        return cell(None, None, "bound", "validity-curvature",
+                    f"a/R = {x:.2g}, beyond the largest measured {rows[-1]['a_over_R']:.2g}" if rows else "no rows")
+    r = above[0]
+    return cell(r["dissipation_effect"], r["dissipation_effect_error"], "bound", "validity-curvature",
+                f"a/R = {x:.2g} (row {r['a_over_R']:.2g})")
+
+
+def direction_cell(p: Point, store) -> dict:
+    """Mindlin's traction along x relaxed in 3D (``assumptions-3d``): the sphere's row, or the truncated
+    sphere's of the same b."""
+    res = store("assumptions-3d")
+    if res is None:
+        return missing("assumptions-3d")
+    for r in res["assumptions3d"]:
+        if r["relax"] == "direction" and abs(float(r.get("b", 0.0)) - p.b) < 1e-9:
+            d = r["verdicts"]["dissipation"]
+            return cell(d["effect"], d["error"], "measured", "assumptions-3d",
+                        "sphere" if p.b == 0 else f"b = {p.b * 1e6:g} um")
+    return cell(None, None, "measured", "assumptions-3d", f"b = {p.b * 1e6:g} um not measured in 3D")
+
+
+def tilt_cell(p: Point, store) -> dict:
+    """The flat face tilted by the paper's bound (``tilt``): the sphere exactly 0; a face of the same b at
+    pi/3600 (the banded row where there is one): the change of the slip index itself (absolute: the
+    aligned face hardly slips under the scene's force control, so a relative change has no meaning),
+    against the resolution of the slip index's full scale (1, gross slip)."""
+    if p.b == 0:
+        return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
+    res = store("tilt")
+    if res is None:
+        return missing("tilt")
+    rows = [r for r in res["tilt"] if abs(r["b"] - p.b) < 1e-9]
+    rows.sort(key=lambda r: not r.get("banded"))
+    for r in rows:
+        pt = next((x for x in r["points"] if abs(x["tilt"] - TILT_BOUND) < 1e-3 * TILT_BOUND and x["resolved"]), None)
+        if pt is None:
+            continue
+        si = pt["aligned"]["slip_index"]
+        aligned = r["levels"][-1]["runs"][0].get("slip_index")
+        return cell(si["effect"], si["error"], "absolute", "tilt",
+                    f"{r['variant']}: slip index {num(aligned, '.2g')} aligned, force control at Table 2's load")
+    return cell(None, None, "absolute", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
+
+
+#: the paper's roughness on the sphere's contact: the sphere's own rms, and combined with the block's
+#: sqrt(1^2 + 3^2) um (Section 2)
+ROUGHNESS_RMS = (1e-6, 3.2e-6)
+
+
+def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
+    """The sphere's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
+    stored rough surface's normal curve (``roughness``: the rough half-space's F_N(d) on its finest
+    grid, ``mdr.equivalent.EquivalentProfile``) against the smooth sphere, a change of the slip index.
+    Error: the ensemble's standard error, plus what the equivalent profile misses of the rough
+    half-space's own dissipation in the scene (|mean| + its error bar), as a share of the slip index."""
+    from mdr.equivalent import EquivalentProfile
+
+    if p.b > 0:
+        a_hertz = contact_radius(replace(p, b=0.0))
+        if p.b > 0.5 * a_hertz:  # the face reaches into the contact: not the sphere's roughness
+            return cell(None, None, "absolute", "roughness", f"b = {p.b * 1e6:g} um: a rough flat face is not run")
+    res = store("roughness")
+    if res is None:
+        return missing("roughness")
+    row = next((r for r in res["roughness"] if abs(r["rms"] - rms) < 1e-12), None)
+    if row is None:
+        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um not in the stored scene")
+    v = row["verdicts"]["mdr_equivalent:dissipation"]
+    curves = [c for c in row.get("curves", []) if c]
+    if v["difference"] is None or v["error"] is None or len(curves) < 2:
+        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um: undetermined ensemble")
+    top = min(max(c["F"]) for c in curves)
+    if p.F0 + p.dF > top:
+        return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
+    mat = Materials()
+    si = np.array(_slip_indices([EquivalentProfile(c["d"], c["F"], mat) for c in curves], [p] * len(curves)))
+    smooth = point_slip_index(replace(p, b=0.0))
+    sem = float(si.std(ddof=1) / np.sqrt(si.size))
+    err = sem + (abs(v["difference"]) + v["error"]) * float(si.mean())
+    return cell(float(si.mean()) - smooth, err, "absolute", "roughness",
+                f"rms {rms * 1e6:g} um: slip index {si.mean():.2g} against {smooth:.2g} smooth, {si.size} surfaces")
+
+
+# ------------------------------------------------------------------ cells computed with MDR
+def _slip_indices(profiles, points, app_kw=None, n=100):
+    """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``)."""
+    from studies.paper import RES, _slip_index
+
+    out = []
+    for prof, p in zip(profiles, points):
+        si, _ = _slip_index(prof, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
+                            res={**RES, "n": n}, app_kw=app_kw)
+        out.append(float(np.asarray(si).ravel()[0]))
+    return out
+
+
+def _difference_with_grid(fun, n=(100, 400)):
+    """fun(n) -> (test, reference): their difference at the finer n, error the change from the coarser
+    (MDR's spring-cell ladder)."""
+    vals = [float(np.subtract(*fun(k))) for k in n]
+    return vals[-1], abs(vals[-1] - vals[0])
+
+
+def point_slip_index(p: Point, n: int = 400) -> float:
+    """The point's slip index: MDR in the apparatus, the sharp profile, the reference plates."""
+    from mdr.profiles import TruncatedSphere
+
+    return _slip_indices([TruncatedSphere(R_INDENTER, p.b)], [p], n=n)[0]
+
+
+def kink_cell(p: Point) -> dict:
+    """The kink rounded by a fillet of ``FILLET_MAX`` against the sharp kink: the slip index's change
+    (MDR in the apparatus; the effect grows with the width: a bound)."""
+    from mdr.profiles import RoundedTruncatedSphere, TruncatedSphere
+
+    if p.b == 0:
+        return cell(0.0, 0.0, "exact", "geometry", "no kink")
+    if p.b < 2 * FILLET_MAX:
+        return cell(None, None, "bound", "MDR apparatus", f"b = {p.b * 1e6:g} um: the fillet would take the face")
+
+    def fun(n):
+        return _slip_indices([RoundedTruncatedSphere(R_INDENTER, p.b, FILLET_MAX), TruncatedSphere(R_INDENTER, p.b)],
+                             [p, p], n=n)
+
+    e, err = _difference_with_grid(fun)
+    return cell(e, err, "bound", "MDR apparatus", f"fillet {FILLET_MAX * 1e6:g} um")
+
+
+#: the readings of the brass plates the budget spans: all of ``studies.plates.PLATE_READINGS`` but
+#: ``bending``, which sticks at every point of Figs. 4-9 where the paper measured loops
+#: (docs/apparatus.md, *Readings of the brass plates*)
+EXCLUDED_READINGS = ("bending",)
+
+
+def plates_cell(p: Point) -> dict:
+    """The slip index over the readings of the brass plates (``studies.plates.PLATE_READINGS`` but
+    ``EXCLUDED_READINGS``) against this project's reference reading (axial, R_bed 5 mm): the, MDR in the apparatus, all readings in one batch."""
+    from mdr.profiles import TruncatedSphere
+    from studies.paper import RES, _slip_index
+    from studies.plates import PLATE_READINGS
+
+    readings = [("axial", 5e-3)] + [r for r in PLATE_READINGS if r[0] not in EXCLUDED_READINGS + ("axial",)]
+    k = len(readings)
+    kw = {"plate_model": np.array([m for m, _ in readings]), "R_bed": np.array([rb for _, rb in readings])}
+
+    def each(n):
+        prof = TruncatedSphere(np.full(k, R_INDENTER), np.full(k, p.b))
+        si, _ = _slip_index(prof, np.full(k, p.kx), mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
+                            res={**RES, "n": n}, app_kw=kw)
+        si = np.asarray(si, dtype=float)
+        return si[1:] - si[0]
+
+    coarse, fine = each(100), each(400)
+    j = int(np.argmax(np.abs(fine)))
+    m, rb = readings[j + 1]
+    return cell(float(fine[j]), float(abs(fine[j] - coarse[j])), "spread", "MDR apparatus",
+                f"largest: {m}{f' R_bed {rb * 1e3:g} mm' if m in ('tilt', 'parallel') else ''}")
+
+
+def scaled(c: dict, slip_index: float) -> dict:
+    """A cell of a relative effect on the dissipation as the change of the point's slip index: effect
+    and error times ``slip_index``, the verdict taken again."""
+    if c["kind"] == "absolute" or c["effect"] is None:
+        return c
+    out = cell(c["effect"] * slip_index, c["error"] * slip_index, c["kind"], c["source"], c["note"])
+    return out
+
+
+# ------------------------------------------------------------- the sticking transition
+#: the slip index that marks the sticking transition of Fig. 9 (docs/apparatus.md: the paper's lies
+#: between 1 and 2 N/um at 0.1)
+TRANSITION_SLIP_INDEX = 0.1
+
+
+def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6, iters=12) -> float | None:
+    """The axis stiffness k_x (N/m) where the apparatus's slip index passes ``TRANSITION_SLIP_INDEX`` at
+    the point's load (Table 2's), by bisection on log k_x (the slip index grows with k_x: a stiffer
+    axis leaves more of the stroke to the contact); None where it does not pass it in [lo, hi]."""
+    def si(kx):
+        return _slip_indices([profile], [replace(p, kx=kx)])[0] - TRANSITION_SLIP_INDEX
+
+    if si(lo) > 0 or si(hi) < 0:
+        return None
+    for _ in range(iters):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if si(mid) < 0 else (lo, mid)
+    return math.sqrt(lo * hi)
+
+
+def transitions(store) -> list:
+    """The sticking transition of the smooth sphere and of the rough spheres of ``ROUGHNESS_RMS`` (MDR
+    with each stored surface's equivalent profile): rows {rms, kx (mean), sem, members}."""
+    from mdr.equivalent import EquivalentProfile
+    from mdr.profiles import TruncatedSphere
+
+    rows = [{"rms": 0.0, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0, "members": 1}]
+    res = store("roughness")
+    for rms in ROUGHNESS_RMS:
+        row = None if res is None else next((r for r in res["roughness"] if abs(r["rms"] - rms) < 1e-12), None)
+        curves = [] if row is None else [c for c in row.get("curves", []) if c]
+        ks = [sticking_transition(EquivalentProfile(c["d"], c["F"], Materials())) for c in curves]
+        ok = [k for k in ks if k is not None]
+        rows.append({"rms": rms, "kx": float(np.mean(ok)) if ok and len(ok) == len(ks) else None,
+                     "sem": float(np.std(ok, ddof=1) / np.sqrt(len(ok))) if len(ok) > 1 else None,
+                     "members": len(ks)})
+    return rows
+
+
+# --------------------------------------------------------------------------- the table
+def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
+    """The budget from the scenes stored under the folder ``out`` (or a dict of results by scene name,
+    results.json's ``scenes``; a missing scene's cells are undetermined, naming the command that
+    measures them) and, with ``mdr_cells``, the kink and plates cells and the sticking transition
+    computed here. Returns {"rows": [{key, title, slip_index, cells: {column: cell}}], "stale": [scene
+    names stored by other sources], "resolution", "transition"}."""
+    log = log or (lambda msg: None)
+    version, stale, cache = code_version(), [], {}
+
+    def store(name):
+        if name not in cache:
+            res = out.get(name) if isinstance(out, dict) else load_scene(out, name)
+            if res is not None and name in CATALOGUE and res.get("fingerprint") != CATALOGUE[name].fingerprint(version):
+                stale.append(name)
+            cache[name] = res
+        return cache[name]
+
+    rows = []
+    for r in results():
+        log(f"budget: {r.title}")
+        si = [point_slip_index(p) for p in r.points]
+        cells = {}
+        for col, fun in (("size", size_cell), ("curvature", curvature_cell), ("direction", direction_cell),
+                         ("tilt", tilt_cell)):
+            cells[col] = combine([scaled(fun(p, store), x) for p, x in zip(r.points, si)], TITLES[col])
+        cells["roughness"] = combine([roughness_cell(p, store, rms) for p in r.points for rms in ROUGHNESS_RMS],
+                                     TITLES["roughness"])
+        cells["coupling"] = cell(0.0, 0.0, "exact", "Dundurs", "indenter and block of one steel: beta = 0")
+        if mdr_cells:
+            cells["kink"] = combine([kink_cell(p) for p in r.points], "MDR apparatus")
+            cells["plates"] = combine([plates_cell(p) for p in r.points], "MDR apparatus")
+        rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],
+                     "cells": {c: cells[c] for c in COLUMNS if c in cells}})
+    out = {"rows": rows, "stale": sorted(set(stale)), "resolution": RESOLUTION}
+    if mdr_cells:
+        log("budget: the sticking transition")
+        out["transition"] = transitions(store)
+    return out
+
+
+def cell_text(c: dict) -> str:
+    if c["effect"] is None:
+        return f"undetermined ({c['note'] or c['source']})"
+    if c["kind"] == "bound":
+        body = f"<= {num(abs(c['effect']) + c['error'], '.2g')}"
+    else:
+        body = f"{num(c['effect'], '+.2g')} +- {num(c['error'], '.2g')}"
+    verdict = {"negligible": "negligible", "matters": "**matters**"}.get(c["verdict"], "undetermined")
+    return f"{body}: {verdict}" + (f" ({c['note']})" if c["note"] else "")
+
+
+def markdown(b: dict) -> list:
+    cols = [c for c in COLUMNS if any(c in r["cells"] for r in b["rows"])]
+    lines = [f"The change of each result's slip index when an assumption of the paper's model is dropped, with "
+             f"its error bar, against the figures' resolution of {b['resolution']:g} ({RESOLUTION_ORIGIN}). "
+             "'<=': a bound (the change lies between 0 and it). Effects measured on the dissipation under force "
+             "control at Table 2's load count as the same relative change of the result's slip index (its "
+             "range in the second column, MDR in the apparatus); the tilt's is a change of the slip index "
+             "itself. A result over several points shows its largest change; it is negligible only where "
+             "every point is, and matters where one measured point does.", "",
+             "| result | slip index | " + " | ".join(TITLES[c] for c in cols) + " |",
+             "|---|---|" + "---|" * len(cols)]
+    for r in b["rows"]:
+        lo, hi = r["slip_index"]
+        span = num(lo, ".2g") if abs(hi - lo) <= 1e-3 * max(abs(hi), 1e-12) else f"{num(lo, '.2g')}-{num(hi, '.2g')}"
+        lines.append(f"| {r['title']} | {span} | " + " | ".join(cell_text(r["cells"][c]) if c in r["cells"] else "-"
+                                                                 for c in cols) + " |")
+    if b.get("transition"):
+        lines += ["", f"The sticking transition (Fig. 9: k_x where the slip index passes {TRANSITION_SLIP_INDEX:g}; "
+                      "the paper's lies between 1 and 2 N/um), the sphere at Table 2's load in the apparatus, MDR "
+                      "with the smooth profile and with the equivalent profiles of the rough surfaces "
+                      "(mean +- standard error over the surfaces):", "",
+                  "| surface | k_x (N/um) |", "|---|---|"]
+        for t in b["transition"]:
+            name = "smooth" if not t["rms"] else f"rms {t['rms'] * 1e6:g} um, {t['members']} surfaces"
+            val = "undetermined" if t["kx"] is None else (
+                num(t["kx"], ".3g", 1e-6) + ("" if not t["sem"] else f" +- {num(t['sem'], '.2g', 1e-6)}"))
+            lines.append(f"| {name} | {val} |")
+    if b["stale"]:
+        lines += ["", f"Stored by other sources than these (rerun them): {', '.join(b['stale'])}."]
+    return lines
+
+
+def build_parser():
+    from common.cli import OneLineParser
+
+    p = OneLineParser(prog="python -m validation.budget",
+                      description="The error budget of the paper's model: for each of its results, the measured "
+                                  "cost of every assumption, from the scenes stored by python -m validation.compare "
+                                  "in --out (the kink and plates computed here with MDR, about a minute).")
+    p.add_argument("--out", default="results", metavar="DIR",
+                   help="the comparison's output directory (default ./results); budget.md is written there")
+    p.add_argument("--json", metavar="PATH", help="also write the budget as JSON to PATH ('-' = stdout)")
+    p.add_argument("--no-mdr", action="store_true", help="leave out the cells computed with MDR (kink, plates)")
+    return p
+
+
+def main(argv=None) -> int:
+    from common.errors import InputError
+    from common.io import check_output_path, write_bytes_atomic, write_json
+
+    p = build_parser()
+    args = p.parse_args(argv)
+    try:
+        out = Path(args.out)
+        if not (out / "scenes").is_dir():
+            raise InputError(f"--out {args.out!r} holds no stored scenes: run python -m validation.compare "
+                             f"--out {args.out} first")
+        if args.json not in (None, "-"):
+            check_output_path(args.json, "--json")
+    except InputError as e:
+        print(f"{p.prog}: error: {e}", file=sys.stderr)
+        return 2
+    b = budget(out, mdr_cells=not args.no_mdr, log=lambda m: print(m, file=sys.stderr, flush=True))
+    text = "\n".join(["# The error budget of the paper's model", ""] + markdown(b)) + "\n"
+    write_bytes_atomic(out / "budget.md", text.encode())
+    print(text)
+    if args.json is not None:
+        write_json(args.json, b)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,226 @@
+"""The family ``roughness``: the sphere on self-affine rough surfaces (the combined roughness of both
+bodies) through three models side by side (``rough.equivalent.mdr_against_rough``): the rough
+half-space (FFT boundary elements, tamaas, then Coulomb friction cell by cell with memory), MDR with
+the equivalent profile of each surface's own normal force-approach curve, and MDR with the smooth
+profile, the paper's model.
+
+One answer per variant (an rms height): the ensemble of its realisations (``seeds``), each on a
+ladder of grids (``grids``) that refine one band-limited surface (generated on the coarsest grid and
+resampled spectrally, ``rough.surfaces.resample``), so that each member's difference carries the
+grid's error bar and the ensemble its spread. The verdict of an MDR model on a quantity is the rule of
+every family (``validation.metrics.grade``): |mean difference| against the ensemble's standard error
+plus the mean grid error plus the catalogue's tolerance; an ensemble's spread is no upper bound, so a
+rough variant is at best "consistent within its spread".
+
+Each (variant, seed, grid) is a task of its own (``tasks``, ``member``): ``validation.compare``
+spreads them over ``--jobs`` processes or a ``--scheduler``'s workers and reduces them here (``run``
+with ``members``).
+
+Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is the smooth sphere),
+``hurst`` (0.8: most engineering surfaces, ground and turned steel among them, have H = 0.7-0.9;
+Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in Hertz contact radii of the
+scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
+truncated where the grid can resolve it, a modelling choice the result depends on and states),
+``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period).
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from common.errors import ConvergenceError
+from common.ladder import ladder_error
+
+from .. import metrics
+from ..scenes import Scene, a_ref
+from ..text import grade_text, num
+from . import result_of
+
+KEY = "roughness"
+TITLE = "roughness"
+#: a variant's defaults (see the module docstring)
+DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 256), "period": 16.0, "hurst": 0.8, "short": 4.0, "long": 0.25}
+#: the compared quantities and the catalogue tolerance each is judged by: the stiffness 2 G* a is
+#: the contact radius's (relative), the dissipation the dissipation's
+QUANTITIES = {"dissipation": "dissipation", "stiffness": "contact_radius"}
+MODELS = ("mdr_equivalent", "mdr_smooth")
+
+
+def variant_params(v: dict) -> dict:
+    """A variant's parameters: its keys over ``DEFAULTS`` (a smooth variant has one seed)."""
+    out = {**DEFAULTS, **v}
+    if float(out["rms"]) == 0.0:
+        out["seeds"] = (0,)
+    out["seeds"], out["grids"] = tuple(int(x) for x in out["seeds"]), tuple(int(x) for x in out["grids"])
+    return out
+
+
+def tasks(s: Scene) -> list:
+    """The scene's independent tasks: one per (variant, seed, grid), the finest grids first (the longest
+    first keeps every worker busy to the end)."""
+    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(s.variants)
+           for seed in variant_params(v)["seeds"] for n in variant_params(v)["grids"]]
+    return sorted(out, key=lambda t: -t["n"])
+
+
+def member(s: Scene, task: dict) -> dict:
+    """One task of ``tasks``: the three models on one realisation at one grid (plain data)."""
+    from rough.equivalent import mdr_against_rough
+    from rough.normal import Grid
+    from rough.surfaces import RoughnessParams, generate, resample
+
+    from ..sides import materials_of, profile_of
+
+    t0 = time.perf_counter()
+    v = variant_params(s.variants[task["variant"]])
+    P = float(v["period"]) * a_ref(s)
+    n0, n = v["grids"][0], int(task["n"])
+    heights = None
+    if float(v["rms"]) > 0:
+        coarse = generate(RoughnessParams(rms=float(v["rms"]), hurst=float(v["hurst"]),
+                                          lambda_short=float(v["short"]) * P / n0, lambda_long=float(v["long"]) * P,
+                                          size=P, n=n0, seed=int(task["seed"])))
+        heights = resample(coarse, n)
+    try:
+        res = mdr_against_rough(profile_of(s), materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
+                                cycles=s.cycles, steps=s.steps)
+    except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
+        return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
+    return {**task, "pixel": P / n, "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
+            "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"],
+            "runtime_s": time.perf_counter() - t0}
+
+
+def _variant_row(s: Scene, i: int, members: list) -> dict:
+    """The reduction of one variant's members: per seed the grid ladder of each relative difference,
+    then the ensemble's mean, its standard error and the mean grid error; the verdicts."""
+    v = variant_params(s.variants[i])
+    mine = [m for m in members if m["variant"] == i]
+    a = a_ref(s)
+    P = float(v["period"]) * a
+    per_seed = []
+    for seed in v["seeds"]:
+        lv = sorted((m for m in mine if m["seed"] == seed), key=lambda m: m["n"])
+        if [m["n"] for m in lv] != sorted(v["grids"]) or any("failed" in m for m in lv):
+            per_seed.append(None)  # a missing or failed level: the seed is undetermined
+            continue
+        sizes = [P / m["n"] for m in lv]
+        seed_row = {"seed": seed, "contact_area": lv[-1]["rough_halfspace"]["contact_area"]}
+        for mdl in MODELS:
+            for q in QUANTITIES:
+                seed_row[mdl, q] = ladder_error(sizes, [m["relative"][mdl][q] for m in lv])
+        per_seed.append(seed_row)
+    verdicts = {}
+    for mdl in MODELS:
+        for q, tol_key in QUANTITIES.items():
+            lads = [r[mdl, q] for r in per_seed if r is not None]
+            values = np.array([x["value"] if x["value"] is not None else np.nan for x in lads], dtype=float)
+            grid_errs = [x["error"] for x in lads]
+            complete = len(lads) == len(v["seeds"]) and np.all(np.isfinite(values)) and \
+                all(e is not None and np.isfinite(e) for e in grid_errs)
+            mean = float(values.mean()) if complete else None
+            sem = (float(values.std(ddof=1) / np.sqrt(values.size)) if values.size > 1 else 0.0) if complete else None
+            grid = float(np.mean(grid_errs)) if complete else None
+            err = None if not complete else sem + grid
+            bounded = complete and values.size == 1 and all(x["bounded"] for x in lads)
+            holds, g = metrics.grade(mean, err, s.tolerances()[tol_key], bounded=bounded)
+            verdicts[f"{mdl}:{q}"] = {"model": mdl, "quantity": q, "difference": mean, "error": err, "sem": sem,
+                                      "grid_error": grid, "tolerance": s.tolerances()[tol_key], "holds": holds,
+                                      "grade": g, "bounded": bounded,
+                                      "members": values.tolist(),
+                                      "grid_status": sorted({x["status"] for x in lads})}
+    areas = [r["contact_area"] for r in per_seed if r is not None]
+    hertz_area = np.pi * a ** 2
+    eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
+    return {"variant": i, "rms": float(v["rms"]), "seeds": list(v["seeds"]), "grids": list(v["grids"]),
+            "period": P, "hurst": float(v["hurst"]), "lambda_short": float(v["short"]) * P / v["grids"][0],
+            "lambda_long": float(v["long"]) * P,
+            "contact_area_over_hertz": float(np.mean(areas)) / hertz_area if areas else None,
+            "verdicts": verdicts, **dict(zip(("holds", "grade"), metrics.judged_grade(eq))),
+            "curves": [m["curve"] for m in mine if m["n"] == max(v["grids"]) and "curve" in m],
+            "failed": [{k: m[k] for k in ("seed", "n", "failed")} for m in mine if "failed" in m]}
+
+
+def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list | None = None) -> dict:
+    """The scene: its tasks run here in turn unless ``members`` (their results, from ``member``) are
+    given; then one row per variant (``_variant_row``)."""
+    t0 = time.perf_counter()
+    log = log or (lambda msg: None)
+    given = members is not None
+    if members is None:
+        members = []
+        for k, task in enumerate(tasks(s), 1):
+            members.append(member(s, task))
+            log(f"  member {k}: variant {task['variant']}, seed {task['seed']}, n = {task['n']} "
+                f"({members[-1]['runtime_s']:.0f} s)")
+    rows = [_variant_row(s, i, members) for i in range(len(s.variants))]
+    for r in rows:
+        d = r["verdicts"]["mdr_equivalent:dissipation"]
+        log(f"  rms {r['rms'] * 1e9:g} nm: equivalent MDR's dissipation {num(d['difference'], '+.2%')} "
+            f"+- {num(d['error'], '.2%')}: {r['grade']}")
+    cpu = sum(m.get("runtime_s", 0.0) for m in members)
+    res = result_of(s, KEY, rows, t0, out_dir, figure, members_cpu_s=cpu)
+    if given:  # the tasks ran elsewhere: the scene's cost is theirs
+        res["runtime_s"] = cpu
+    return res
+
+
+def table(res) -> list:
+    lines = ["The sphere on rough surfaces: each MDR model's dissipation per stationary cycle and initial "
+             "tangential stiffness relative to the rough half-space's (rough.equivalent), the ensemble's mean "
+             "+- (its standard error + the mean grid error of its members; each member's grid ladder refines "
+             "one band-limited surface). Equivalent: MDR with the profile of the rough contact's own F_N(d); "
+             "smooth: the paper's model. A spread is no upper bound: a rough row is at best consistent.", "",
+             "| rms | seeds | grids | period / a | lambda short, long (um) | contact area / Hertz | "
+             "equivalent: dissipation | stiffness | smooth: dissipation | stiffness | equivalent MDR holds? |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def cell(r, key):
+        x = r["verdicts"][key]
+        if x["difference"] is None:
+            return "undetermined"
+        return f"{num(x['difference'], '+.1f', 100)} +- {num(x['error'], '.1f', 100)} % ({x['grade']})"
+
+    def lam(r):
+        return "-" if not r["rms"] else f"{num(r['lambda_short'], '.3g', 1e6)}, {num(r['lambda_long'], '.3g', 1e6)}"
+
+    a = res["errors"]["a_ref"]
+    for r in res[KEY]:
+        lines.append(f"| {'smooth' if not r['rms'] else num(r['rms'], '.3g', 1e9) + ' nm'} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
+                     f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
+                     f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
+                     f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
+    return lines
+
+
+def figure(result: dict, out_dir) -> dict:
+    """Each MDR model's difference from the rough half-space against the rms height: the members
+    (dots) and the ensemble mean with its error bar; grey: the catalogue's tolerance."""
+    from ..figures import plt, save
+
+    rows = result[KEY]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for ax, q in zip(axes, QUANTITIES):
+        for k, (mdl, label, mk) in enumerate((("mdr_equivalent", "MDR, equivalent profile", "o"),
+                                              ("mdr_smooth", "MDR, smooth sphere", "s"))):
+            xs, ys, es = [], [], []
+            for j, r in enumerate(rows):
+                x = r["verdicts"][f"{mdl}:{q}"]
+                pos = j + (k - 0.5) * 0.15
+                ax.plot([pos] * len(x["members"]), 100 * np.asarray(x["members"], dtype=float), ".",
+                        color=f"C{k}", alpha=0.5)
+                if x["difference"] is not None and x["error"] is not None:
+                    xs.append(pos), ys.append(100 * x["difference"]), es.append(100 * x["error"])
+            ax.errorbar(xs, ys, yerr=es, fmt=mk, color=f"C{k}", capsize=4, label=label)
+        tol = rows[0]["verdicts"][f"mdr_equivalent:{q}"]["tolerance"] if rows else None
+        if tol:
+            ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0)
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        ax.set_xticks(range(len(rows)), [("smooth" if r["rms"] == 0 else f"rms {r['rms'] * 1e9:g} nm") for r in rows])
+        ax.set_ylabel(f"{q}: MDR / rough half-space - 1 (%)")
+        ax.set_title(f"{q} (sphere, F0 = {result['scene']['F0']:g} N, Q = {result['scene']['amplitude']:g} N)")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return {"roughness": save(fig, Path(out_dir) / "roughness.png")}
