@@ -141,8 +141,8 @@ def combine(cells: list, source: str) -> dict:
     out["source"] = source if len(cells) > 1 else shown["source"]
     out["verdict"] = "matters" if "matters" in verdicts else ("negligible" if all(v == "negligible" for v in verdicts)
                                                               else "undetermined")
-    notes = sorted({c["note"] for c in cells if c["note"]})
-    out["note"] = "; ".join(notes)
+    gaps = sorted({c["note"] for c in cells if c["effect"] is None and c["note"]})
+    out["note"] = "; ".join(([shown["note"]] if shown["note"] and shown["effect"] is not None else []) + gaps)
     return out
 
 
@@ -230,9 +230,9 @@ def tilt_cell(p: Point, store) -> dict:
     return cell(None, None, "absolute", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
 
 
-#: the paper's roughness on the sphere's contact: the sphere's own rms, and combined with the block's
-#: sqrt(1^2 + 3^2) um (Section 2)
-ROUGHNESS_RMS = (1e-6, 3.2e-6)
+#: the paper's roughness on the sphere's contact: the sphere's own rms (Section 2); combined with the
+#: block's 3 um (3.2 um) its contact touches single pixels on the scene's grids and is not run
+ROUGHNESS_RMS = (1e-6,)
 
 
 def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
@@ -440,6 +440,8 @@ def cell_text(c: dict) -> str:
         return f"undetermined ({c['note'] or c['source']})"
     if c["kind"] == "bound":
         body = f"<= {num(abs(c['effect']) + c['error'], '.2g')}"
+    elif c["kind"] == "exact":
+        body = f"{num(c['effect'], 'g')} (exact)"
     else:
         body = f"{num(c['effect'], '+.2g')} +- {num(c['error'], '.2g')}"
     verdict = {"negligible": "negligible", "matters": "**matters**"}.get(c["verdict"], "undetermined")

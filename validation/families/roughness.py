@@ -41,7 +41,7 @@ from . import result_of
 KEY = "roughness"
 TITLE = "roughness"
 #: a variant's defaults (see the module docstring)
-DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 256), "period": 16.0, "hurst": 0.8, "short": 4.0, "long": 0.25}
+DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0, "long": 0.25}
 #: the compared quantities and the catalogue tolerance each is judged by: the stiffness 2 G* a is
 #: the contact radius's (relative), the dissipation the dissipation's
 QUANTITIES = {"dissipation": "dissipation", "stiffness": "contact_radius"}
@@ -158,13 +158,20 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
     rows = [_variant_row(s, i, members) for i in range(len(s.variants))]
     for r in rows:
         d = r["verdicts"]["mdr_equivalent:dissipation"]
-        log(f"  rms {r['rms'] * 1e9:g} nm: equivalent MDR's dissipation {num(d['difference'], '+.2%')} "
+        log(f"  {rms_text(r['rms'])}: equivalent MDR's dissipation {num(d['difference'], '+.2%')} "
             f"+- {num(d['error'], '.2%')}: {r['grade']}")
     cpu = sum(m.get("runtime_s", 0.0) for m in members)
     res = result_of(s, KEY, rows, t0, out_dir, figure, members_cpu_s=cpu)
     if given:  # the tasks ran elsewhere: the scene's cost is theirs
         res["runtime_s"] = cpu
     return res
+
+
+def rms_text(rms) -> str:
+    """An rms height as the tables show it: smooth, nm below 1 um, else um."""
+    if not rms:
+        return "smooth"
+    return f"{num(rms, '.3g', 1e9)} nm" if rms < 1e-6 else f"{num(rms, '.3g', 1e6)} um"
 
 
 def table(res) -> list:
@@ -188,7 +195,7 @@ def table(res) -> list:
 
     a = res["errors"]["a_ref"]
     for r in res[KEY]:
-        lines.append(f"| {'smooth' if not r['rms'] else num(r['rms'], '.3g', 1e9) + ' nm'} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
+        lines.append(f"| {rms_text(r['rms'])} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
                      f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
@@ -218,7 +225,7 @@ def figure(result: dict, out_dir) -> dict:
         if tol:
             ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0)
         ax.axhline(0.0, color="0.5", lw=0.8)
-        ax.set_xticks(range(len(rows)), [("smooth" if r["rms"] == 0 else f"rms {r['rms'] * 1e9:g} nm") for r in rows])
+        ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) for r in rows])
         ax.set_ylabel(f"{q}: MDR / rough half-space - 1 (%)")
         ax.set_title(f"{q} (sphere, F0 = {result['scene']['F0']:g} N, Q = {result['scene']['amplitude']:g} N)")
         ax.legend(fontsize=8)
