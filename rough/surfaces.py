@@ -105,10 +105,10 @@ def generate(p: RoughnessParams) -> HeightMap:
     return HeightMap(h=h * (p.rms / h.std()), pixel=p.pixel)
 
 
-def load_height_map(path, pixel) -> HeightMap:
+def load_height_map(path, pixel, *, square: bool = False) -> HeightMap:
     """A measured map from ``path`` (``.npy``, else a plain-text grid: comma- or whitespace-separated),
     heights in m, square pixels of ``pixel`` m (the instrument's lateral resolution: stated, never
-    guessed); the mean is removed."""
+    guessed); the mean is removed. ``square``: the map must be n x n (a periodic grid's)."""
     if pixel is None:
         raise InputError(f"height map {str(path)!r}: the pixel size must be given (m; the instrument's lateral "
                          "sampling)")
@@ -131,6 +131,8 @@ def load_height_map(path, pixel) -> HeightMap:
     if bad:
         raise InputError(f"height map {str(path)!r} has {bad} non-finite pixels (NaN or inf: fill or crop them "
                          "first)")
+    if square and h.shape[0] != h.shape[1]:
+        raise InputError(f"height map {str(path)!r} must be square for the periodic grid, got shape {h.shape}")
     return HeightMap(h=h - h.mean(), pixel=pixel)
 
 

@@ -92,3 +92,63 @@ def test_a_bad_variant_is_one_line_naming_its_key(variant, word):
     assert "\n" not in str(e.value)
     with pytest.raises(InputError, match="sphere"):
         Scene("x", "x", "flat", b=50e-6, dF=0.0, family="roughness", variants=({"rms": 1e-8},))
+
+
+def test_measured_maps_are_the_surfaces_they_hold(members, tmp_path):
+    """A variant of measured maps (``maps``, ``pixel``) runs the maps as they are: the maps written from
+    the generated surfaces of SMALL's seeds give SMALL's members (the same surface, the same grid)."""
+    from rough.surfaces import RoughnessParams, generate
+
+    v = SMALL.variants[0]
+    P = R._period(SMALL, R.variant_params(v))
+    paths = []
+    for seed in (0, 1):
+        m = generate(RoughnessParams(rms=v["rms"], hurst=0.8, lambda_short=v["short"] * P / 48,
+                                     lambda_long=0.25 * P, size=P, n=48, seed=seed))
+        paths.append(str(tmp_path / f"map{seed}.npy"))
+        np.save(paths[-1], m.h)
+    s = replace(SMALL, variants=({"maps": paths, "pixel": P / 48, "grids": (48, 96)},))
+    got = R.member(s, {"variant": 0, "seed": 1, "n": 96})
+    ref = next(m for m in members if (m["seed"], m["n"]) == (1, 96))
+    for q in ("dissipation", "stiffness"):
+        assert got["relative"]["mdr_equivalent"][q] == pytest.approx(ref["relative"]["mdr_equivalent"][q],
+                                                                     rel=1e-6, abs=1e-9)
+    assert got["rms"] == pytest.approx(v["rms"], rel=1e-9)
+    assert R.variant_params({"maps": paths, "pixel": P / 48})["grids"] == (48, 72, 96)
+
+
+@pytest.mark.parametrize("bad,word", [("nan", "non-finite"), ("oblong", "square"), ("pixel", "pixel size"),
+                                      ("one", "at least 2"), ("grid", "ladder from the maps")])
+def test_a_bad_measured_map_is_one_line(bad, word, tmp_path):
+    h = np.random.default_rng(0).normal(size=(32, 32)) * 1e-8
+    good = tmp_path / "good.npy"
+    np.save(good, h)
+    broken = tmp_path / "broken.npy"
+    if bad == "nan":
+        h[3, 4] = np.nan
+    if bad == "oblong":
+        h = h[:, :20]
+    np.save(broken, h)
+    variant = {"maps": [str(good), str(broken)], "pixel": 1e-6}
+    if bad == "pixel":
+        del variant["pixel"]
+    if bad == "one":
+        variant["maps"] = [str(good)]
+    if bad == "grid":
+        variant["maps"], variant["grids"] = [str(good), str(good)], (64, 128)
+    with pytest.raises(InputError, match=word) as e:
+        replace(SMALL, variants=(variant,))
+    assert "\n" not in str(e.value)
+
+
+def test_an_edited_map_is_a_changed_scene(tmp_path):
+    """The stored result of a scene is reused while its fingerprint holds: a measured map's content is
+    part of it (a path alone would keep the result of the old map)."""
+    paths = [tmp_path / "a.npy", tmp_path / "b.npy"]
+    for k, p in enumerate(paths):
+        np.save(p, np.random.default_rng(k).normal(size=(32, 32)) * 1e-8)
+    s = replace(SMALL, variants=({"maps": [str(p) for p in paths], "pixel": 1e-6},))
+    before = s.fingerprint("v")
+    assert s.fingerprint("v") == before
+    np.save(paths[1], np.random.default_rng(7).normal(size=(32, 32)) * 1e-8)
+    assert s.fingerprint("v") != before

@@ -90,8 +90,13 @@ MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
 #: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
 #: table, its figure), and the key each family's variants hold (the pair has none)
+#: the defaults of a variant of the roughness family (``validation.families.roughness``): 4 surfaces, grids
+#: of 128, 192, 256 pixels, a period of 16 Hertz radii, Hurst 0.8, the short cut-off at 4 pixels of the
+#: coarsest grid, the roll-off at a quarter period
+ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0,
+                  "long": 0.25}
 FAMILIES = {"pair": None, "validity": ("block", "cap"), "curvature": ("a_over_R",), "assumptions3d": ("relax",),
-            "tilt": ("tilts",), "roughness": ("rms",)}
+            "tilt": ("tilts",), "roughness": ("rms", "maps")}
 
 #: What "MDR holds" claims, beyond both models' own error bars (the verdict of a metric is
 #: |MDR - FE| <= FE error + MDR error + tolerance). The half-space assumptions themselves
@@ -230,12 +235,17 @@ class Scene:
                              f"valid: {', '.join(TOLERANCES)}")
 
     def _check_rough(self):
-        """The roughness family's variants (``validation.families.roughness``): the sphere under force
-        control at constant F_N; rms >= 0 (m), at least 2 seeds where rms > 0, at least 2 grids
-        increasing from 16 pixels, a period of at least 4 Hertz radii, the cut-offs inside the grid."""
-        rough = [v for v in self.variants if "rms" in v]
+        """The roughness family's variants (``validation.families.roughness``, its ``DEFAULTS``): the sphere
+        under force control at constant F_N; generated surfaces: rms >= 0 (m), at least 2 seeds where
+        rms > 0, a period of at least 4 Hertz radii, the cut-offs inside the grid; measured ones: at
+        least 2 readable square maps of one size with their pixel size, the coarsest grid their pixels;
+        at least 2 grids increasing from 16 pixels."""
+        rough = [v for v in self.variants if "rms" in v or "maps" in v]
         if not rough:
             return
+        from rough.surfaces import load_height_map
+
+        DEFAULTS = ROUGH_DEFAULTS
         if self.family != "roughness" or len(rough) != len(self.variants) or self.profile != "sphere" \
                 or self.drive != "force" or self.dF != 0.0:
             raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere', "
@@ -244,28 +254,40 @@ class Scene:
             def bad(key, rng):
                 return InputError(f"scene {self.name}: rough variant {v!r}: {key} must be {rng}")
 
-            try:
-                rms, seeds = float(v["rms"]), [int(x) for x in v.get("seeds", (0, 1))]
-                grids = [int(x) for x in v.get("grids", (128, 192, 256))]
-                period, short = float(v.get("period", 16.0)), float(v.get("short", 4.0))
-                long_, hurst = float(v.get("long", 0.25)), float(v.get("hurst", 0.8))
-            except (TypeError, ValueError):
-                raise bad("rms, seeds, grids, period, short, long, hurst", "numbers (seeds and grids lists of "
-                          "integers)") from None
-            if not (math.isfinite(rms) and rms >= 0):
-                raise bad("rms", ">= 0 (m)")
-            if rms > 0 and (len(set(seeds)) < 2 or min(seeds) < 0):
-                raise bad("seeds", "at least 2 distinct integers >= 0 (one realisation is no answer)")
+            if "maps" in v:
+                maps = v["maps"]
+                if isinstance(maps, str) or not isinstance(maps, (list, tuple)) or len(maps) < 2:
+                    raise bad("maps", "a list of at least 2 height-map files (one realisation is no answer)")
+                sizes = {load_height_map(f, v.get("pixel"), square=True).h.shape[0] for f in maps}
+                if len(sizes) != 1:
+                    raise bad("maps", f"maps of one size, got {sorted(sizes)} pixels")
+                n_map = sizes.pop()
+                grids = [int(x) for x in v.get("grids", (n_map, 3 * n_map // 2, 2 * n_map))]
+                if grids[0] != n_map:
+                    raise bad("grids", f"a ladder from the maps' {n_map} pixels")
+            else:
+                try:
+                    rms, seeds = float(v["rms"]), [int(x) for x in v.get("seeds", DEFAULTS["seeds"])]
+                    grids = [int(x) for x in v.get("grids", DEFAULTS["grids"])]
+                    period, short = float(v.get("period", DEFAULTS["period"])), float(v.get("short", DEFAULTS["short"]))
+                    long_, hurst = float(v.get("long", DEFAULTS["long"])), float(v.get("hurst", DEFAULTS["hurst"]))
+                except (TypeError, ValueError):
+                    raise bad("rms, seeds, grids, period, short, long, hurst", "numbers (seeds and grids lists of "
+                              "integers)") from None
+                if not (math.isfinite(rms) and rms >= 0):
+                    raise bad("rms", ">= 0 (m)")
+                if rms > 0 and (len(set(seeds)) < 2 or min(seeds) < 0):
+                    raise bad("seeds", "at least 2 distinct integers >= 0 (one realisation is no answer)")
+                if not period >= 4.0:
+                    raise bad("period", ">= 4 (Hertz contact radii)")
+                if not 2.0 <= short <= grids[0] / 2:
+                    raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
+                if not short / grids[0] < long_ <= 1.0:
+                    raise bad("long", f"in ({short / grids[0]:.3g}, 1] (fractions of the period)")
+                if not 0.0 < hurst < 1.0:
+                    raise bad("hurst", "in (0, 1)")
             if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
                 raise bad("grids", "at least 2 pixel counts, increasing, from 16")
-            if not period >= 4.0:
-                raise bad("period", ">= 4 (Hertz contact radii)")
-            if not 2.0 <= short <= grids[0] / 2:
-                raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
-            if not short / grids[0] < long_ <= 1.0:
-                raise bad("long", f"in ({short / grids[0]:.3g}, 1] (fractions of the period)")
-            if not 0.0 < hurst < 1.0:
-                raise bad("hurst", "in (0, 1)")
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene
@@ -342,8 +364,17 @@ class Scene:
         return d
 
     def fingerprint(self, code_version: str) -> str:
-        """Hash of the scene's inputs and the code version (a rerun skips unchanged scenes)."""
-        blob = json.dumps({"scene": self.as_dict(), "code": code_version}, sort_keys=True, default=str)
+        """Hash of the scene's inputs and the code version (a rerun skips unchanged scenes); the files a
+        scene reads (a rough variant's measured ``maps``) by their content, so an edited map reruns."""
+        files = {}
+        for v in self.variants:
+            for f in v.get("maps", ()):
+                try:
+                    files[str(f)] = hashlib.sha256(Path(f).read_bytes()).hexdigest()
+                except OSError:
+                    files[str(f)] = None
+        blob = json.dumps({"scene": self.as_dict(), "code": code_version, "files": files}, sort_keys=True,
+                          default=str)
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
     def quick_version(self) -> "Scene":

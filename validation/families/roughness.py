@@ -16,6 +16,10 @@ Each (variant, seed, grid) is a task of its own (``tasks``, ``member``): ``valid
 spreads them over ``--jobs`` processes or a ``--scheduler``'s workers and reduces them here (``run``
 with ``members``).
 
+A variant of measured surfaces: ``maps`` (paths of square height maps, ``.npy`` or a plain-text grid,
+one per realisation, at least 2) with their ``pixel`` size (m); the grid is the maps' own (its side their
+side, its coarsest level their pixels, finer levels resampled).
+
 Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is the smooth sphere),
 ``hurst`` (0.8: most engineering surfaces, ground and turned steel among them, have H = 0.7-0.9;
 Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in Hertz contact radii of the
@@ -34,14 +38,14 @@ from common.errors import ConvergenceError
 from common.ladder import ladder_error
 
 from .. import metrics
-from ..scenes import Scene, a_ref
+from ..scenes import ROUGH_DEFAULTS, Scene, a_ref
 from ..text import grade_text, num
 from . import result_of
 
 KEY = "roughness"
 TITLE = "roughness"
-#: a variant's defaults (see the module docstring)
-DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0, "long": 0.25}
+#: a variant's defaults (see the module docstring; their one home is ``validation.scenes``)
+DEFAULTS = ROUGH_DEFAULTS
 #: the compared quantities and the catalogue tolerance each is judged by: the stiffness 2 G* a is
 #: the contact radius's (relative), the dissipation the dissipation's
 QUANTITIES = {"dissipation": "dissipation", "stiffness": "contact_radius"}
@@ -49,12 +53,27 @@ MODELS = ("mdr_equivalent", "mdr_smooth")
 
 
 def variant_params(v: dict) -> dict:
-    """A variant's parameters: its keys over ``DEFAULTS`` (a smooth variant has one seed)."""
+    """A variant's parameters: its keys over ``DEFAULTS`` (a smooth variant has one seed; a variant of
+    measured ``maps`` one seed per map, its period the maps' side, its coarsest grid their pixels)."""
     out = {**DEFAULTS, **v}
-    if float(out["rms"]) == 0.0:
+    if "maps" in v:
+        out["rms"] = None  # measured: each map's own
+        out["seeds"] = tuple(range(len(v["maps"])))
+        if "grids" not in v:
+            n = measured_map(v, 0).h.shape[0]
+            out["grids"] = (n, 3 * n // 2, 2 * n)
+    elif float(out["rms"]) == 0.0:
         out["seeds"] = (0,)
     out["seeds"], out["grids"] = tuple(int(x) for x in out["seeds"]), tuple(int(x) for x in out["grids"])
     return out
+
+
+def measured_map(v: dict, k: int):
+    """The k-th measured map of a variant (``rough.surfaces.load_height_map``: square, finite, its pixel
+    size stated in the variant's ``pixel``, m)."""
+    from rough.surfaces import load_height_map
+
+    return load_height_map(v["maps"][k], v.get("pixel"), square=True)
 
 
 def tasks(s: Scene) -> list:
@@ -75,10 +94,12 @@ def member(s: Scene, task: dict) -> dict:
 
     t0 = time.perf_counter()
     v = variant_params(s.variants[task["variant"]])
-    P = float(v["period"]) * a_ref(s)
+    P = _period(s, v)
     n0, n = v["grids"][0], int(task["n"])
     heights = None
-    if float(v["rms"]) > 0:
+    if "maps" in v:
+        heights = resample(measured_map(v, int(task["seed"])), n)
+    elif float(v["rms"]) > 0:
         coarse = generate(RoughnessParams(rms=float(v["rms"]), hurst=float(v["hurst"]),
                                           lambda_short=float(v["short"]) * P / n0, lambda_long=float(v["long"]) * P,
                                           size=P, n=n0, seed=int(task["seed"])))
@@ -88,9 +109,17 @@ def member(s: Scene, task: dict) -> dict:
                                 cycles=s.cycles, steps=s.steps)
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
         return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
-    return {**task, "pixel": P / n, "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
+    return {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
+            "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
             "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"],
             "runtime_s": time.perf_counter() - t0}
+
+
+def _period(s: Scene, v: dict) -> float:
+    """The grid's side (m): a measured map's, else ``period`` Hertz radii."""
+    if "maps" in v:
+        return float(v["pixel"]) * v["grids"][0]
+    return float(v["period"]) * a_ref(s)
 
 
 def _variant_row(s: Scene, i: int, members: list) -> dict:
@@ -99,7 +128,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     v = variant_params(s.variants[i])
     mine = [m for m in members if m["variant"] == i]
     a = a_ref(s)
-    P = float(v["period"]) * a
+    P = _period(s, v)
     per_seed = []
     for seed in v["seeds"]:
         lv = sorted((m for m in mine if m["seed"] == seed), key=lambda m: m["n"])
@@ -134,9 +163,13 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     areas = [r["contact_area"] for r in per_seed if r is not None]
     hertz_area = np.pi * a ** 2
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
-    return {"variant": i, "rms": float(v["rms"]), "seeds": list(v["seeds"]), "grids": list(v["grids"]),
-            "period": P, "hurst": float(v["hurst"]), "lambda_short": float(v["short"]) * P / v["grids"][0],
-            "lambda_long": float(v["long"]) * P,
+    measured = "maps" in v
+    rms = float(np.mean([m["rms"] for m in mine if "rms" in m] or [np.nan])) if measured else float(v["rms"])
+    return {"variant": i, "rms": rms, "measured": list(v["maps"]) if measured else None,
+            "seeds": list(v["seeds"]), "grids": list(v["grids"]),
+            "period": P, "hurst": None if measured else float(v["hurst"]),
+            "lambda_short": None if measured else float(v["short"]) * P / v["grids"][0],
+            "lambda_long": None if measured else float(v["long"]) * P,
             "contact_area_over_hertz": float(np.mean(areas)) / hertz_area if areas else None,
             "verdicts": verdicts, **dict(zip(("holds", "grade"), metrics.judged_grade(eq))),
             "curves": [m["curve"] for m in mine if m["n"] == max(v["grids"]) and "curve" in m],
@@ -191,11 +224,13 @@ def table(res) -> list:
         return f"{num(x['difference'], '+.1f', 100)} +- {num(x['error'], '.1f', 100)} % ({x['grade']})"
 
     def lam(r):
+        if r.get("measured"):
+            return "measured"
         return "-" if not r["rms"] else f"{num(r['lambda_short'], '.3g', 1e6)}, {num(r['lambda_long'], '.3g', 1e6)}"
 
     a = res["errors"]["a_ref"]
     for r in res[KEY]:
-        lines.append(f"| {rms_text(r['rms'])} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
+        lines.append(f"| {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
                      f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
