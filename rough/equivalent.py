@@ -40,16 +40,18 @@ MDR_STEP_FACTOR = 10
 
 
 def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: HeightMap | None = None, *,
-                      cycles: int = 3, steps: int = 40) -> dict:
+                      cycles: int = 3, steps: int = 40, hardness: float | None = None) -> dict:
     """The three models of the module docstring at normal force F0 (N) and tangential force amplitude
     fa (N, below mu F0) on ``grid``: per model ``dissipation`` (J, the last cycle's) and
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
     dissipation and stiffness over the rough half-space's, minus 1; ``curve``: the rough half-space's
-    normal force-approach samples (``d``, ``F``) the equivalent profile was built from."""
+    normal force-approach samples (``d``, ``F``) the equivalent profile was built from. ``hardness``
+    (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``; the curve is the
+    first loading's, which the equivalent profile then unloads elastically)."""
     F0, fa = positive("F0", F0), positive("fa", fa)
     if fa >= mu * F0:
         raise InputError(f"fa must stay below mu F0 = {mu * F0:.4g} N (force control), got {fa!r}")
-    normal = normal_contact(profile, materials, F0, grid, heights)
+    normal = normal_contact(profile, materials, F0, grid, heights, hardness=hardness)
     tc = TangentialContact(grid, materials, mu)
     hs = run_force_cycles(tc, normal["pressure"], fa, cycles=cycles, steps=steps)
     Q1 = fa * np.sin(2.0 * np.pi / steps)  # the first step: full stick
@@ -57,11 +59,12 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     u = halfspace_tangential_displacement(first.q, grid.pixel, materials)
     stick = normal["pressure"] > 0
     k_hs = Q1 / float(np.sum(u[stick] * normal["pressure"][stick]) / np.sum(normal["pressure"][stick]))
-    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights)
+    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights, hardness=hardness)
     eq = EquivalentProfile(d, F, materials)
     loading = Loading.of(F0, fa=fa, cycles=cycles, steps=MDR_STEP_FACTOR * steps)
     out = {"rough_halfspace": {"dissipation": hs["dissipation"], "stiffness": float(k_hs),
-                               "contact_area": normal["contact_area"], "approach": normal["approach"]},
+                               "contact_area": normal["contact_area"], "approach": normal["approach"],
+                               "plastic_area": normal["plastic_area"]},
            "equivalent": eq.describe(), "curve": {"d": d.tolist(), "F": F.tolist()}}
     for name, prof in (("mdr_equivalent", eq), ("mdr_smooth", profile)):
         res = run_mdr_contact(prof, materials, mu, loading)

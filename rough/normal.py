@@ -22,6 +22,7 @@ import numpy as np
 from common.errors import ConvergenceError, InputError, positive, positive_int
 from common.ladder import GCI_SAFETY, ladder_error
 
+from .boxqp import solve_box
 from .surfaces import MIN_PIXELS, HeightMap, require_tamaas
 
 #: the solver's relative tolerance (tamaas's error norm of the complementarity)
@@ -50,14 +51,62 @@ class Grid:
         return np.hypot(X, Y)
 
 
-def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None = None) -> dict:
+#: the hardness of the paper's steel X5CrNi18-10 (AISI 304), solution annealed: at most 215 HB
+#: (EN 10088-3), about 2.1 GPa (Brinell's kgf/mm^2 x 9.81 MPa): the mean pressure a fully plastic
+#: asperity carries (Tabor, *The Hardness of Metals*, Oxford 1951)
+HARDNESS_X5CRNI18_10 = 2.1e9
+#: the capped solve's tolerance (``rough.boxqp.solve_box``: of the range of the elastic displacement)
+SATURATED_TOLERANCE = 1e-10
+
+
+def normal_compliance(grid: Grid, E_star) -> np.ndarray:
+    """The periodic half-space's surface compliance in discrete Fourier space (rfft2 layout, m / Pa):
+    u(k) = 2 p(k) / (E* |k|) (Westergaard's, the kernel of tamaas's elastic solve: the same contact for
+    a cap the pressure never reaches, ``tests/test_rough_normal.py``), the mean (rigid) mode 0."""
+    kx = 2.0 * np.pi * np.fft.fftfreq(grid.n, d=grid.pixel)
+    ky = 2.0 * np.pi * np.fft.rfftfreq(grid.n, d=grid.pixel)
+    k = np.hypot(*np.meshgrid(kx, ky, indexing="ij"))
+    out = np.zeros_like(k)
+    out[k > 0] = 2.0 / (float(E_star) * k[k > 0])
+    return out
+
+
+def saturated_pressure(surface, F, grid: Grid, E_star, hardness) -> np.ndarray:
+    """The pressure (n, n) (Pa) of a rigid ``surface`` (heights, m: the highest point touches first) pressed
+    with the force ``F`` on the periodic elastic half-space with the pressure capped at ``hardness`` (Pa):
+    perfectly plastic asperities (the elastic-perfectly-plastic half-space of Almqvist et al. 2007,
+    Tribology International 40, 574). With the gap g0 = max(s) - s it minimises (1/2) p.Kp + p.g0 over
+    0 <= p <= H with sum(p) dA = F: contact (p > 0) closes the gap, a plastic pixel (p = H) penetrates.
+    Solved as the symmetric box |p - H/2| <= H/2 (K of a constant is 0) by ``rough.boxqp.solve_box``."""
+    n, dA = grid.n, grid.pixel ** 2
+    H = float(positive("hardness", hardness))
+    if F >= H * n * n * dA:
+        raise InputError(f"F = {F:.4g} N needs more than the hardness {H:.3g} Pa over the whole grid "
+                         f"({H * n * n * dA:.4g} N): raise the hardness or the period")
+    K = normal_compliance(grid, E_star)
+
+    def apply(q):
+        return np.fft.irfft2(K * np.fft.rfft2(q), s=q.shape)
+
+    s = np.asarray(surface, dtype=float)
+    lim = np.full((n, n), 0.5 * H)
+    q = solve_box(apply, s.max() - s, lim, F - 0.5 * H * n * n * dA, -lim, dA, SATURATED_TOLERANCE,
+                  "saturated normal contact")
+    return np.clip(q + 0.5 * H, 0.0, H)
+
+
+def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None = None, *,
+                   hardness: float | None = None) -> dict:
     """The frictionless normal contact of ``profile`` (+ ``heights``, on the same grid) under the force
-    ``F`` (N) on the periodic ``grid``. Returns ``contact_area`` (m^2, the pixels in contact),
+    ``F`` (N) on the periodic ``grid``; with ``hardness`` (Pa) its pressure capped there, perfectly
+    plastic asperities (``saturated_pressure``; the plastic pixels penetrate, so the approach is read from
+    the elastic contact pixels alone; a first loading: no unloading, no memory of plastic flow). Returns ``contact_area`` (m^2, the pixels in contact),
     ``contact_radius_area`` (sqrt(area / pi)), ``pressure_radius`` (sqrt(5 M2 / (2 F)) with M2 the
     pressure's second moment about the axis: exact for Hertz, and defined for any pressure: a rough
     contact's spread), ``p_max`` (Pa), ``approach`` (m, the rigid approach since first contact in the
     half-space without periodic images: ``halfspace_displacement``) and ``approach_spread``,
-    ``pressure`` (n, n) (Pa) and the grid."""
+    ``pressure`` (n, n) (Pa), ``plastic_area`` (m^2, the pixels at the hardness; 0 without one) and the
+    grid."""
     tm = require_tamaas()
     F = positive("F", F)
     r = grid.radii()
@@ -75,6 +124,9 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
                              f"got {heights.h.shape} of {heights.pixel:.4g} m")
         surface = surface + heights.h
     s = np.ascontiguousarray(surface)
+    if hardness is not None:
+        return _contact_result(saturated_pressure(s, F, grid, materials.E_star, hardness), s, F, grid, r, materials,
+                               hardness)
     tm.set_log_level(tm.LogLevel.error)
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [grid.period, grid.period], [grid.n, grid.n])
     model.E, model.nu = float(materials.E_star), 0.0  # tamaas's E* = E / (1 - nu^2)
@@ -85,11 +137,17 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
         raise ConvergenceError(f"the contact at F = {F:.4g} N is a single pixel of {grid.pixel:.3g} m: raise the "
                                f"load or refine the grid ({e})") from e
     p = np.array(model.traction, dtype=float).reshape(grid.n, grid.n)
+    return _contact_result(p, s, F, grid, r, materials, None)
+
+
+def _contact_result(p, s, F, grid, r, materials, hardness) -> dict:
+    """``normal_contact``'s keys of the pressure ``p`` on the rigid surface ``s``."""
     dA = grid.pixel ** 2
     area = float(np.count_nonzero(p > 0)) * dA
     M2 = float(np.sum(p * r ** 2)) * dA
-    d, spread = _approach(p, s, grid.pixel, float(materials.E_star))
-    return {"contact_area": area, "contact_radius_area": float(np.sqrt(area / np.pi)),
+    plastic = np.zeros(p.shape, dtype=bool) if hardness is None else p >= hardness * (1.0 - 1e-9)
+    d, spread = _approach(p, s, grid.pixel, float(materials.E_star), elastic=~plastic)
+    return {"plastic_area": float(np.count_nonzero(plastic)) * dA, "contact_area": area, "contact_radius_area": float(np.sqrt(area / np.pi)),
             "pressure_radius": float(np.sqrt(5.0 * M2 / (2.0 * F))), "p_max": float(p.max()),
             "force": float(p.sum()) * dA, "approach": d, "approach_spread": spread, "pressure": p,
             "period": grid.period, "n": grid.n}
@@ -130,13 +188,17 @@ def convolve_pixels(field, K) -> np.ndarray:
     return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
 
 
-def _approach(p, surface, pixel, E_star) -> tuple:
+def _approach(p, surface, pixel, E_star, elastic=None) -> tuple:
     """The rigid approach d of the indenter since first contact (m) and its spread over the contact
     (relative): in contact the half-space's displacement u is d minus the initial gap max(s) - s, so
     d = u + max(s) - s, averaged with the pressure as weight (the spread: its range over d, the grid's
-    and the period's inconsistency)."""
-    c = p > 0
+    and the period's inconsistency); over the ``elastic`` pixels alone where given (a plastic pixel
+    penetrates)."""
+    c = (p > 0) if elastic is None else (p > 0) & elastic
     if not np.any(c):
+        if np.any(p > 0):
+            raise ConvergenceError("every contact pixel is at the hardness: no elastic pixel fixes the approach; "
+                                   "refine the grid")
         return 0.0, 0.0
     u = halfspace_displacement(p, pixel, E_star)
     dd = u[c] + surface.max() - surface[c]
@@ -203,7 +265,8 @@ def ensemble(profile, materials, F, grid: Grid, params, seeds) -> dict:
     return out
 
 
-def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | None = None) -> tuple:
+def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | None = None, *,
+                   hardness: float | None = None) -> tuple:
     """The normal force-approach curve of the indenter (+ ``heights``) at the forces ``loads`` (N,
     increasing): (approaches d (m), forces (N)), the input of MDR's equivalent profile
     (``mdr.equivalent.EquivalentProfile``). Sample the loads geometrically from a small fraction of
@@ -217,7 +280,7 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
     d, kept = [], []
     for F in loads:
         try:
-            d.append(normal_contact(profile, materials, F, grid, heights)["approach"])
+            d.append(normal_contact(profile, materials, F, grid, heights, hardness=hardness)["approach"])
             kept.append(F)
         except ConvergenceError:  # a load whose contact the solver cannot resolve (one pixel) is a sample less
             pass

@@ -27,14 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from common.errors import ConvergenceError, InputError, nonnegative, positive
+from common.errors import InputError, nonnegative, positive
 
+from .boxqp import solve_box
 from .normal import Grid
 
-#: the projected CG's tolerance: the largest slip increment of a free cell, relative to the range of the
-#: elastic displacement K q
+#: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
+#: relative to the range of the elastic displacement K q
 TOLERANCE = 1e-10
-MAX_ITER = 5000
 
 
 #: the aliases k + 2 pi m / h summed per direction, |m| <= IMAGES (their terms fall as |m|^-3: the sum is
@@ -126,75 +126,8 @@ class TangentialContact:
         work = float(np.sum(q * np.where(lim > 0, ds, 0.0))) * self.dA
         return TangentialState(s=state.s + ds, q=q, delta=delta, work=state.work + work)
 
-    def _shift_to_force(self, q, lim, free, Q):
-        """q + c on the free cells, clipped to the box, with the force Q: the one c where the clipped sum,
-        piecewise linear and non-decreasing in c, meets Q (exact: its kinks sorted, the crossing
-        interpolated on its linear piece; on a flat piece at Q, its left end)."""
-        x, l = q[free], lim[free]
-        fixed = float(np.clip(np.where(free, 0.0, q), -lim, lim).sum())
-        target = float(Q) / self.dA - fixed
-        # sum_i clip(x_i + c, -l_i, l_i) = -sum(l) + sum_i (c - lo_i)_+ - sum_i (c - hi_i)_+
-        lo, hi = np.sort(-l - x), np.sort(l - x)
-        knots = np.concatenate([lo, hi])
-        knots.sort()
-        c_lo, c_hi = np.cumsum(lo), np.cumsum(hi)
-
-        def clipped_sum(c):
-            i, j = np.searchsorted(lo, c, side="right"), np.searchsorted(hi, c, side="right")
-            return (-float(l.sum()) + (i * c - (c_lo[i - 1] if i else 0.0))
-                    - (j * c - (c_hi[j - 1] if j else 0.0)))
-
-        if knots.size == 0:
-            return np.clip(q, -lim, lim)
-        vals = np.array([clipped_sum(c) for c in (knots[0], knots[-1])])
-        if target <= vals[0]:
-            c = knots[0]
-        elif target >= vals[1]:
-            c = knots[-1]
-        else:
-            # bisection over the sorted knots for the piece that holds the target, then linear on it
-            a, b = 0, knots.size - 1
-            while b - a > 1:
-                m = (a + b) // 2
-                if clipped_sum(knots[m]) < target:
-                    a = m
-                else:
-                    b = m
-            fa, fb = clipped_sum(knots[a]), clipped_sum(knots[b])
-            c = knots[a] if fb == fa else knots[a] + (target - fa) * (knots[b] - knots[a]) / (fb - fa)
-        return np.clip(np.where(free, q + c, q), -lim, lim)
-
     def _solve(self, s, lim, Q, q):
-        inside = lim > 0
-        q = self._shift_to_force(q, lim, inside, Q)
-        d = np.zeros_like(q)
-        G_old, free_old = None, None
-        for it in range(MAX_ITER):
-            u = self.displacement(q)
-            g = u + s
-            interior = inside & (np.abs(q) < lim * (1 - 1e-12))
-            delta = float(np.mean(g[interior])) if interior.any() else float(np.mean(g[inside]))
-            # a cell at its bound is free to leave it where its gradient points inwards
-            free = interior | (inside & (q >= lim) & (g > delta)) | (inside & (q <= -lim) & (g < delta))
-            r = np.where(free, g - np.mean(g[free]), 0.0)
-            if np.max(np.abs(r)) <= self.tol * max(float(np.ptp(u)), 1e-300):  # the step's elastic displacement
-                return q
-            G = float(np.sum(r * r))
-            if G_old is None or free_old is None or not np.array_equal(free, free_old):
-                d = -r
-            else:
-                d = -r + (G / G_old) * d
-            d = np.where(free, d, 0.0)
-            d[free] -= np.mean(d[free])
-            Kd = self.displacement(d)
-            curv = float(np.sum(d * Kd))
-            if curv <= 0:
-                d, Kd = -r, self.displacement(-r)
-                curv = float(np.sum(d * Kd))
-            tau = -float(np.sum(r * d)) / curv
-            q = self._shift_to_force(np.clip(q + tau * d, -lim, lim), lim, free, Q)
-            G_old, free_old = G, free
-        raise ConvergenceError(f"the tangential contact solve did not converge in {MAX_ITER} iterations")
+        return solve_box(self.displacement, s, lim, Q, q, self.dA, self.tol, "tangential contact")
 
 
 def run_force_cycles(contact: TangentialContact, p, fa, cycles=3, steps=40) -> dict:

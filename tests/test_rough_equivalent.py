@@ -91,7 +91,7 @@ def test_force_approach_leaves_out_single_pixel_contacts(monkeypatch):
     from common.errors import ConvergenceError
 
     def fake(unresolved):
-        def normal_contact(profile, materials, F, grid, heights=None):
+        def normal_contact(profile, materials, F, grid, heights=None, hardness=None):
             if F in unresolved:
                 raise ConvergenceError("single pixel")
             return {"approach": 1e-7 * F}

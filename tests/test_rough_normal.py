@@ -118,3 +118,32 @@ def test_an_ensemble_says_what_one_realisation_cannot():
     assert A["mean"] == pytest.approx(v.mean()) and A["sem"] == pytest.approx(v.std(ddof=1) / 2)
     with pytest.raises(InputError, match="at least 2 seeds"):
         ensemble(SPHERE, MAT, F, grid, base, seeds=(1,))
+
+
+def test_a_hardness_caps_the_pressure_and_spreads_the_contact():
+    """Perfectly plastic asperities (``hardness``): the force is carried, no pixel exceeds the hardness; a
+    cap the pressure never reaches is tamaas's elastic contact (the same kernel, to the solvers'
+    tolerance); a cap below Hertz's p0 spreads the contact and deepens the approach, the more the lower;
+    the fully plastic limit carries F on the area F / H (Tabor)."""
+    a = float(HZ["a"])
+    grid = Grid(16 * a, 128)
+    elastic = normal_contact(SPHERE, MAT, F, grid)
+    high = normal_contact(SPHERE, MAT, F, grid, hardness=1e12)
+    assert np.max(np.abs(high["pressure"] - elastic["pressure"])) < 1e-7 * elastic["p_max"]  # measured 1.4e-9
+    assert high["plastic_area"] == 0.0 and high["approach"] == pytest.approx(elastic["approach"], rel=1e-7)
+    approach = elastic["approach"]
+    for H in (0.95 * elastic["p_max"], 0.6 * elastic["p_max"], elastic["p_max"] / 6):
+        r = normal_contact(SPHERE, MAT, F, grid, hardness=H)
+        assert r["force"] == pytest.approx(F, rel=1e-9) and r["p_max"] <= H * (1 + 1e-12)
+        assert r["plastic_area"] > 0 and r["contact_area"] >= elastic["contact_area"]
+        assert r["approach"] > approach
+        approach = r["approach"]
+    assert r["plastic_area"] * H == pytest.approx(F, rel=0.02)  # measured 0.996 at p0 / 6
+
+
+def test_a_bad_hardness_is_one_line():
+    grid = Grid(16 * float(HZ["a"]), 32)
+    for H, word in ((-1.0, "hardness"), (1e3, "whole grid")):
+        with pytest.raises(InputError, match=word) as e:
+            normal_contact(SPHERE, MAT, F, grid, hardness=H)
+        assert "\n" not in str(e.value)

@@ -85,7 +85,8 @@ def test_tasks_on_an_executor_reduce_to_the_rows_of_one_process(members, tmp_pat
                                           ({"rms": 1e-8, "grids": (128, 64)}, "grids"),
                                           ({"rms": 1e-8, "period": 2.0}, "period"),
                                           ({"rms": 1e-8, "short": 1.0}, "short"),
-                                          ({"rms": 1e-8, "hurst": 1.2}, "hurst")])
+                                          ({"rms": 1e-8, "hurst": 1.2}, "hurst"),
+                                          ({"rms": 1e-8, "hardness": -2e9}, "hardness")])
 def test_a_bad_variant_is_one_line_naming_its_key(variant, word):
     with pytest.raises(InputError, match=word) as e:
         replace(SMALL, variants=(variant,))

@@ -288,6 +288,13 @@ class Scene:
                     raise bad("hurst", "in (0, 1)")
             if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
                 raise bad("grids", "at least 2 pixel counts, increasing, from 16")
+            if "hardness" in v:
+                try:
+                    ok = float(v["hardness"]) > 0 and math.isfinite(float(v["hardness"]))
+                except (TypeError, ValueError):
+                    ok = False
+                if not ok:
+                    raise bad("hardness", "> 0 (Pa; perfectly plastic asperities)")
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene

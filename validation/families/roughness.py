@@ -25,7 +25,9 @@ Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is t
 Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in Hertz contact radii of the
 scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
 truncated where the grid can resolve it, a modelling choice the result depends on and states),
-``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period).
+``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period); ``hardness`` (Pa,
+optional): perfectly plastic asperities, the pressure capped there (``rough.normal.saturated_pressure``;
+the paper's steel: ``rough.normal.HARDNESS_X5CRNI18_10``).
 """
 from __future__ import annotations
 
@@ -106,7 +108,7 @@ def member(s: Scene, task: dict) -> dict:
         heights = resample(coarse, n)
     try:
         res = mdr_against_rough(profile_of(s), materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
-                                cycles=s.cycles, steps=s.steps)
+                                cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"))
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
         return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
     return {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
@@ -166,6 +168,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     measured = "maps" in v
     rms = float(np.mean([m["rms"] for m in mine if "rms" in m] or [np.nan])) if measured else float(v["rms"])
     return {"variant": i, "rms": rms, "measured": list(v["maps"]) if measured else None,
+            "hardness": v.get("hardness"),
             "seeds": list(v["seeds"]), "grids": list(v["grids"]),
             "period": P, "hurst": None if measured else float(v["hurst"]),
             "lambda_short": None if measured else float(v["short"]) * P / v["grids"][0],
@@ -230,7 +233,8 @@ def table(res) -> list:
 
     a = res["errors"]["a_ref"]
     for r in res[KEY]:
-        lines.append(f"| {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
+        plastic = f", H = {num(r['hardness'], '.2g', 1e-9)} GPa" if r.get("hardness") else ""
+        lines.append(f"| {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''}{plastic} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
                      f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
