@@ -180,9 +180,9 @@ def resample(m: HeightMap, n: int) -> HeightMap:
     if n == n0:
         return m
     H = np.fft.fftshift(np.fft.fft2(h))
-    pad = (n - n0) // 2
+    o = n // 2 - n0 // 2  # the zero wavenumber of the map's shifted spectrum onto the new one's
     big = np.zeros((n, n), dtype=complex)
-    big[pad:pad + n0, pad:pad + n0] = H
+    big[o:o + n0, o:o + n0] = H
     # the real part splits an even map's Nyquist coefficient between +- its wavenumber, as it should
     fine = np.real(np.fft.ifft2(np.fft.ifftshift(big))) * (n / n0) ** 2
     return HeightMap(h=fine, pixel=m.pixel * n0 / n)

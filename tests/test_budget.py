@@ -68,9 +68,10 @@ def _hertz_store(rms, members=3):
     equivalent MDR matched the half-space exactly."""
     F = 0.5 * np.geomspace(1e-2, 1.5, 24)
     d = np.array([float(ref.hertz(f, R_INDENTER, MAT.E_star)["d"]) for f in F])
-    row = {"rms": rms, "seeds": list(range(members)),
+    curve = {"d": d.tolist(), "F": F.tolist()}
+    row = {"rms": rms, "seeds": list(range(members)), "grids": [128, 256], "period": 16 * 27e-6,
            "verdicts": {"mdr_equivalent:dissipation": {"difference": 0.0, "error": 0.0}},
-           "curves": [{"d": d.tolist(), "F": F.tolist()}] * members}
+           "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members}}
     return lambda name: {"roughness": [row]} if name == "roughness" else None
 
 

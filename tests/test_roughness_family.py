@@ -33,13 +33,20 @@ def members():
 
 
 def test_resampling_refines_one_surface():
-    from rough.surfaces import RoughnessParams, generate, resample
+    from rough.surfaces import HeightMap, RoughnessParams, generate, resample
 
     m = generate(RoughnessParams(rms=1e-7, hurst=0.8, lambda_short=4e-6, lambda_long=32e-6, size=128e-6, n=64))
     for k in (2, 3):
         f = resample(m, 64 * k)
         assert np.max(np.abs(f.h[::k, ::k] - m.h)) < 1e-12 * m.rms
         assert f.rms == pytest.approx(m.rms, rel=1e-12) and f.pixel * 64 * k == pytest.approx(128e-6, rel=1e-12)
+    # a measured map of odd side, band-limited below its Nyquist wavenumber: the same surface on any grid
+    x = np.arange(33) / 33
+    odd = HeightMap(h=np.add.outer(np.sin(2 * np.pi * 5 * x), np.cos(2 * np.pi * 3 * x)) * 1e-7, pixel=1e-6)
+    for n in (66, 99):
+        f = resample(odd, n)
+        k = n // 33
+        assert np.max(np.abs(f.h[::k, ::k] - odd.h)) < 1e-12 * odd.rms and f.rms == pytest.approx(odd.rms, rel=1e-12)
 
 
 def test_the_tasks_are_every_seed_on_every_grid_finest_first():
@@ -86,7 +93,10 @@ def test_tasks_on_an_executor_reduce_to_the_rows_of_one_process(members, tmp_pat
                                           ({"rms": 1e-8, "period": 2.0}, "period"),
                                           ({"rms": 1e-8, "short": 1.0}, "short"),
                                           ({"rms": 1e-8, "hurst": 1.2}, "hurst"),
-                                          ({"rms": 1e-8, "hardness": -2e9}, "hardness")])
+                                          ({"rms": 1e-8, "hardness": -2e9}, "hardness"),
+                                          ({"rms": 1e-8, "grids": ()}, "grids"),
+                                          ({"rms": 1e-8, "seeds": (0, 0, 1)}, "seeds"),
+                                          ({"rms": True}, "rms")])
 def test_a_bad_variant_is_one_line_naming_its_key(variant, word):
     with pytest.raises(InputError, match=word) as e:
         replace(SMALL, variants=(variant,))
@@ -119,24 +129,30 @@ def test_measured_maps_are_the_surfaces_they_hold(members, tmp_path):
 
 
 @pytest.mark.parametrize("bad,word", [("nan", "non-finite"), ("oblong", "square"), ("pixel", "pixel size"),
-                                      ("one", "at least 2"), ("grid", "ladder from the maps")])
+                                      ("one", "at least 2"), ("grid", "ladder from the maps"),
+                                      ("twice", "distinct maps"), ("small", "4 Hertz radii")])
 def test_a_bad_measured_map_is_one_line(bad, word, tmp_path):
     h = np.random.default_rng(0).normal(size=(32, 32)) * 1e-8
-    good = tmp_path / "good.npy"
+    good, other = tmp_path / "good.npy", tmp_path / "other.npy"
     np.save(good, h)
+    np.save(other, np.random.default_rng(1).normal(size=(32, 32)) * 1e-8)
     broken = tmp_path / "broken.npy"
     if bad == "nan":
         h[3, 4] = np.nan
     if bad == "oblong":
         h = h[:, :20]
     np.save(broken, h)
-    variant = {"maps": [str(good), str(broken)], "pixel": 1e-6}
+    variant = {"maps": [str(good), str(broken)], "pixel": 4e-6}
     if bad == "pixel":
         del variant["pixel"]
     if bad == "one":
         variant["maps"] = [str(good)]
     if bad == "grid":
-        variant["maps"], variant["grids"] = [str(good), str(good)], (64, 128)
+        variant["maps"], variant["grids"] = [str(good), str(other)], (64, 128)
+    if bad == "twice":
+        variant["maps"] = [str(good), str(good)]
+    if bad == "small":
+        variant["maps"], variant["pixel"] = [str(good), str(other)], 1e-6
     with pytest.raises(InputError, match=word) as e:
         replace(SMALL, variants=(variant,))
     assert "\n" not in str(e.value)
@@ -148,8 +164,24 @@ def test_an_edited_map_is_a_changed_scene(tmp_path):
     paths = [tmp_path / "a.npy", tmp_path / "b.npy"]
     for k, p in enumerate(paths):
         np.save(p, np.random.default_rng(k).normal(size=(32, 32)) * 1e-8)
-    s = replace(SMALL, variants=({"maps": [str(p) for p in paths], "pixel": 1e-6},))
+    s = replace(SMALL, variants=({"maps": [str(p) for p in paths], "pixel": 4e-6},))
     before = s.fingerprint("v")
     assert s.fingerprint("v") == before
     np.save(paths[1], np.random.default_rng(7).normal(size=(32, 32)) * 1e-8)
     assert s.fingerprint("v") != before
+
+
+def test_map_paths_are_relative_to_the_scene_file_and_a_vanished_map_fails_its_scene_alone(tmp_path):
+    from validation.scene_file import load_scene_file
+
+    (tmp_path / "maps").mkdir()
+    for k in (0, 1):
+        np.save(tmp_path / "maps" / f"m{k}.npy", np.random.default_rng(k).normal(size=(32, 32)) * 1e-8)
+    f = tmp_path / "s.toml"
+    f.write_text('[[scene]]\nname = "mine"\ntitle = "t"\nprofile = "sphere"\nfamily = "roughness"\ndF = 0.0\n'
+                 'amplitude = 0.05\nsteps = 24\nvariants = [{maps = ["maps/m0.npy", "maps/m1.npy"], pixel = 4e-6}]\n')
+    s = load_scene_file(f)["mine"]
+    assert s.variants[0]["maps"] == tuple(str((tmp_path / "maps" / f"m{k}.npy").resolve()) for k in (0, 1))
+    (tmp_path / "maps" / "m1.npy").unlink()
+    status = run_all([s], tmp_path / "out", executor=ThreadPoolExecutor(2), fields=False, log=lambda m: None)
+    assert status["mine"] != "ok" and "m1.npy" in status["mine"]

@@ -32,7 +32,8 @@ Where the cells come from (``COLUMNS``):
 Assumptions of the mapping (stated in the table's notes): an effect measured under force control at
 Table 2's load is applied as the same relative change of the apparatus's dissipation, i.e. times the
 point's slip index (MDR in the apparatus, ``point_slip_index``), except the tilt's, measured as a change
-of the slip index itself (the aligned face hardly slips there); a result spanning
+of the slip index itself (the aligned face hardly slips there), and the roughness's, a change of the
+slip index computed in the apparatus; a result spanning
 a range of b (Figs. 8, 9, Table 2's two points) is "negligible" only if every b of its range is
 covered, and "matters" as soon as one measured point of it does.
 """
@@ -48,22 +49,20 @@ import numpy as np
 from mdr.materials import Materials
 from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, TABLE2
 
-from .scenes import CATALOGUE, TOLERANCES, code_version
+from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 
 #: the resolution of a result read from the paper's figures, as a change of the slip index (the
 #: dissipation over 4 mu F0 u_A; 1 is gross slip): 1 % of its full scale, as a loop is read to 1 % of
-#: its height (the catalogue's loop tolerance, ``TOLERANCES["loop_Fx"]``)
-RESOLUTION = TOLERANCES["loop_Fx"]
+#: its height (the budget's own constant: the catalogue's loop tolerance has the same origin)
+RESOLUTION = 0.01
 RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross slip), as a loop is read to 1 % of "
                      "its height")
 #: the widest rounding of the kink the paper allows: "less than the rms roughness", up to 3 um
 FILLET_MAX = 3e-6
 #: the paper's block: the indenter's contact lies h = 19 mm above the bedding (Table 1)
 BLOCK_HEIGHT = 19e-3
-#: the paper's bound on the tilt of the flat faces (rad)
-TILT_BOUND = math.pi / 3600
 COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "kink", "plates")
 TITLES = {"size": "half-space size", "curvature": "curvature a/R", "direction": "traction direction",
           "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness", "kink": "kink rounding",
@@ -171,9 +170,12 @@ def size_cell(p: Point, store) -> dict:
             return cell(None, None, "bound", "validity", f"{body} {size:.2g} a: smaller than any measured body")
         x = below[-1]
         r = next(v for k, v in rows.items() if k.startswith(f"{body} {x:g} a ("))
-        total += r["dissipation_vs_default"]
+        e = r.get("dissipation_vs_default")
+        if e is None or not math.isfinite(e):
+            return cell(None, None, "bound", "validity", f"{body} {x:g} a: no finite size effect stored")
+        total += abs(e)  # bounds add by magnitude: opposite signs must not cancel
         parts.append(f"{body} {size:.0f} a (row {x:g} a)")
-    return cell(total, 0.0, "bound", "validity", ", ".join(parts))
+    return cell(-total, 0.0, "bound", "validity", ", ".join(parts))
 
 
 def curvature_cell(p: Point, store) -> dict:
@@ -235,38 +237,66 @@ def tilt_cell(p: Point, store) -> dict:
 ROUGHNESS_RMS = (1e-6,)
 
 
+def _rough_row(store, rms):
+    """The stored roughness row of the generated, elastic surfaces of ``rms`` and its curves per grid,
+    coarse to fine (each a list over the seeds), or (row or None, None) where any member failed."""
+    res = store("roughness")
+    if res is None:
+        return None, None
+    row = next((r for r in res["roughness"] if not r.get("measured") and r.get("rms") is not None
+                and abs(r["rms"] - rms) < 1e-12 and not r.get("hardness")), None)
+    if row is None or row.get("failed"):
+        return row, None
+    by = row.get("curves_by_grid") or {}
+    levels = [by.get(str(n)) for n in row["grids"]]
+    if any(not lv or len(lv) != len(row["seeds"]) or not all(lv) for lv in levels):
+        return row, None
+    return row, levels
+
+
+def _ensemble_ladder(values_by_level, sizes):
+    """(mean at the finest level, standard error there, grid error of the mean over the levels)."""
+    from common.ladder import ladder_error
+
+    means = [float(np.mean(v)) for v in values_by_level]
+    fine = np.asarray(values_by_level[-1], dtype=float)
+    sem = float(fine.std(ddof=1) / np.sqrt(fine.size)) if fine.size > 1 else 0.0
+    return means[-1], sem, ladder_error(sizes, means)["error"]
+
+
 def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
     """The sphere's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
-    stored rough surface's normal curve (``roughness``: the rough half-space's F_N(d) on its finest
-    grid, ``mdr.equivalent.EquivalentProfile``) against the smooth sphere, a change of the slip index.
-    Error: the ensemble's standard error, plus what the equivalent profile misses of the rough
-    half-space's own dissipation in the scene (|mean| + its error bar), as a share of the slip index."""
+    stored rough surface's normal curve (``roughness``: the rough half-space's F_N(d) on every grid of
+    its ladder, ``mdr.equivalent.EquivalentProfile``) against the smooth sphere, a change of the slip
+    index. Error: the ensemble's standard error, the grid error of the ensemble mean over the ladder,
+    and what the equivalent profile misses of the rough half-space's own dissipation in the scene
+    (|mean| + its error bar), as a share of the slip index."""
     from mdr.equivalent import EquivalentProfile
 
     if p.b > 0:
         a_hertz = contact_radius(replace(p, b=0.0))
         if p.b > 0.5 * a_hertz:  # the face reaches into the contact: not the sphere's roughness
             return cell(None, None, "absolute", "roughness", f"b = {p.b * 1e6:g} um: a rough flat face is not run")
-    res = store("roughness")
-    if res is None:
+    if store("roughness") is None:
         return missing("roughness")
-    row = next((r for r in res["roughness"] if abs(r["rms"] - rms) < 1e-12), None)
+    row, levels = _rough_row(store, rms)
     if row is None:
         return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um not in the stored scene")
     v = row["verdicts"]["mdr_equivalent:dissipation"]
-    curves = [c for c in row.get("curves", []) if c]
-    if v["difference"] is None or v["error"] is None or len(curves) < 2:
+    if levels is None or v["difference"] is None or v["error"] is None or len(row["seeds"]) < 2:
         return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um: undetermined ensemble")
-    top = min(max(c["F"]) for c in curves)
+    top = min(max(c["F"]) for lv in levels for c in lv)
     if p.F0 + p.dF > top:
         return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
     mat = Materials()
-    si = np.array(_slip_indices([EquivalentProfile(c["d"], c["F"], mat) for c in curves], [p] * len(curves)))
+    si = [_slip_indices([EquivalentProfile(c["d"], c["F"], mat) for c in lv], [p] * len(lv)) for lv in levels]
+    mean, sem, grid = _ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
+    if grid is None:
+        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um: no grid error")
     smooth = point_slip_index(replace(p, b=0.0))
-    sem = float(si.std(ddof=1) / np.sqrt(si.size))
-    err = sem + (abs(v["difference"]) + v["error"]) * float(si.mean())
-    return cell(float(si.mean()) - smooth, err, "absolute", "roughness",
-                f"rms {rms * 1e6:g} um: slip index {si.mean():.2g} against {smooth:.2g} smooth, {si.size} surfaces")
+    err = sem + grid + (abs(v["difference"]) + v["error"]) * mean
+    return cell(mean - smooth, err, "absolute", "roughness",
+                f"rms {rms * 1e6:g} um: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
 
 
 # ------------------------------------------------------------------ cells computed with MDR
@@ -322,7 +352,8 @@ EXCLUDED_READINGS = ("bending",)
 
 def plates_cell(p: Point) -> dict:
     """The slip index over the readings of the brass plates (``studies.plates.PLATE_READINGS`` but
-    ``EXCLUDED_READINGS``) against this project's reference reading (axial, R_bed 5 mm): the, MDR in the apparatus, all readings in one batch."""
+    ``EXCLUDED_READINGS``) against this project's reference reading (axial, R_bed 5 mm): the largest
+    change of the slip index, MDR in the apparatus, all readings in one batch."""
     from mdr.profiles import TruncatedSphere
     from studies.paper import RES, _slip_index
     from studies.plates import PLATE_READINGS
@@ -377,20 +408,24 @@ def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6
 
 def transitions(store) -> list:
     """The sticking transition of the smooth sphere and of the rough spheres of ``ROUGHNESS_RMS`` (MDR
-    with each stored surface's equivalent profile): rows {rms, kx (mean), sem, members}."""
+    with each stored surface's equivalent profile, on every grid of the scene's ladder): rows {rms, kx
+    (the ensemble mean on the finest grid), sem, grid (the mean's grid error), error (their sum),
+    members}."""
     from mdr.equivalent import EquivalentProfile
     from mdr.profiles import TruncatedSphere
 
-    rows = [{"rms": 0.0, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0, "members": 1}]
-    res = store("roughness")
+    rows = [{"rms": 0.0, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0, "grid": 0.0,
+             "error": 0.0, "members": 1}]
     for rms in ROUGHNESS_RMS:
-        row = None if res is None else next((r for r in res["roughness"] if abs(r["rms"] - rms) < 1e-12), None)
-        curves = [] if row is None else [c for c in row.get("curves", []) if c]
-        ks = [sticking_transition(EquivalentProfile(c["d"], c["F"], Materials())) for c in curves]
-        ok = [k for k in ks if k is not None]
-        rows.append({"rms": rms, "kx": float(np.mean(ok)) if ok and len(ok) == len(ks) else None,
-                     "sem": float(np.std(ok, ddof=1) / np.sqrt(len(ok))) if len(ok) > 1 else None,
-                     "members": len(ks)})
+        row, levels = _rough_row(store, rms)
+        out = {"rms": rms, "kx": None, "sem": None, "grid": None, "error": None,
+               "members": 0 if row is None else len(row["seeds"])}
+        if levels is not None and len(row["seeds"]) > 1:
+            ks = [[sticking_transition(EquivalentProfile(c["d"], c["F"], Materials())) for c in lv] for lv in levels]
+            if all(k is not None for lv in ks for k in lv):
+                kx, sem, grid = _ensemble_ladder(ks, [row["period"] / n for n in row["grids"]])
+                out.update(kx=kx, sem=sem, grid=grid, error=None if grid is None else sem + grid)
+        rows.append(out)
     return rows
 
 
@@ -428,11 +463,11 @@ def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
             cells["plates"] = combine([plates_cell(p) for p in r.points], "MDR apparatus")
         rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],
                      "cells": {c: cells[c] for c in COLUMNS if c in cells}})
-    out = {"rows": rows, "stale": sorted(set(stale)), "resolution": RESOLUTION}
+    result = {"rows": rows, "stale": sorted(set(stale)), "resolution": RESOLUTION}
     if mdr_cells:
         log("budget: the sticking transition")
-        out["transition"] = transitions(store)
-    return out
+        result["transition"] = transitions(store)
+    return result
 
 
 def cell_text(c: dict) -> str:
@@ -468,12 +503,15 @@ def markdown(b: dict) -> list:
         lines += ["", f"The sticking transition (Fig. 9: k_x where the slip index passes {TRANSITION_SLIP_INDEX:g}; "
                       "the paper's lies between 1 and 2 N/um), the sphere at Table 2's load in the apparatus, MDR "
                       "with the smooth profile and with the equivalent profiles of the rough surfaces "
-                      "(mean +- standard error over the surfaces):", "",
+                      "(the mean over the surfaces on the finest grid +- its standard error plus the mean's "
+                      "grid error over the scene's ladder):", "",
                   "| surface | k_x (N/um) |", "|---|---|"]
         for t in b["transition"]:
             name = "smooth" if not t["rms"] else f"rms {t['rms'] * 1e6:g} um, {t['members']} surfaces"
-            val = "undetermined" if t["kx"] is None else (
-                num(t["kx"], ".3g", 1e-6) + ("" if not t["sem"] else f" +- {num(t['sem'], '.2g', 1e-6)}"))
+            val = "undetermined" if t["kx"] is None or t["error"] is None else (
+                num(t["kx"], ".2f", 1e-6) + ("" if not t["error"] else f" +- {num(t['error'], '.2f', 1e-6)} "
+                                             f"(surfaces {num(t['sem'], '.2f', 1e-6)}, grids "
+                                             f"{num(t['grid'], '.2f', 1e-6)})"))
             lines.append(f"| {name} | {val} |")
     if b["stale"]:
         lines += ["", f"Stored by other sources than these (rerun them): {', '.join(b['stale'])}."]
@@ -490,7 +528,9 @@ def build_parser():
     p.add_argument("--out", default="results", metavar="DIR",
                    help="the comparison's output directory (default ./results); budget.md is written there")
     p.add_argument("--json", metavar="PATH", help="also write the budget as JSON to PATH ('-' = stdout)")
-    p.add_argument("--no-mdr", action="store_true", help="leave out the cells computed with MDR (kink, plates)")
+    p.add_argument("--no-mdr", action="store_true",
+                   help="leave out the kink, plates and sticking-transition cells (the rest still runs MDR for "
+                        "each point's slip index)")
     return p
 
 
@@ -513,7 +553,7 @@ def main(argv=None) -> int:
     b = budget(out, mdr_cells=not args.no_mdr, log=lambda m: print(m, file=sys.stderr, flush=True))
     text = "\n".join(["# The error budget of the paper's model", ""] + markdown(b)) + "\n"
     write_bytes_atomic(out / "budget.md", text.encode())
-    print(text)
+    print(text, file=sys.stderr if args.json == "-" else sys.stdout)  # stdout is the JSON's then
     if args.json is not None:
         write_json(args.json, b)
     return 0

@@ -174,6 +174,15 @@ def _summary(res) -> str:
             + (f" ({', '.join(failed)} beyond error bars + tolerance)" if failed else ""))
 
 
+def _tasks_or_none(scene):
+    """``scene_tasks``, or None where they cannot be listed (a measured map gone since the scene was
+    read: the scene's own run then fails and says why)."""
+    try:
+        return scene_tasks(scene)
+    except (InputError, OSError, ValueError):
+        return None
+
+
 def expected_cost(scene, out) -> float:
     """A scene's expected run time (s), to schedule the longest first: its last stored run's (of a scene
     of tasks: their CPU time), else a rough count of its runs (3D levels cost about ten axisymmetric ones; each variant runs the ladder
@@ -183,7 +192,7 @@ def expected_cost(scene, out) -> float:
         return float(old["members_cpu_s"])
     if old is not None and isinstance(old.get("runtime_s"), (int, float)):
         return float(old["runtime_s"])
-    tasks = scene_tasks(scene)
+    tasks = _tasks_or_none(scene)
     if tasks:  # a rough member: about 12 s at 128^2 pixels on one core, growing with the pixel count
         return sum(12.0 * (t.get("n", 128) / 128.0) ** 2 for t in tasks)
     per_level = 10.0 if scene.fe_model == "3d" else 1.0
@@ -219,7 +228,7 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
     n = len(todo)
     t0 = time.perf_counter()
     own = None
-    if executor is None and jobs > 1 and (n > 1 or any(len(scene_tasks(s) or ()) > 1 for s, _ in todo)):
+    if executor is None and jobs > 1 and (n > 1 or any(len(_tasks_or_none(s) or ()) > 1 for s, _ in todo)):
         # spawn, not fork: a forked child of a process whose BLAS, gmsh or VTK threads hold a
         # lock deadlocks (seen under pytest); spawned workers import afresh (~1 s each)
         executor = own = futures.ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
@@ -263,8 +272,13 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
     tasks by their pixel count squared)."""
     jobs, pending, got, failed = [], {}, {}, {}
     for s, fp in todo:
-        tasks = scene_tasks(s)
-        cost = expected_cost(s, out)
+        try:
+            tasks = scene_tasks(s)
+            cost = expected_cost(s, out)
+        except (InputError, OSError, ValueError) as e:  # e.g. a measured map gone since the scene was read
+            status[s.name] = f"{type(e).__name__}: {e}"
+            log(f"{s.name} FAILED: {status[s.name]}")
+            continue
         if not tasks:
             jobs.append((cost, s, fp, None))
             continue

@@ -49,8 +49,10 @@ def _tuple(v):
     return v
 
 
-def scene_from_table(table: dict, where: str = "scene") -> Scene:
-    """One ``[[scene]]`` table as a checked :class:`Scene` (InputError naming ``where`` and the field)."""
+def scene_from_table(table: dict, where: str = "scene", base: Path | None = None) -> Scene:
+    """One ``[[scene]]`` table as a checked :class:`Scene` (InputError naming ``where`` and the field);
+    a rough variant's measured ``maps`` relative to ``base`` (the scene file's folder) made absolute, so
+    any worker reads the same files."""
     valid = {f.name for f in fields(Scene)}
     unknown = sorted(set(table) - valid)
     if unknown:
@@ -70,6 +72,9 @@ def scene_from_table(table: dict, where: str = "scene") -> Scene:
             v = _tuple(v)
         if k == "variants" and not all(isinstance(x, dict) for x in v):
             raise InputError(f"{where}: variants must be an array of tables, got {table[k]!r}")
+        if k == "variants" and base is not None:
+            v = tuple({**x, "maps": tuple(str((base / m).resolve()) if isinstance(m, str) else m for m in x["maps"])}
+                      if isinstance(x.get("maps"), (list, tuple)) else x for x in v)
         kw[k] = v
     kw.setdefault("group", "user")
     if not isinstance(kw["name"], str) or not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.\-]*", kw["name"]):
@@ -102,7 +107,7 @@ def load_scene_file(path) -> dict:
                          + (f" (found {', '.join(extra)})" if extra else ""))
     out = {}
     for i, t in enumerate(tables, 1):
-        s = scene_from_table(t, f"{path.name}: scene {i} ({t.get('name', 'no name')})")
+        s = scene_from_table(t, f"{path.name}: scene {i} ({t.get('name', 'no name')})", base=path.resolve().parent)
         if s.name in out:
             raise InputError(f"{path.name}: scene {i}: the name {s.name!r} is used twice")
         out[s.name] = s

@@ -88,13 +88,20 @@ TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
-#: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
-#: table, its figure), and the key each family's variants hold (the pair has none)
 #: the defaults of a variant of the roughness family (``validation.families.roughness``): 4 surfaces, grids
 #: of 128, 192, 256 pixels, a period of 16 Hertz radii, Hurst 0.8, the short cut-off at 4 pixels of the
 #: coarsest grid, the roll-off at a quarter period
 ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0,
                   "long": 0.25}
+
+
+def maps_grids(n_map: int) -> tuple:
+    """The default grid ladder of measured maps of n_map pixels: theirs, 1.5x and 2x (resampled)."""
+    return (n_map, 3 * n_map // 2, 2 * n_map)
+
+
+#: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
+#: table, its figure), and the key each family's variants hold (the pair has none)
 FAMILIES = {"pair": None, "validity": ("block", "cap"), "curvature": ("a_over_R",), "assumptions3d": ("relax",),
             "tilt": ("tilts",), "roughness": ("rms", "maps")}
 
@@ -258,15 +265,23 @@ class Scene:
                 maps = v["maps"]
                 if isinstance(maps, str) or not isinstance(maps, (list, tuple)) or len(maps) < 2:
                     raise bad("maps", "a list of at least 2 height-map files (one realisation is no answer)")
-                sizes = {load_height_map(f, v.get("pixel"), square=True).h.shape[0] for f in maps}
+                read = [load_height_map(f, v.get("pixel"), square=True) for f in maps]
+                if len({m.h.tobytes() for m in read}) != len(read):
+                    raise bad("maps", "distinct maps (the same map twice is one realisation)")
+                sizes = {m.h.shape[0] for m in read}
                 if len(sizes) != 1:
                     raise bad("maps", f"maps of one size, got {sorted(sizes)} pixels")
                 n_map = sizes.pop()
-                grids = [int(x) for x in v.get("grids", (n_map, 3 * n_map // 2, 2 * n_map))]
-                if grids[0] != n_map:
-                    raise bad("grids", f"a ladder from the maps' {n_map} pixels")
+                grids = [int(x) for x in v.get("grids", maps_grids(n_map))]
+                if len(grids) < 2 or grids[0] != n_map:
+                    raise bad("grids", f"at least 2 pixel counts, a ladder from the maps' {n_map} pixels")
+                if not read[0].pixel * n_map >= 4.0 * a_ref(self):
+                    raise bad("maps", f"maps of at least 4 Hertz radii ({4.0 * a_ref(self):.3g} m) on a side: the "
+                                      f"contact overlaps its periodic images on {read[0].pixel * n_map:.3g} m")
             else:
                 try:
+                    if isinstance(v["rms"], bool):
+                        raise TypeError
                     rms, seeds = float(v["rms"]), [int(x) for x in v.get("seeds", DEFAULTS["seeds"])]
                     grids = [int(x) for x in v.get("grids", DEFAULTS["grids"])]
                     period, short = float(v.get("period", DEFAULTS["period"])), float(v.get("short", DEFAULTS["short"]))
@@ -274,10 +289,12 @@ class Scene:
                 except (TypeError, ValueError):
                     raise bad("rms, seeds, grids, period, short, long, hurst", "numbers (seeds and grids lists of "
                               "integers)") from None
+                if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
+                    raise bad("grids", "at least 2 pixel counts, increasing, from 16")
                 if not (math.isfinite(rms) and rms >= 0):
                     raise bad("rms", ">= 0 (m)")
-                if rms > 0 and (len(set(seeds)) < 2 or min(seeds) < 0):
-                    raise bad("seeds", "at least 2 distinct integers >= 0 (one realisation is no answer)")
+                if rms > 0 and (len(set(seeds)) != len(seeds) or len(seeds) < 2 or min(seeds) < 0):
+                    raise bad("seeds", "at least 2 distinct integers >= 0, none twice (one realisation is no answer)")
                 if not period >= 4.0:
                     raise bad("period", ">= 4 (Hertz contact radii)")
                 if not 2.0 <= short <= grids[0] / 2:

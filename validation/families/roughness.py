@@ -40,7 +40,7 @@ from common.errors import ConvergenceError
 from common.ladder import ladder_error
 
 from .. import metrics
-from ..scenes import ROUGH_DEFAULTS, Scene, a_ref
+from ..scenes import ROUGH_DEFAULTS, Scene, a_ref, maps_grids
 from ..text import grade_text, num
 from . import result_of
 
@@ -62,8 +62,7 @@ def variant_params(v: dict) -> dict:
         out["rms"] = None  # measured: each map's own
         out["seeds"] = tuple(range(len(v["maps"])))
         if "grids" not in v:
-            n = measured_map(v, 0).h.shape[0]
-            out["grids"] = (n, 3 * n // 2, 2 * n)
+            out["grids"] = maps_grids(measured_map(v, 0).h.shape[0])
     elif float(out["rms"]) == 0.0:
         out["seeds"] = (0,)
     out["seeds"], out["grids"] = tuple(int(x) for x in out["seeds"]), tuple(int(x) for x in out["grids"])
@@ -166,7 +165,8 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     hertz_area = np.pi * a ** 2
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
     measured = "maps" in v
-    rms = float(np.mean([m["rms"] for m in mine if "rms" in m] or [np.nan])) if measured else float(v["rms"])
+    rms = (float(np.mean([m["rms"] for m in mine if "rms" in m])) if any("rms" in m for m in mine) else None) \
+        if measured else float(v["rms"])
     return {"variant": i, "rms": rms, "measured": list(v["maps"]) if measured else None,
             "hardness": v.get("hardness"),
             "seeds": list(v["seeds"]), "grids": list(v["grids"]),
@@ -175,7 +175,10 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
             "lambda_long": None if measured else float(v["long"]) * P,
             "contact_area_over_hertz": float(np.mean(areas)) / hertz_area if areas else None,
             "verdicts": verdicts, **dict(zip(("holds", "grade"), metrics.judged_grade(eq))),
-            "curves": [m["curve"] for m in mine if m["n"] == max(v["grids"]) and "curve" in m],
+            "curves": [m["curve"] for m in sorted(mine, key=lambda m: m["seed"])
+                       if m["n"] == max(v["grids"]) and "curve" in m],
+            "curves_by_grid": {str(n): [m.get("curve") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
+                               for n in v["grids"]},
             "failed": [{k: m[k] for k in ("seed", "n", "failed")} for m in mine if "failed" in m]}
 
 
@@ -204,7 +207,10 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
 
 
 def rms_text(rms) -> str:
-    """An rms height as the tables show it: smooth, nm below 1 um, else um."""
+    """An rms height as the tables show it: smooth, nm below 1 um, else um ('-' where unknown: a measured
+    variant whose every member failed)."""
+    if rms is None or rms != rms:
+        return "-"
     if not rms:
         return "smooth"
     return f"{num(rms, '.3g', 1e9)} nm" if rms < 1e-6 else f"{num(rms, '.3g', 1e6)} um"
