@@ -20,6 +20,7 @@ from mdr.apparatus import Apparatus, run_apparatus
 from mdr.law import MDRContact
 from mdr.loading import Loading
 from mdr.materials import Materials
+from mdr.paper import DF_OVER_F0
 from mdr.paper import B_TABLE1 as TABLE1_B, KX_TABLE1 as TABLE1_KX, R_INDENTER as R_IND, TABLE2  # noqa: F401
 from mdr.profiles import FlatPunch, Sphere, TruncatedSphere
 
@@ -142,7 +143,7 @@ LOOP_RES = dict(cycles=4, steps=400, n=400)
 
 
 def loops(res=LOOP_RES, cases=None, app_kw=None, kx=TABLE1_KX):
-    """The four experiment cases of Figs. 4-7 (``LOOP_CASES``; dF = 0.2 F0, alpha = 0,
+    """The four experiment cases of Figs. 4-7 (``LOOP_CASES``; dF = DF_OVER_F0 F0 = 0.2 F0, alpha = 0,
     b = 0.6 mm and k_x = 1.9 N/um from Table 1). Per case: the stationary last
     cycle (Fx, FN, du), the slip index, ``friction_ratio_max`` = max |F_x| / (mu1 F_N)
     and ``on_limit`` = the fraction of the cycle's steps with F_x on the friction
@@ -156,7 +157,7 @@ def loops(res=LOOP_RES, cases=None, app_kw=None, kx=TABLE1_KX):
         kind, F0, ua, mu1, mu2 = LOOP_CASES[name]
         R = np.full(shape, R_IND) if shape else R_IND
         prof = Sphere(R) if kind == "sphere" else TruncatedSphere(R, np.full(shape, TABLE1_B) if shape else TABLE1_B)
-        slip_index, o = _slip_index(prof, kx, mu1=mu1, mu2=mu2, F0=F0, dF=0.2 * F0, ua=ua, res=res, app_kw=app_kw)
+        slip_index, o = _slip_index(prof, kx, mu1=mu1, mu2=mu2, F0=F0, dF=DF_OVER_F0 * F0, ua=ua, res=res, app_kw=app_kw)
         last = slice((cycles - 1) * steps, cycles * steps + 1)
         ratio = np.abs(o["Fx"][..., last]) / (mu1 * o["FN"][..., last])
         stat = o["cycles"].last_is_stationary

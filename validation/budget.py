@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from mdr.materials import Materials
-from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, TABLE2
+from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, TABLE2
 
 from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
@@ -93,7 +93,7 @@ def _loop(fig):
     from studies.paper import LOOP_CASES
 
     kind, F0, ua, mu1, mu2 = LOOP_CASES[fig]
-    return Point(b=0.0 if kind == "sphere" else B_TABLE1, F0=F0, dF=0.1 * F0 / 0.5, ua=ua, mu1=mu1, mu2=mu2)
+    return Point(b=0.0 if kind == "sphere" else B_TABLE1, F0=F0, dF=DF_OVER_F0 * F0, ua=ua, mu1=mu1, mu2=mu2)
 
 
 def results() -> tuple:

@@ -45,7 +45,7 @@ from pathlib import Path
 
 from common.errors import InputError
 from mdr.loading import Loading
-from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, STEEL_E, STEEL_NU, UA_TABLE2
+from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, STEEL_E, STEEL_NU, UA_TABLE2
 from studies.study import LOOP_CASES
 
 R_IND = R_INDENTER
@@ -455,7 +455,7 @@ def _catalogue() -> dict:
     for fig, (kind, F0, ua, mu1, mu2) in LOOP_CASES.items():
         b = 0.0 if kind == "sphere" else B_TABLE1
         sc.append(Scene(f"exp-{fig}", f"Experiment {fig[3:]}: {kind}, F0 = {F0} N, u_A = {ua * 1e9:g} nm, "
-                        f"mu1 = {mu1}, mu2 = {mu2}", kind, b=b, mu=mu1, mu2=mu2, F0=F0, dF=0.1 * F0 / 0.5,
+                        f"mu1 = {mu1}, mu2 = {mu2}", kind, b=b, mu=mu1, mu2=mu2, F0=F0, dF=DF_OVER_F0 * F0,
                         drive="apparatus", amplitude=ua, kx=KX_TABLE1, cycles=4, steps=120, group="experiments",
                         quick=(fig == "fig4")))
     # apparatus stiffness series at the Table 2 point

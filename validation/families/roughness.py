@@ -80,8 +80,9 @@ def measured_map(v: dict, k: int):
 def tasks(s: Scene) -> list:
     """The scene's independent tasks: one per (variant, seed, grid), the finest grids first (the longest
     first keeps every worker busy to the end)."""
-    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(s.variants)
-           for seed in variant_params(v)["seeds"] for n in variant_params(v)["grids"]]
+    params = [variant_params(v) for v in s.variants]  # once each: a measured variant reads a map
+    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(params) for seed in v["seeds"]
+           for n in v["grids"]]
     return sorted(out, key=lambda t: -t["n"])
 
 
