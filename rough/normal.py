@@ -44,11 +44,23 @@ class Grid:
     def pixel(self) -> float:
         return self.period / self.n
 
-    def radii(self) -> np.ndarray:
-        """The distance of each pixel centre from the axis (n, n)."""
+    def radii(self, centre=(0.0, 0.0)) -> np.ndarray:
+        """The distance of each pixel centre from the axis (n, n); from the point ``centre`` (m, from the
+        grid's centre) where given."""
         x = (np.arange(self.n) + 0.5) * self.pixel - 0.5 * self.period
-        X, Y = np.meshgrid(x, x, indexing="ij")
+        X, Y = np.meshgrid(x - centre[0], x - centre[1], indexing="ij")
         return np.hypot(X, Y)
+
+    def cell_mean(self, f, centre=(0.0, 0.0), sub: int = 8) -> np.ndarray:
+        """The mean over each pixel (n, n) of the axisymmetric field f(r) about ``centre`` (m), by the
+        midpoint rule on sub x sub points: the pixel-wise constant field of the same force. A field
+        sampled at the pixel centres instead jumps where its support ends inside a pixel (Hertz's
+        pressure at r = a): its force and every result change by a pixel's share as the edge crosses a
+        centre, and a grid ladder of them is not monotone."""
+        positive_int("sub", sub)
+        h = self.pixel
+        offsets = ((np.arange(sub) + 0.5) / sub - 0.5) * h
+        return sum(f(self.radii((centre[0] - dx, centre[1] - dy))) for dx in offsets for dy in offsets) / sub ** 2
 
 
 #: the hardness of the paper's steel X5CrNi18-10 (AISI 304), solution annealed: at most 215 HB

@@ -29,12 +29,15 @@ import numpy as np
 
 from common.errors import InputError, nonnegative, positive
 
-from .boxqp import solve_box
+from .boxqp import solve_box, solve_disk
 from .normal import Grid
 
 #: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
 #: relative to the range of the elastic displacement K q
 TOLERANCE = 1e-10
+#: the same for the traction free to turn (``rough.boxqp.solve_disk``: an accelerated projected gradient,
+#: slower than the box's conjugate gradient; the dissipation to ~1e-7)
+TOLERANCE_PLANE = 1e-8
 
 
 #: the aliases k + 2 pi m / h summed per direction, |m| <= IMAGES (their terms fall as |m|^-3: the sum is
@@ -42,20 +45,24 @@ TOLERANCE = 1e-10
 IMAGES = 12
 
 
-def compliance_xx(grid: Grid, materials, images: int = IMAGES) -> np.ndarray:
-    """The influence of a pixel's uniform x traction on the x displacement of every pixel centre, both
-    bodies, in discrete Fourier space (rfft2 layout, (n, n // 2 + 1), m / Pa): the cell-integrated
-    Cerruti kernel of the periodic grid, sum over the aliases k_m = k + 2 pi m / h of
-    K(k_m) sinc(k_m,x h / 2) sinc(k_m,y h / 2), K(k) = sum over the bodies of (1 - nu k_x^2 / k^2) / (G k)
+def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGES) -> np.ndarray:
+    """The influence of a pixel's uniform tangential traction on the tangential displacement of every
+    pixel centre, both bodies, in discrete Fourier space (rfft2 layout, (n, n // 2 + 1), m / Pa), for
+    ``component`` "xx", "xy" or "yy" (the displacement along the first axis under the traction along
+    the second): the cell-integrated Cerruti kernel of the periodic grid, sum over the aliases
+    k_m = k + 2 pi m / h of K_ij(k_m) sinc(k_m,x h / 2) sinc(k_m,y h / 2),
+
+        K_ij(k) = sum over the bodies of (delta_ij - nu k_i k_j / k^2) / (G k)
+
     (the point kernel sampled alone converges non-monotonically: -1.8, -0.4, -0.8 % in the sphere's
     dissipation at a/8, a/16, a/32). The mean (k = 0, rigid) mode is 0."""
+    if component not in ("xx", "xy", "yy"):
+        raise InputError(f"component must be 'xx', 'xy' or 'yy', got {component!r}")
     h, n = grid.pixel, grid.n
     kx = 2.0 * np.pi * np.fft.fftfreq(n, d=h)
     ky = 2.0 * np.pi * np.fft.rfftfreq(n, d=h)
     KX0, KY0 = np.meshgrid(kx, ky, indexing="ij")
-    mods = []
-    for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
-        mods.append((nu, E / (2.0 * (1.0 + nu))))
+    mods = [(nu, E / (2.0 * (1.0 + nu))) for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2))]
     out = np.zeros_like(KX0)
     shift = 2.0 * np.pi / h
     for mx in range(-images, images + 1):
@@ -66,46 +73,151 @@ def compliance_xx(grid: Grid, materials, images: int = IMAGES) -> np.ndarray:
             k = np.hypot(KX, KY)
             zero = k == 0.0
             k = np.where(zero, 1.0, k)
-            c2 = (KX / k) ** 2
-            term = sum((1.0 - nu * c2) / (G * k) for nu, G in mods) * sx * np.sinc(KY * h / (2.0 * np.pi))
+            ki, kj = {"xx": (KX, KX), "xy": (KX, KY), "yy": (KY, KY)}[component]
+            cc = (ki / k) * (kj / k)
+            diag = 1.0 if component != "xy" else 0.0
+            term = sum((diag - nu * cc) / (G * k) for nu, G in mods) * sx * np.sinc(KY * h / (2.0 * np.pi))
             out += np.where(zero, 0.0, term)
     out[0, 0] = 0.0
     return out
 
 
+def compliance_xx(grid: Grid, materials, images: int = IMAGES) -> np.ndarray:
+    """``compliance(grid, materials, "xx", images)``: Mindlin's component."""
+    return compliance(grid, materials, "xx", images)
+
+
+def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx") -> np.ndarray:
+    """The tangential displacement (m) at the pixel centres offset by -(n - 1) .. n - 1 pixels from a
+    pixel of side ``pixel`` carrying a uniform unit traction (Pa), both bodies, on half-spaces without
+    periodic images, for ``component`` "xx", "xy" or "yy" ((2n - 1, 2n - 1)): Cerruti's point solution
+    (u_i = Q_j / (2 pi G) [(1 - nu) delta_ij / r + nu x_i x_j / r^3], Johnson 1985, *Contact
+    Mechanics*, Sec. 3.2) integrated over the pixel in closed form: the corners of
+    x ln(y + r) + y ln(x + r) for 1 / r, of y ln(x + r) for x^2 / r^3, of x ln(y + r) for y^2 / r^3 and
+    of -r for x y / r^3."""
+    from .normal import _pixel_kernel
+
+    if component not in ("xx", "xy", "yy"):
+        raise InputError(f"component must be 'xx', 'xy' or 'yy', got {component!r}")
+    k = np.arange(-n + 1, n) * pixel
+    X, Y = np.meshgrid(k, k, indexing="ij")
+    a = 0.5 * pixel
+
+    def corners(F):
+        return F(X + a, Y + a) - F(X - a, Y + a) - F(X + a, Y - a) + F(X - a, Y - a)
+
+    def log_term(u, v):  # int int u^2 / r^3 du dv = v ln(u + r)
+        r = np.hypot(u, v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.nan_to_num(v * np.log(u + r))
+
+    if component == "xx":
+        inv_r, second, diag = _pixel_kernel(X, Y, pixel), corners(log_term), 1.0
+    elif component == "yy":
+        inv_r, second, diag = _pixel_kernel(X, Y, pixel), corners(lambda x, y: log_term(y, x)), 1.0
+    else:
+        inv_r, second, diag = 0.0, corners(lambda x, y: -np.hypot(x, y)), 0.0
+    K = np.zeros_like(X)
+    for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
+        G = E / (2.0 * (1.0 + nu))
+        K += (diag * (1.0 - nu) * inv_r + nu * second) / (2.0 * np.pi * G)
+    return K
+
+
+class _HalfSpaceConvolution:
+    """q -> sum_j K(x_i - x_j) q_j for one kernel of ``cerruti_pixel_kernel``: its zero-padded FFT kept
+    (a linear convolution: no periodic image)."""
+
+    def __init__(self, kernel):
+        import scipy.fft as sfft
+
+        self.n = (kernel.shape[0] + 1) // 2
+        self.m = 3 * self.n - 2
+        self.hat = sfft.rfft2(kernel, s=(self.m, self.m))
+
+    def __call__(self, q):
+        import scipy.fft as sfft
+
+        n, m = self.n, self.m
+        return sfft.irfft2(sfft.rfft2(q, s=(m, m)) * self.hat, s=(m, m))[n - 1:2 * n - 1, n - 1:2 * n - 1]
+
+
 @dataclass
 class TangentialState:
     """The memory of the contact: each cell's accumulated slip ``s`` (m), its traction ``q`` (Pa), the
-    tangential approach ``delta`` (m, up to the periodic grid's rigid constant) and the friction work (J)."""
+    tangential approach ``delta`` (m, along x; up to the periodic grid's rigid constant) and the
+    friction work (J). With the traction free to turn (``traction="plane"``) ``s`` and ``q`` carry both
+    components, (2, n, n), and ``delta_y`` is the approach across the force."""
 
     s: np.ndarray
     q: np.ndarray
     delta: float = 0.0
     work: float = 0.0
+    delta_y: float = 0.0
+
+
+#: the traction's freedom: along x only (Mindlin's assumption, q_y = 0, a box per cell) or in the plane
+#: (the traction turns with the slip, a disk per cell)
+TRACTIONS = ("x", "plane")
 
 
 class TangentialContact:
     """Tangential contact with memory on ``grid`` (``rough.normal.Grid``) for ``materials`` and friction
     ``mu``; ``step(state, p, Q)`` is one increment under the pressure field ``p`` (Pa, (n, n)) and the
-    tangential force ``Q`` (N). Pure: the state passed in is not changed."""
+    tangential force ``Q`` (N, along x). Pure: the state passed in is not changed.
 
-    def __init__(self, grid: Grid, materials, mu, tol=TOLERANCE):
+    ``periodic=False``: the grid is a window on two half-spaces, without periodic images (the linear
+    convolution with ``cerruti_pixel_kernel``; the contact must lie inside the window), and ``delta``
+    holds the rigid mode. ``traction="plane"``: the traction has both components and turns with the
+    slip, |q| <= mu p a disk per cell (Cerruti's cross term x y / r^3 couples them), the total along y
+    zero; the default "x" is Mindlin's assumption."""
+
+    def __init__(self, grid: Grid, materials, mu, tol=None, *, periodic=True, traction="x"):
         if not isinstance(grid, Grid):
             raise InputError(f"grid must be a rough.normal.Grid, got {grid!r}")
+        if traction not in TRACTIONS:
+            raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
         self.grid, self.materials = grid, materials
         self.mu = float(positive("mu", mu))
-        self.tol = float(positive("tol", tol))
-        self.K = compliance_xx(grid, materials)
+        self.tol = float(positive("tol", (TOLERANCE if traction == "x" else TOLERANCE_PLANE) if tol is None else tol))
+        self.periodic, self.traction = bool(periodic), traction
         self.dA = grid.pixel ** 2
+        comps = ("xx",) if traction == "x" else ("xx", "xy", "yy")
+        if periodic:
+            self.K = {c: compliance(grid, materials, c) for c in comps}
+            ops = {c: (lambda q, K=self.K[c]: np.fft.irfft2(K * np.fft.rfft2(q), s=q.shape)) for c in comps}
+            symbols = self.K
+        else:
+            kernels = {c: cerruti_pixel_kernel(grid.n, grid.pixel, materials, c) for c in comps}
+            ops = {c: _HalfSpaceConvolution(k) for c, k in kernels.items()}
+            symbols = {c: _centred_symbol(k) for c, k in kernels.items()}
+        self._ops = ops
+        if traction == "plane":
+            a, b, c = symbols["xx"], symbols["xy"], symbols["yy"]
+            # the largest eigenvalue of the 2 x 2 symbol: bounds the operator (the window's restriction too)
+            self.L = float(np.max(0.5 * (a + c) + np.sqrt(0.25 * (a - c) ** 2 + b ** 2)))
 
     def rest_state(self) -> TangentialState:
         n = self.grid.n
-        return TangentialState(s=np.zeros((n, n)), q=np.zeros((n, n)))
+        shape = (n, n) if self.traction == "x" else (2, n, n)
+        return TangentialState(s=np.zeros(shape), q=np.zeros(shape))
 
     def displacement(self, q) -> np.ndarray:
         """K q: the relative tangential displacement of the surfaces (m) under the traction q (Pa),
-        up to the rigid mean."""
-        return np.fft.irfft2(self.K * np.fft.rfft2(q), s=q.shape)
+        (n, n) along x or (2, n, n) in the plane; up to the rigid mean on the periodic grid."""
+        if self.traction == "x":
+            return self._ops["xx"](q)
+        kxy = self._ops["xy"]
+        return np.stack([self._ops["xx"](q[0]) + kxy(q[1]), kxy(q[0]) + self._ops["yy"](q[1])])
+
+    def magnitude(self, q) -> np.ndarray:
+        """|q| cell by cell (n, n)."""
+        return np.abs(q) if self.traction == "x" else np.hypot(q[0], q[1])
+
+    def sticking(self, q, p) -> np.ndarray:
+        """The cells in contact whose traction is below the limit mu p (a boolean (n, n))."""
+        lim = self.mu * np.asarray(p, dtype=float)
+        return (lim > 0) & (self.magnitude(q) < lim * (1 - 1e-9))
 
     def step(self, state: TangentialState, p, Q) -> TangentialState:
         p = np.asarray(p, dtype=float)
@@ -117,68 +229,92 @@ class TangentialContact:
         if abs(Q) >= cap * (1 - 1e-12):
             raise InputError(f"|Q| = {abs(Q):.4g} N must stay below the friction limit mu F_N = {cap:.4g} N "
                              "(force control has no equilibrium in gross sliding)")
-        q = self._solve(state.s, lim, Q, np.clip(state.q, -lim, lim))
+        if self.traction == "x":
+            q = solve_box(self.displacement, state.s, lim, Q, np.clip(state.q, -lim, lim), self.dA, self.tol,
+                          "tangential contact")
+        else:
+            q = solve_disk(self.displacement, state.s, lim, (Q, 0.0), state.q, self.dA, self.tol, self.L,
+                           "tangential contact")
         g = self.displacement(q) + state.s
-        stick = (lim > 0) & (np.abs(q) < lim * (1 - 1e-9))
-        delta = float(np.mean(g[stick])) if stick.any() else float(np.median(g[lim > 0]))
-        ds = delta - g  # 0 where sticking, the slip increment where slipping, the new position out of contact
-        ds = np.where(stick, 0.0, ds)
-        work = float(np.sum(q * np.where(lim > 0, ds, 0.0))) * self.dA
-        return TangentialState(s=state.s + ds, q=q, delta=delta, work=state.work + work)
+        stick = self.sticking(q, p)
+        inside = lim > 0
+        pick = stick if stick.any() else inside
+        reduce = np.mean if stick.any() else np.median
+        if self.traction == "x":
+            delta = float(reduce(g[pick]))
+            ds = np.where(stick, 0.0, delta - g)  # 0 sticking, the slip increment slipping, the new position out of contact
+            work = float(np.sum(q * np.where(inside, ds, 0.0))) * self.dA
+            return TangentialState(s=state.s + ds, q=q, delta=delta, work=state.work + work)
+        delta = np.array([float(reduce(g[0][pick])), float(reduce(g[1][pick]))])
+        ds = np.where(stick, 0.0, delta[:, None, None] - g)
+        work = float(np.sum(q * np.where(inside, ds, 0.0))) * self.dA
+        return TangentialState(s=state.s + ds, q=q, delta=float(delta[0]), work=state.work + work,
+                               delta_y=float(delta[1]))
 
-    def _solve(self, s, lim, Q, q):
-        return solve_box(self.displacement, s, lim, Q, q, self.dA, self.tol, "tangential contact")
+
+def _centred_symbol(kernel) -> np.ndarray:
+    """The eigenvalues of the circulant that embeds the linear convolution with ``kernel`` (2n - 1,
+    2n - 1; even, offset 0 at its centre) on the zero-padded grid of side 3n - 2: real, and their
+    largest bounds the window's operator."""
+    n = (kernel.shape[0] + 1) // 2
+    m = 3 * n - 2
+    padded = np.zeros((m, m))
+    padded[:2 * n - 1, :2 * n - 1] = kernel
+    return np.fft.rfft2(np.roll(padded, (-(n - 1), -(n - 1)), axis=(0, 1))).real
 
 
 def run_force_cycles(contact: TangentialContact, p, fa, cycles=3, steps=40) -> dict:
     """Q(t) = fa sin(2 pi t) at the constant pressure field ``p``, from rest; the dissipation of every
-    cycle (the friction work over it, J), the loop (delta, Q) of the last, and the stick area at the last
-    cycle's peak (the cells whose traction is below the limit)."""
+    cycle (the friction work over it, J), the loop (delta, Q) of the last, the state at the last cycle's
+    peak (``peak``) and its stick area (the cells whose traction is below the limit)."""
     nonnegative("fa", fa)
     st = contact.rest_state()
     t = np.arange(cycles * steps + 1) / steps
     Qs = fa * np.sin(2 * np.pi * t)
-    works, deltas, stick_area = [0.0], [0.0], None
-    lim = contact.mu * np.asarray(p, dtype=float)
+    works, deltas, stick_area, peak = [0.0], [0.0], None, None
     for k, Q in enumerate(Qs[1:], start=1):
         st = contact.step(st, p, Q)
         works.append(st.work)
         deltas.append(st.delta)
         if k == (cycles - 1) * steps + steps // 4:
-            stick_area = float(np.count_nonzero((lim > 0) & (np.abs(st.q) < lim * (1 - 1e-9)))) * contact.dA
+            stick_area, peak = float(np.count_nonzero(contact.sticking(st.q, p))) * contact.dA, st
     W = np.array(works)
     per_cycle = [float(W[(c + 1) * steps] - W[c * steps]) for c in range(cycles)]
     last = slice((cycles - 1) * steps, cycles * steps + 1)
     return {"dissipation_per_cycle": per_cycle, "dissipation": per_cycle[-1], "delta": np.array(deltas)[last],
-            "Q": Qs[last], "stick_area": stick_area, "state": st}
+            "Q": Qs[last], "stick_area": stick_area, "peak": peak, "state": st}
 
 
 def halfspace_tangential_displacement(q, pixel, materials) -> np.ndarray:
     """The relative x displacement of the two surfaces (m) at the pixel centres under the pixel-wise
-    uniform x traction ``q`` (n, n) (Pa) on half-spaces without periodic images: Cerruti's point
-    solution (u_x = Q / (2 pi G) [(1 - nu) / r + nu x^2 / r^3], Johnson 1985, *Contact Mechanics*,
-    Sec. 3.2) of both bodies integrated over each pixel in closed form (the corners of
-    x ln(y + r) + y ln(x + r) for 1 / r and of y ln(x + r) for x^2 / r^3), a zero-padded FFT
-    convolution. Unlike the periodic grid's ``delta`` it holds the rigid mode: the displacement of a
-    sticking contact relative to the bodies far away, hence its tangential stiffness."""
-    from .normal import _pixel_kernel, convolve_pixels
+    uniform x traction ``q`` (n, n) (Pa) on half-spaces without periodic images
+    (``cerruti_pixel_kernel``, a zero-padded FFT convolution). Unlike the periodic grid's ``delta`` it
+    holds the rigid mode: the displacement of a sticking contact relative to the bodies far away, hence
+    its tangential stiffness."""
+    return _HalfSpaceConvolution(cerruti_pixel_kernel(q.shape[0], pixel, materials, "xx"))(q)
 
-    n = q.shape[0]
-    k = np.arange(-n + 1, n) * pixel
-    X, Y = np.meshgrid(k, k, indexing="ij")
-    a = 0.5 * pixel
 
-    def corners(F):
-        return F(X + a, Y + a) - F(X - a, Y + a) - F(X + a, Y - a) + F(X - a, Y - a)
-
-    def H(x, y):  # int int x^2 / r^3 dx dy
-        r = np.hypot(x, y)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.nan_to_num(y * np.log(x + r))
-
-    inv_r, x2_r3 = _pixel_kernel(X, Y, pixel), corners(H)
-    K = np.zeros_like(inv_r)
-    for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
-        G = E / (2.0 * (1.0 + nu))
-        K += ((1.0 - nu) * inv_r + nu * x2_r3) / (2.0 * np.pi * G)
-    return convolve_pixels(q, K)
+def stick_radius(q, p, mu, radii) -> float | None:
+    """The radius (m) of a stick zone that is a disk about the point the pixel distances ``radii`` (m,
+    (n, n)) are measured from, out of the traction ``q`` (Pa; (n, n) along x or (2, n, n)) under the
+    pressure ``p``: the root c of the straight line fitted to (mu p - |q|)^2 against r^2 over the stick
+    cells beyond half the outermost stick cell's radius. Assumes the traction's deficit vanishes like the
+    square root of the distance to a smooth stick edge (Cattaneo-Mindlin's, exactly:
+    (mu p - q)^2 = (3 mu F / (2 pi a^3))^2 (c^2 - r^2)); continuous in the fields, unlike the count of
+    stick cells, which jumps as the edge crosses a pixel centre (+1.7, +0.6, +0.4 % on a/16, a/24, a/32
+    against the fit's +0.1, +0.06, +0.04 %). None with fewer than 3 such cells or no root."""
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q, dtype=float)
+    mag = np.abs(q) if q.ndim == 2 else np.hypot(q[0], q[1])
+    lim = mu * p
+    stick = (lim > 0) & (mag < lim * (1 - 1e-9))
+    if not stick.any():
+        return None
+    r_out = float(np.max(radii[stick]))
+    sel = stick & (radii > 0.5 * r_out)
+    if np.count_nonzero(sel) < 3:
+        return None
+    slope, icpt = np.polyfit(radii[sel] ** 2, (lim - mag)[sel] ** 2, 1)
+    if not (slope < 0 and icpt > 0):
+        return None
+    return float(np.sqrt(-icpt / slope))
