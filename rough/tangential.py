@@ -146,7 +146,7 @@ class _HalfSpaceConvolution:
 class TangentialState:
     """The memory of the contact: each cell's accumulated slip ``s`` (m), its traction ``q`` (Pa), the
     tangential approach ``delta`` (m, along x; up to the periodic grid's rigid constant) and the
-    friction work (J). With the traction free to turn (``traction="plane"``) ``s`` and ``q`` carry both
+    friction work (J). With the traction free to turn (``traction="free"``) ``s`` and ``q`` carry both
     components, (2, n, n), and ``delta_y`` is the approach across the force."""
 
     s: np.ndarray
@@ -156,9 +156,9 @@ class TangentialState:
     delta_y: float = 0.0
 
 
-#: the traction's freedom: along x only (Mindlin's assumption, q_y = 0, a box per cell) or in the plane
+#: the traction's freedom (the names of fem.solid3d.law's TRACTIONS): along x only (Mindlin's assumption, q_y = 0, a box per cell) or free in the plane
 #: (the traction turns with the slip, a disk per cell)
-TRACTIONS = ("x", "plane")
+TRACTIONS = ("x", "free")
 
 
 class TangentialContact:
@@ -168,7 +168,7 @@ class TangentialContact:
 
     ``periodic=False``: the grid is a window on two half-spaces, without periodic images (the linear
     convolution with ``cerruti_pixel_kernel``; the contact must lie inside the window), and ``delta``
-    holds the rigid mode. ``traction="plane"``: the traction has both components and turns with the
+    holds the rigid mode. ``traction="free"``: the traction has both components and turns with the
     slip, |q| <= mu p a disk per cell (Cerruti's cross term x y / r^3 couples them), the total along y
     zero; the default "x" is Mindlin's assumption."""
 
@@ -192,7 +192,7 @@ class TangentialContact:
             ops = {c: _HalfSpaceConvolution(k) for c, k in kernels.items()}
             symbols = {c: _centred_symbol(k) for c, k in kernels.items()}
         self._ops = ops
-        if traction == "plane":
+        if traction == "free":
             a, b, c = symbols["xx"], symbols["xy"], symbols["yy"]
             # the largest eigenvalue of the 2 x 2 symbol: bounds the operator (the window's restriction too)
             self.L = float(np.max(0.5 * (a + c) + np.sqrt(0.25 * (a - c) ** 2 + b ** 2)))

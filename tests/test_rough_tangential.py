@@ -160,11 +160,11 @@ def test_bad_input_is_one_line():
         tc.step(tc.rest_state(), p[:-1], 0.01)
     with pytest.raises(InputError, match="mu"):
         TangentialContact(grid, MAT, 0.0)
-    with pytest.raises(InputError, match="traction must be one of x, plane"):
+    with pytest.raises(InputError, match="traction must be one of x, free"):
         TangentialContact(grid, MAT, MU, traction="y")
 
 
-def _plane_against_x(materials, per_a, steps=4, cycles=2):
+def _free_against_x(materials, per_a, steps=4, cycles=2):
     """The two tractions under the same pressure (Hertz's pixel means for ``materials``) on a window."""
     h = float(ref.hertz(F, R, materials.E_star)["a"]) / per_a
     n = int(np.ceil(2.1 * per_a)) + 2
@@ -172,7 +172,7 @@ def _plane_against_x(materials, per_a, steps=4, cycles=2):
     p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, materials.E_star))
     fa = 0.5 * MU * float(p.sum()) * h * h
     out = {}
-    for traction in ("x", "plane"):
+    for traction in ("x", "free"):
         tc = TangentialContact(grid, materials, MU, periodic=False, traction=traction)
         out[traction] = run_force_cycles(tc, p, fa, cycles=cycles, steps=steps)
     return grid, p, out
@@ -182,13 +182,13 @@ def test_without_poisson_s_ratio_the_traction_does_not_turn():
     """nu = 0 on both bodies: Cerruti's cross term vanishes, no force pulls across x, and the traction
     free to turn is Mindlin's along x: the same dissipation (within the solves' tolerances) and no q_y.
     With steel (nu = 0.3) it turns: q_y is a few per cent of the limit and the dissipation drops."""
-    grid, p, out = _plane_against_x(Materials(nu1=0.0, nu2=0.0), 4)
-    x, pl = out["x"], out["plane"]
+    grid, p, out = _free_against_x(Materials(nu1=0.0, nu2=0.0), 4)
+    x, pl = out["x"], out["free"]
     assert pl["dissipation"] == pytest.approx(x["dissipation"], rel=1e-6)
     assert np.max(np.abs(pl["state"].q[1])) < 1e-6 * MU * p.max()
-    grid, p, out = _plane_against_x(MAT, 4)
-    assert np.max(np.abs(out["plane"]["state"].q[1])) > 1e-3 * MU * p.max()
-    assert out["plane"]["dissipation"] < out["x"]["dissipation"] * (1 - 1e-3)
+    grid, p, out = _free_against_x(MAT, 4)
+    assert np.max(np.abs(out["free"]["state"].q[1])) > 1e-3 * MU * p.max()
+    assert out["free"]["dissipation"] < out["x"]["dissipation"] * (1 - 1e-3)
 
 
 def test_a_turning_traction_obeys_coulomb_as_a_disk():
@@ -197,7 +197,7 @@ def test_a_turning_traction_obeys_coulomb_as_a_disk():
     h = A / 6
     grid = Grid(15 * h, 15)
     p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, MAT.E_star))
-    tc = TangentialContact(grid, MAT, MU, periodic=False, traction="plane")
+    tc = TangentialContact(grid, MAT, MU, periodic=False, traction="free")
     st, lim, FN = tc.rest_state(), MU * p, float(p.sum()) * h * h
     for Q in MU * FN * np.array([0.3, 0.6, 0.2, -0.4, -0.6, 0.1]):
         new = tc.step(st, p, Q)
@@ -222,9 +222,9 @@ def test_a_turning_traction_dissipates_less_than_mindlin_s():
     it on these grids and steps; the stick zone is the same (its radius within 0.1 %)."""
     ratios, sticks = [], []
     for per_a, steps in ((8, 8), (16, 8), (8, 16)):
-        grid, p, out = _plane_against_x(MAT, per_a, steps=steps)
-        ratios.append(out["plane"]["dissipation"] / out["x"]["dissipation"] - 1)
-        c = [stick_radius(out[t]["peak"].q, p, MU, grid.radii()) for t in ("x", "plane")]
+        grid, p, out = _free_against_x(MAT, per_a, steps=steps)
+        ratios.append(out["free"]["dissipation"] / out["x"]["dissipation"] - 1)
+        c = [stick_radius(out[t]["peak"].q, p, MU, grid.radii()) for t in ("x", "free")]
         sticks.append(c[1] / c[0] - 1)
     grid8, grid16, steps16 = ratios
     assert -0.6e-2 < grid16 < grid8 < -0.15e-2, ratios
