@@ -217,7 +217,8 @@ def test_a_turning_traction_obeys_coulomb_as_a_disk():
 def test_a_turning_traction_dissipates_less_than_mindlin_s():
     """Steel on steel at Q = mu F / 2 on two half-spaces, 8 steps a cycle: the traction free to turn
     dissipates less than Mindlin's along x by 0.27 % at a/8 and 0.36 % at a/16 (measured; 0.37 % at
-    a/24), and more with more steps (a/8: 0.28 % at 16 steps, 0.29 % at 32): the engine moves with both
+    a/24), and more with more steps (a/8: 0.28 % at 16 steps, 0.29 % at 32; a/16: 0.40 % at 32: the
+    slip turns within a half cycle, an implicit step slips along its end direction): the engine moves with both
     towards the independent boundary-element ladder's -0.43 +- 0.01 % (a/12 .. a/24) without reaching
     it on these grids and steps; the stick zone is the same (its radius within 0.1 %)."""
     ratios, sticks = [], []
