@@ -15,6 +15,8 @@ Hertz's and the peak pressure over p0: period 8 a, pixels a/16, a/32, a/64: 0.99
 """
 from __future__ import annotations
 
+import functools
+
 from dataclasses import dataclass
 
 import numpy as np
@@ -182,10 +184,26 @@ def halfspace_displacement(p, pixel, E_star) -> np.ndarray:
     pixel-wise uniform pressure ``p`` (n, n) (Pa), without periodic images (Boussinesq's 1 / (pi E* r)
     integrated over each pixel, a zero-padded FFT convolution): the approach of a contact whose
     pressure vanishes at the grid's border, as a half-space has it."""
+    import scipy.fft as sfft
+
     n = p.shape[0]
+    m = 3 * n - 2
+    full = sfft.irfft2(sfft.rfft2(p, s=(m, m)) * _boussinesq_hat(n, float(pixel), float(E_star)), s=(m, m))
+    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+
+
+@functools.lru_cache(maxsize=4)
+def _boussinesq_hat(n: int, pixel: float, E_star: float) -> np.ndarray:
+    """The zero-padded FFT of ``halfspace_displacement``'s kernel (``convolve_pixels``' padding), kept
+    for the curve's loads on one grid (the same bits as computing it per call; read-only)."""
+    import scipy.fft as sfft
+
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
-    return convolve_pixels(p, _pixel_kernel(X, Y, pixel) / (np.pi * E_star))
+    m = 3 * n - 2
+    hat = sfft.rfft2(_pixel_kernel(X, Y, pixel) / (np.pi * E_star), s=(m, m))
+    hat.flags.writeable = False
+    return hat
 
 
 def convolve_pixels(field, K) -> np.ndarray:
