@@ -2,9 +2,11 @@
 slip, incremental, so that loops and their dissipation come out, for any pressure field (a smooth
 indenter's, a rough one's: ``rough.normal.normal_contact``).
 
-Assumptions (Mindlin's, as in MDR): the tangential traction runs along x only (q_y = 0) and does not
-change the pressure (no normal-tangential coupling: identical materials, or Dundurs' beta = 0); linear
-elasticity of two half-spaces; the periodic grid of ``rough.normal.Grid``. The relative tangential
+Assumptions (Mindlin's, as in MDR, by default): the tangential traction runs along x only (q_y = 0;
+``traction="free"`` lets it turn, a disk |q| <= mu p per cell) and does not change the pressure (no
+normal-tangential coupling: identical materials, or Dundurs' beta = 0); linear elasticity of two
+half-spaces; the periodic grid of ``rough.normal.Grid`` (``periodic=False``: a window on the half-spaces
+without images, the linear convolution with the pixel-integrated Cerruti kernel). The relative tangential
 displacement of the surfaces under the traction q is u = K q with the x-x surface compliance of both
 bodies, in Fourier space (Cerruti's point solution transformed; Johnson 1985, *Contact Mechanics*, Sec. 3.2)
 
@@ -27,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from common.assumptions import check_traction
 from common.errors import InputError, nonnegative, positive
 
 from .boxqp import solve_box, solve_disk
@@ -156,9 +159,6 @@ class TangentialState:
     delta_y: float = 0.0
 
 
-#: the traction's freedom (the names of fem.solid3d.law's TRACTIONS): along x only (Mindlin's assumption, q_y = 0, a box per cell) or free in the plane
-#: (the traction turns with the slip, a disk per cell)
-TRACTIONS = ("x", "free")
 
 
 class TangentialContact:
@@ -175,8 +175,7 @@ class TangentialContact:
     def __init__(self, grid: Grid, materials, mu, tol=None, *, periodic=True, traction="x"):
         if not isinstance(grid, Grid):
             raise InputError(f"grid must be a rough.normal.Grid, got {grid!r}")
-        if traction not in TRACTIONS:
-            raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
+        check_traction(traction)
         self.grid, self.materials = grid, materials
         self.mu = float(positive("mu", mu))
         self.tol = float(positive("tol", (TOLERANCE if traction == "x" else TOLERANCE_PLANE) if tol is None else tol))

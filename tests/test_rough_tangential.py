@@ -160,7 +160,7 @@ def test_bad_input_is_one_line():
         tc.step(tc.rest_state(), p[:-1], 0.01)
     with pytest.raises(InputError, match="mu"):
         TangentialContact(grid, MAT, 0.0)
-    with pytest.raises(InputError, match="traction must be one of x, free"):
+    with pytest.raises(InputError, match="traction must be one of free, x"):
         TangentialContact(grid, MAT, MU, traction="y")
 
 

@@ -64,6 +64,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from common.assumptions import TRACTIONS, check_traction
 from common.errors import InputError, nonnegative, positive
 from mdr.law import History, StepResult
 from mdr.protocol import check_loads
@@ -83,18 +84,13 @@ from fem.solvers import blas_threads
 __all__ = ["BLOCK_SIZE_DEFAULT", "SECTOR", "TILT_MAX", "TRACTIONS", "FE3DState", "FEContact3D", "FE3DTrial",
            "Normal3D", "RelativeFlexibility"]
 
-#: the tangential traction: "free" (two components, free direction) or "x" (q_y = 0 everywhere,
-#: Mindlin's assumption, as in the axisymmetric model and MDR: on the same mesh, the pair of the
-#: two isolates the effect of the direction from the discretisation error)
-TRACTIONS = ("free", "x")
 #: largest |tilt| (rad): the tilted gap theta * x is the small-slope linearisation of the rotation
 #: (cos theta = 1 within 5e-5); the paper's bound on its flat faces' tilt is pi/3600 = 8.7e-4 rad
 TILT_MAX = 1e-2
 
 
 def check_assumptions(traction, coupling) -> tuple[str, bool]:
-    if traction not in TRACTIONS:
-        raise InputError(f"traction must be one of {', '.join(TRACTIONS)}, got {traction!r}")
+    check_traction(traction)
     if coupling not in (True, False):
         raise InputError(f"coupling must be True or False, got {coupling!r}")
     return traction, bool(coupling)
