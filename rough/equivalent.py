@@ -51,8 +51,10 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
     dissipation and stiffness over the rough half-space's, minus 1; ``curve``: the rough half-space's
     normal force-approach samples (``d``, ``F``) the equivalent profile was built from. ``hardness``
-    (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``; the curve is the
-    first loading's, which the equivalent profile then unloads elastically)."""
+    (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``); the curve is then
+    the elastic one of the surface their first loading to F0 flattened (``normal_contact``'s
+    ``flattening``): fretting at a constant F0 unloads and reloads that contact elastically, which the
+    first loading's curve, softer by the plastic flow, would not describe."""
     F0, fa = positive("F0", F0), positive("fa", fa)
     if fa >= mu * F0:
         raise InputError(f"fa must stay below mu F0 = {mu * F0:.4g} N (force control), got {fa!r}")
@@ -64,7 +66,12 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     u = halfspace_tangential_displacement(first.q, grid.pixel, materials)
     stick = normal["pressure"] > 0
     k_hs = Q1 / float(np.sum(u[stick] * normal["pressure"][stick]) / np.sum(normal["pressure"][stick]))
-    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights, hardness=hardness)
+    if hardness is None:
+        d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights)
+    else:  # the flattened surface's elastic curve: the contact at F0 unloads and reloads elastically
+        h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
+        d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid,
+                              HeightMap(h - normal["flattening"], grid.pixel))
     eq = EquivalentProfile(d, F, materials)
     loading = Loading.of(F0, fa=fa, cycles=cycles, steps=MDR_STEP_FACTOR * steps)
     out = {"rough_halfspace": {"dissipation": hs["dissipation"], "stiffness": float(k_hs),

@@ -164,7 +164,26 @@ def _contact_result(p, s, F, grid, r, materials, hardness) -> dict:
     return {"plastic_area": float(np.count_nonzero(plastic)) * dA, "contact_area": area, "contact_radius_area": float(np.sqrt(area / np.pi)),
             "pressure_radius": float(np.sqrt(5.0 * M2 / (2.0 * F))), "p_max": float(p.max()),
             "force": float(p.sum()) * dA, "approach": d, "approach_spread": spread, "pressure": p,
+            "flattening": _flattening(p, s, grid, float(materials.E_star), plastic),
             "period": grid.period, "n": grid.n}
+
+
+def _flattening(p, s, grid, E_star, plastic) -> np.ndarray:
+    """The plastic pixels' penetration (n, n) (m, >= 0; 0 elsewhere): with u = K p the periodic
+    half-space's displacement and delta the approach of the elastic contact pixels (where
+    u + max(s) - s = delta), a plastic pixel has u + max(s) - s < delta by its penetration. The surface
+    lowered by it, s - flattening, is the flattened surface whose elastic contact at the same force has
+    the same pressure (the capped solve's optimality conditions are the elastic one's there): it
+    unloads elastically."""
+    out = np.zeros(p.shape)
+    elastic = (p > 0) & ~plastic
+    if not plastic.any() or not elastic.any():
+        return out
+    K = normal_compliance(grid, E_star)
+    w = np.fft.irfft2(K * np.fft.rfft2(p), s=p.shape) + s.max() - s
+    delta = float(np.mean(w[elastic]))
+    out[plastic] = np.maximum(delta - w[plastic], 0.0)
+    return out
 
 
 def _pixel_kernel(X, Y, h):
