@@ -1,8 +1,12 @@
-"""The one convex problem behind the rough contact's two solves (``rough.tangential``: Coulomb's box
-|q| <= mu p; ``rough.normal``: a pressure capped at the hardness, 0 <= p <= H shifted to a symmetric
-box): minimise (1/2) q.Kq + q.s over a box |q| <= lim cell by cell with a prescribed total, by a
-projected conjugate gradient on the free cells (Polonsky & Keer 1999, Wear 231, 206, with a two-sided
-box) whose steps keep the total exactly (``shift_to_total``).
+"""The convex problem behind the rough contact's solves: minimise (1/2) q.Kq + q.s with a prescribed
+total over a set per cell.
+
+- A box |q| <= lim (``solve_box``; ``rough.tangential``'s Coulomb along x, and ``rough.normal``'s
+  pressure capped at the hardness, 0 <= p <= H shifted to a symmetric box): a projected conjugate
+  gradient on the free cells (Polonsky & Keer 1999, Wear 231, 206, with a two-sided box) whose steps
+  keep the total exactly (``shift_to_total``).
+- A disk |q| <= lim of a two-component q (``solve_disk``; Coulomb with the traction free to turn): an
+  accelerated projected gradient whose projections keep the total (``project_disks_to_total``).
 """
 from __future__ import annotations
 
