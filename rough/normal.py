@@ -203,38 +203,45 @@ def halfspace_displacement(p, pixel, E_star) -> np.ndarray:
     pixel-wise uniform pressure ``p`` (n, n) (Pa), without periodic images (Boussinesq's 1 / (pi E* r)
     integrated over each pixel, a zero-padded FFT convolution): the approach of a contact whose
     pressure vanishes at the grid's border, as a half-space has it."""
-    import scipy.fft as sfft
-
-    n = p.shape[0]
-    m = 3 * n - 2
-    full = sfft.irfft2(sfft.rfft2(p, s=(m, m)) * _boussinesq_hat(n, float(pixel), float(E_star)), s=(m, m))
-    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+    return _boussinesq(p.shape[0], float(pixel), float(E_star))(p)
 
 
 @functools.lru_cache(maxsize=4)
-def _boussinesq_hat(n: int, pixel: float, E_star: float) -> np.ndarray:
-    """The zero-padded FFT of ``halfspace_displacement``'s kernel (``convolve_pixels``' padding), kept
-    for the curve's loads on one grid (the same bits as computing it per call; read-only)."""
-    import scipy.fft as sfft
-
+def _boussinesq(n: int, pixel: float, E_star: float) -> "PixelConvolution":
+    """``halfspace_displacement``'s convolution on one grid, kept for the force-approach curve's loads
+    (the same bits as building it per call)."""
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
-    m = 3 * n - 2
-    hat = sfft.rfft2(_pixel_kernel(X, Y, pixel) / (np.pi * E_star), s=(m, m))
-    hat.flags.writeable = False
-    return hat
+    return PixelConvolution(_pixel_kernel(X, Y, pixel) / (np.pi * E_star))
 
 
-def convolve_pixels(field, K) -> np.ndarray:
-    """sum_j K(x_i - x_j) field_j at the pixel centres of ``field`` (n, n) for a kernel ``K`` (2n - 1,
-    2n - 1) sampled at the offsets -(n - 1) .. n - 1 pixels: a linear (not circular) convolution by
-    zero-padded FFTs, so no periodic image enters."""
-    import scipy.fft as sfft
+class PixelConvolution:
+    """field -> sum_j K(x_i - x_j) field_j at the pixel centres of an (n, n) field, for a kernel ``K``
+    (2n - 1, 2n - 1) sampled at the offsets -(n - 1) .. n - 1 pixels: a linear (not circular)
+    convolution by zero-padded FFTs, so no periodic image enters; the kernel's FFT kept (read-only)."""
 
-    n = field.shape[0]
-    m = 3 * n - 2  # linear (not circular) convolution of n and 2n - 1 samples
-    full = sfft.irfft2(sfft.rfft2(field, s=(m, m)) * sfft.rfft2(K, s=(m, m)), s=(m, m))
-    return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+    def __init__(self, K):
+        import scipy.fft as sfft
+
+        self.n = (K.shape[0] + 1) // 2
+        self.m = 3 * self.n - 2  # linear (not circular) convolution of n and 2n - 1 samples
+        self.hat = sfft.rfft2(K, s=(self.m, self.m))
+        self.hat.flags.writeable = False
+
+    def __call__(self, field) -> np.ndarray:
+        import scipy.fft as sfft
+
+        n, m = self.n, self.m
+        full = sfft.irfft2(sfft.rfft2(field, s=(m, m)) * self.hat, s=(m, m))
+        return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+
+    def circulant_eigenvalues(self) -> np.ndarray:
+        """The eigenvalues of the circulant on the padded grid that embeds this convolution, for an even
+        kernel (real): their largest bounds the (n, n) window's operator."""
+        n, m = self.n, self.m
+        k = np.arange(m)
+        shift = np.exp(2j * np.pi * (n - 1) * k / m)  # the kernel's offset 0 moved to index 0
+        return (self.hat * shift[:, None] * shift[None, :self.hat.shape[1]]).real
 
 
 def _approach(p, surface, pixel, E_star, elastic=None) -> tuple:

@@ -33,7 +33,7 @@ from common.assumptions import check_traction
 from common.errors import InputError, nonnegative, positive
 
 from .boxqp import solve_box, solve_disk
-from .normal import Grid
+from .normal import Grid, PixelConvolution
 
 #: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
 #: relative to the range of the elastic displacement K q
@@ -127,24 +127,6 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
     return K
 
 
-class _HalfSpaceConvolution:
-    """q -> sum_j K(x_i - x_j) q_j for one kernel of ``cerruti_pixel_kernel``: its zero-padded FFT kept
-    (a linear convolution: no periodic image)."""
-
-    def __init__(self, kernel):
-        import scipy.fft as sfft
-
-        self.n = (kernel.shape[0] + 1) // 2
-        self.m = 3 * self.n - 2
-        self.hat = sfft.rfft2(kernel, s=(self.m, self.m))
-
-    def __call__(self, q):
-        import scipy.fft as sfft
-
-        n, m = self.n, self.m
-        return sfft.irfft2(sfft.rfft2(q, s=(m, m)) * self.hat, s=(m, m))[n - 1:2 * n - 1, n - 1:2 * n - 1]
-
-
 @dataclass
 class TangentialState:
     """The memory of the contact: each cell's accumulated slip ``s`` (m), its traction ``q`` (Pa), the
@@ -187,9 +169,8 @@ class TangentialContact:
             ops = {c: (lambda q, K=self.K[c]: np.fft.irfft2(K * np.fft.rfft2(q), s=q.shape)) for c in comps}
             symbols = self.K
         else:
-            kernels = {c: cerruti_pixel_kernel(grid.n, grid.pixel, materials, c) for c in comps}
-            ops = {c: _HalfSpaceConvolution(k) for c, k in kernels.items()}
-            symbols = {c: _centred_symbol(k) for c, k in kernels.items()}
+            ops = {c: PixelConvolution(cerruti_pixel_kernel(grid.n, grid.pixel, materials, c)) for c in comps}
+            symbols = {c: op.circulant_eigenvalues() for c, op in ops.items()} if traction == "free" else {}
         self._ops = ops
         if traction == "free":
             a, b, c = symbols["xx"], symbols["xy"], symbols["yy"]
@@ -251,17 +232,6 @@ class TangentialContact:
                                delta_y=float(delta[1]))
 
 
-def _centred_symbol(kernel) -> np.ndarray:
-    """The eigenvalues of the circulant that embeds the linear convolution with ``kernel`` (2n - 1,
-    2n - 1; even, offset 0 at its centre) on the zero-padded grid of side 3n - 2: real, and their
-    largest bounds the window's operator."""
-    n = (kernel.shape[0] + 1) // 2
-    m = 3 * n - 2
-    padded = np.zeros((m, m))
-    padded[:2 * n - 1, :2 * n - 1] = kernel
-    return np.fft.rfft2(np.roll(padded, (-(n - 1), -(n - 1)), axis=(0, 1))).real
-
-
 def run_force_cycles(contact: TangentialContact, p, fa, cycles=3, steps=40) -> dict:
     """Q(t) = fa sin(2 pi t) at the constant pressure field ``p``, from rest; the dissipation of every
     cycle (the friction work over it, J), the loop (delta, Q) of the last, the state at the last cycle's
@@ -290,7 +260,7 @@ def halfspace_tangential_displacement(q, pixel, materials) -> np.ndarray:
     (``cerruti_pixel_kernel``, a zero-padded FFT convolution). Unlike the periodic grid's ``delta`` it
     holds the rigid mode: the displacement of a sticking contact relative to the bodies far away, hence
     its tangential stiffness."""
-    return _HalfSpaceConvolution(cerruti_pixel_kernel(q.shape[0], pixel, materials, "xx"))(q)
+    return PixelConvolution(cerruti_pixel_kernel(q.shape[0], pixel, materials, "xx"))(q)
 
 
 def stick_radius(q, p, mu, radii) -> float | None:
