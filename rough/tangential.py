@@ -85,11 +85,6 @@ def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGE
     return out
 
 
-def compliance_xx(grid: Grid, materials, images: int = IMAGES) -> np.ndarray:
-    """``compliance(grid, materials, "xx", images)``: Mindlin's component."""
-    return compliance(grid, materials, "xx", images)
-
-
 def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx") -> np.ndarray:
     """The tangential displacement (m) at the pixel centres offset by -(n - 1) .. n - 1 pixels from a
     pixel of side ``pixel`` carrying a uniform unit traction (Pa), both bodies, on half-spaces without
