@@ -40,12 +40,17 @@ from .normal import Grid, PixelConvolution
 TOLERANCE = 1e-10
 #: the same for the traction free to turn (``rough.boxqp.solve_disk``: an accelerated projected gradient,
 #: slower than the box's conjugate gradient; the dissipation to ~1e-7)
-TOLERANCE_PLANE = 1e-8
+TOLERANCE_FREE = 1e-8
 
 
 #: the aliases k + 2 pi m / h summed per direction, |m| <= IMAGES (their terms fall as |m|^-3: the sum is
 #: complete to ~1e-4 of the pixel-scale coefficients, far below the grid's own error)
 IMAGES = 12
+
+
+def _check_component(component) -> None:
+    if component not in ("xx", "xy", "yy"):
+        raise InputError(f"component must be 'xx', 'xy' or 'yy', got {component!r}")
 
 
 def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGES) -> np.ndarray:
@@ -59,8 +64,7 @@ def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGE
 
     (the point kernel sampled alone converges non-monotonically: -1.8, -0.4, -0.8 % in the sphere's
     dissipation at a/8, a/16, a/32). The mean (k = 0, rigid) mode is 0."""
-    if component not in ("xx", "xy", "yy"):
-        raise InputError(f"component must be 'xx', 'xy' or 'yy', got {component!r}")
+    _check_component(component)
     h, n = grid.pixel, grid.n
     kx = 2.0 * np.pi * np.fft.fftfreq(n, d=h)
     ky = 2.0 * np.pi * np.fft.rfftfreq(n, d=h)
@@ -95,8 +99,7 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
     of -r for x y / r^3."""
     from .normal import _pixel_kernel
 
-    if component not in ("xx", "xy", "yy"):
-        raise InputError(f"component must be 'xx', 'xy' or 'yy', got {component!r}")
+    _check_component(component)
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
     a = 0.5 * pixel
@@ -122,6 +125,17 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
     return K
 
 
+def magnitude(q) -> np.ndarray:
+    """|q| cell by cell (n, n) of a traction (n, n) along x or (2, n, n)."""
+    return np.abs(q) if np.ndim(q) == 2 else np.hypot(q[0], q[1])
+
+
+def sticking(q, lim) -> np.ndarray:
+    """The cells in contact (lim > 0) whose traction ``q`` ((n, n) along x or (2, n, n)) is below its
+    limit ``lim`` (Pa): a boolean (n, n)."""
+    return (lim > 0) & (magnitude(q) < lim * (1 - 1e-9))
+
+
 @dataclass
 class TangentialState:
     """The memory of the contact: each cell's accumulated slip ``s`` (m), its traction ``q`` (Pa), the
@@ -134,8 +148,6 @@ class TangentialState:
     delta: float = 0.0
     work: float = 0.0
     delta_y: float = 0.0
-
-
 
 
 class TangentialContact:
@@ -155,7 +167,7 @@ class TangentialContact:
         check_traction(traction)
         self.grid, self.materials = grid, materials
         self.mu = float(positive("mu", mu))
-        self.tol = float(positive("tol", (TOLERANCE if traction == "x" else TOLERANCE_PLANE) if tol is None else tol))
+        self.tol = float(positive("tol", (TOLERANCE if traction == "x" else TOLERANCE_FREE) if tol is None else tol))
         self.periodic, self.traction = bool(periodic), traction
         self.dA = grid.pixel ** 2
         comps = ("xx",) if traction == "x" else ("xx", "xy", "yy")
@@ -185,14 +197,9 @@ class TangentialContact:
         kxy = self._ops["xy"]
         return np.stack([self._ops["xx"](q[0]) + kxy(q[1]), kxy(q[0]) + self._ops["yy"](q[1])])
 
-    def magnitude(self, q) -> np.ndarray:
-        """|q| cell by cell (n, n)."""
-        return np.abs(q) if self.traction == "x" else np.hypot(q[0], q[1])
-
     def sticking(self, q, p) -> np.ndarray:
         """The cells in contact whose traction is below the limit mu p (a boolean (n, n))."""
-        lim = self.mu * np.asarray(p, dtype=float)
-        return (lim > 0) & (self.magnitude(q) < lim * (1 - 1e-9))
+        return sticking(q, self.mu * np.asarray(p, dtype=float))
 
     def step(self, state: TangentialState, p, Q) -> TangentialState:
         p = np.asarray(p, dtype=float)
@@ -269,9 +276,8 @@ def stick_radius(q, p, mu, radii) -> float | None:
     against the fit's +0.1, +0.06, +0.04 %). None with fewer than 3 such cells or no root."""
     p = np.asarray(p, dtype=float)
     q = np.asarray(q, dtype=float)
-    mag = np.abs(q) if q.ndim == 2 else np.hypot(q[0], q[1])
-    lim = mu * p
-    stick = (lim > 0) & (mag < lim * (1 - 1e-9))
+    mag, lim = magnitude(q), mu * p
+    stick = sticking(q, lim)
     if not stick.any():
         return None
     r_out = float(np.max(radii[stick]))

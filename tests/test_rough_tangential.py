@@ -68,23 +68,24 @@ def test_the_smooth_sphere_dissipates_mindlin_deresiewicz():
     assert W[2] == pytest.approx(_md(FN, 0.5 * MU * FN), rel=0.01)
 
 
-def _window(per_a, centre=(0.0, 0.0)):
+def _window(per_a, centre=(0.0, 0.0), materials=MAT):
     """The smooth sphere's contact on a window of two half-spaces (no periodic images) of pixel a /
-    per_a, the pressure Hertz's pixel means (``Grid.cell_mean``) about ``centre`` (m)."""
-    h = A / per_a
+    per_a (a Hertz's radius for ``materials``), the pressure Hertz's pixel means (``Grid.cell_mean``)
+    about ``centre`` (m)."""
+    h = float(ref.hertz(F, R, materials.E_star)["a"]) / per_a
     n = int(np.ceil(2.1 * per_a)) + 2
     grid = Grid(n * h, n)
-    p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, MAT.E_star), centre)
+    p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, materials.E_star), centre)
     return grid, p
 
 
-def _smooth_ladder(centre, per_a=(16, 24, 32), traction="x"):
+def _smooth_ladder(centre, per_a=(16, 24, 32)):
     """The stationary dissipation over Mindlin-Deresiewicz's and the stick radius (``stick_radius``) over
     Cattaneo-Mindlin's at Q = mu F / 2, per grid of the ladder."""
     W, c = [], []
     for k in per_a:
         grid, p = _window(k, centre)
-        tc = TangentialContact(grid, MAT, MU, periodic=False, traction=traction)
+        tc = TangentialContact(grid, MAT, MU, periodic=False)
         FN = float(p.sum()) * tc.dA
         out = run_force_cycles(tc, p, 0.5 * MU * FN, cycles=2, steps=8)
         W.append(out["dissipation"] / _md(FN, 0.5 * MU * FN))
@@ -166,11 +167,8 @@ def test_bad_input_is_one_line():
 
 def _free_against_x(materials, per_a, steps=4, cycles=2):
     """The two tractions under the same pressure (Hertz's pixel means for ``materials``) on a window."""
-    h = float(ref.hertz(F, R, materials.E_star)["a"]) / per_a
-    n = int(np.ceil(2.1 * per_a)) + 2
-    grid = Grid(n * h, n)
-    p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, materials.E_star))
-    fa = 0.5 * MU * float(p.sum()) * h * h
+    grid, p = _window(per_a, materials=materials)
+    fa = 0.5 * MU * float(p.sum()) * grid.pixel ** 2
     out = {}
     for traction in ("x", "free"):
         tc = TangentialContact(grid, materials, MU, periodic=False, traction=traction)
@@ -194,11 +192,9 @@ def test_without_poisson_s_ratio_the_traction_does_not_turn():
 def test_a_turning_traction_obeys_coulomb_as_a_disk():
     """Every step: |q| <= mu p; a cell below the limit does not slip; a slipping cell's traction is at
     the limit and points along its slip increment; the traction carries Q along x and nothing across."""
-    h = A / 6
-    grid = Grid(15 * h, 15)
-    p = grid.cell_mean(lambda r: ref.hertz_pressure(r, F, R, MAT.E_star))
+    grid, p = _window(6)
     tc = TangentialContact(grid, MAT, MU, periodic=False, traction="free")
-    st, lim, FN = tc.rest_state(), MU * p, float(p.sum()) * h * h
+    st, lim, FN = tc.rest_state(), MU * p, float(p.sum()) * tc.dA
     for Q in MU * FN * np.array([0.3, 0.6, 0.2, -0.4, -0.6, 0.1]):
         new = tc.step(st, p, Q)
         ds, mag = new.s - st.s, np.hypot(new.q[0], new.q[1])
