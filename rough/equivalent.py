@@ -45,20 +45,35 @@ HALFSPACE_STEPS = 8
 
 
 def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: HeightMap | None = None, *,
-                      cycles: int = 3, steps: int = 40, hardness: float | None = None) -> dict:
+                      cycles: int = 3, steps: int = 40, hardness: float | None = None,
+                      preload: float | None = None) -> dict:
     """The three models of the module docstring at normal force F0 (N) and tangential force amplitude
     fa (N, below mu F0) on ``grid``: per model ``dissipation`` (J, the last cycle's) and
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
     dissipation and stiffness over the rough half-space's, minus 1; ``curve``: the rough half-space's
     normal force-approach samples (``d``, ``F``) the equivalent profile was built from. ``hardness``
-    (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``); the curve is then
-    the elastic one of the surface their first loading to F0 flattened (``normal_contact``'s
-    ``flattening``): fretting at a constant F0 unloads and reloads that contact elastically, which the
-    first loading's curve, softer by the plastic flow, would not describe."""
+    (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``), flattened by a
+    first loading to ``preload`` (N, at least F0; default F0): the largest normal force the surface
+    has seen. Everything after is elastic on the surface that loading left (``normal_contact``'s
+    ``flattening``; elastic shakedown): fretting at a constant F0 unloads and reloads it elastically,
+    and the curve is that surface's elastic one, which the first loading's, softer by the plastic
+    flow, would not describe. At ``preload`` = F0 the elastic pressure at F0 is the capped one (to
+    1e-8 H, ``tests/test_rough_normal.py``)."""
     F0, fa = positive("F0", F0), positive("fa", fa)
     if fa >= mu * F0:
         raise InputError(f"fa must stay below mu F0 = {mu * F0:.4g} N (force control), got {fa!r}")
-    normal = normal_contact(profile, materials, F0, grid, heights, hardness=hardness)
+    plastic_area = 0.0
+    if hardness is not None:  # the first, plastic loading; the surface it leaves is elastic from then on
+        preload = F0 if preload is None else positive("preload", preload)
+        if preload < F0:
+            raise InputError(f"preload must be at least F0 = {F0:.4g} N (the largest load the surface saw), "
+                             f"got {preload!r}")
+        first = normal_contact(profile, materials, preload, grid, heights, hardness=hardness)
+        h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
+        heights, plastic_area = HeightMap(h - first["flattening"], grid.pixel), first["plastic_area"]
+    elif preload is not None:
+        raise InputError("preload needs a hardness (the load that flattened the asperities)")
+    normal = normal_contact(profile, materials, F0, grid, heights)
     tc = TangentialContact(grid, materials, mu)
     hs = run_force_cycles(tc, normal["pressure"], fa, cycles=cycles, steps=HALFSPACE_STEPS)
     Q1 = fa * np.sin(2.0 * np.pi / steps)  # the first of the caller's steps: full stick
@@ -66,17 +81,12 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     u = halfspace_tangential_displacement(first.q, grid.pixel, materials)
     stick = normal["pressure"] > 0
     k_hs = Q1 / float(np.sum(u[stick] * normal["pressure"][stick]) / np.sum(normal["pressure"][stick]))
-    if hardness is None:
-        d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights)
-    else:  # the flattened surface's elastic curve: the contact at F0 unloads and reloads elastically
-        h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
-        d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid,
-                              HeightMap(h - normal["flattening"], grid.pixel))
+    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights)
     eq = EquivalentProfile(d, F, materials)
     loading = Loading.of(F0, fa=fa, cycles=cycles, steps=MDR_STEP_FACTOR * steps)
     out = {"rough_halfspace": {"dissipation": hs["dissipation"], "stiffness": float(k_hs),
                                "contact_area": normal["contact_area"], "approach": normal["approach"],
-                               "plastic_area": normal["plastic_area"]},
+                               "plastic_area": plastic_area},
            "equivalent": eq.describe(), "curve": {"d": d.tolist(), "F": F.tolist()}}
     for name, prof in (("mdr_equivalent", eq), ("mdr_smooth", profile)):
         res = run_mdr_contact(prof, materials, mu, loading)

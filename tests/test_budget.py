@@ -63,16 +63,36 @@ def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
     assert abs(e05) < abs(e3)
 
 
-def _hertz_store(rms, members=3):
-    """A stored roughness scene whose 'rough' curves are the smooth sphere's own (Hertz) and whose
-    equivalent MDR matched the half-space exactly."""
+def _hertz_row(rms, members=3, radius=R_INDENTER, **extra):
+    """A stored roughness row whose 'rough' curves are a smooth sphere's own (Hertz, of ``radius``) and
+    whose equivalent MDR matched the half-space exactly."""
     F = 0.5 * np.geomspace(1e-2, 1.5, 24)
-    d = np.array([float(ref.hertz(f, R_INDENTER, MAT.E_star)["d"]) for f in F])
+    d = np.array([float(ref.hertz(f, radius, MAT.E_star)["d"]) for f in F])
     curve = {"d": d.tolist(), "F": F.tolist()}
-    row = {"rms": rms, "seeds": list(range(members)), "grids": [128, 256], "period": 16 * 27e-6,
-           "verdicts": {"mdr_equivalent:dissipation": {"difference": 0.0, "error": 0.0}},
-           "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members}}
+    return {"rms": rms, "seeds": list(range(members)), "grids": [128, 256], "period": 16 * 27e-6,
+            "verdicts": {"mdr_equivalent:dissipation": {"difference": 0.0, "error": 0.0}},
+            "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members},
+            **extra}
+
+
+def _hertz_store(rms, members=3):
+    row = _hertz_row(rms, members)
     return lambda name: {"roughness": [row]} if name == "roughness" else None
+
+
+def test_the_plastic_column_reads_the_plastic_surfaces_within_their_flattening_load():
+    """The elastic and the plastic rough rows are told apart (the plastic one here: the curves of a sphere
+    of 4 R, a flattened, stiffer contact); a point loaded beyond the plastic row's flattening load would
+    flatten it further: undetermined."""
+    rows = [_hertz_row(1e-6), _hertz_row(1e-6, radius=4 * R_INDENTER, hardness=2.1e9, preload=0.75)]
+    store = lambda name: {"roughness": rows} if name == "roughness" else None  # noqa: E731
+    p = B._loop("fig4")
+    elastic, plastic = B.roughness_cell(p, store, 1e-6), B.roughness_cell(p, store, 1e-6, plastic=True)
+    assert abs(elastic["effect"]) < 2e-3
+    assert abs(plastic["effect"]) > B.RESOLUTION and plastic["verdict"] == "matters"  # another curve, counted
+    rows[1]["preload"] = 0.9 * (p.F0 + p.dF)
+    assert B.roughness_cell(p, store, 1e-6, plastic=True)["verdict"] == "undetermined"
+    assert B.roughness_cell(p, store, 1e-6)["verdict"] == "negligible"
 
 
 def test_the_equivalent_profile_of_a_smooth_sphere_is_no_roughness_in_the_apparatus():

@@ -94,6 +94,8 @@ def test_tasks_on_an_executor_reduce_to_the_rows_of_one_process(members, tmp_pat
                                           ({"rms": 1e-8, "short": 1.0}, "short"),
                                           ({"rms": 1e-8, "hurst": 1.2}, "hurst"),
                                           ({"rms": 1e-8, "hardness": -2e9}, "hardness"),
+                                          ({"rms": 1e-8, "preload": 1.0}, "preload"),
+                                          ({"rms": 1e-8, "hardness": 2e9, "preload": 0.1}, "preload"),
                                           ({"rms": 1e-8, "grids": ()}, "grids"),
                                           ({"rms": 1e-8, "seeds": (0, 0, 1)}, "seeds"),
                                           ({"rms": True}, "rms")])

@@ -63,9 +63,10 @@ RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross sl
 FILLET_MAX = 3e-6
 #: the paper's block: the indenter's contact lies h = 19 mm above the bedding (Table 1)
 BLOCK_HEIGHT = 19e-3
-COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "kink", "plates")
+COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "plastic", "kink", "plates")
 TITLES = {"size": "half-space size", "curvature": "curvature a/R", "direction": "traction direction",
-          "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness", "kink": "kink rounding",
+          "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness, elastic",
+          "plastic": "roughness, plastic asperities", "kink": "kink rounding",
           "plates": "brass plates' reading"}
 
 
@@ -237,14 +238,15 @@ def tilt_cell(p: Point, store) -> dict:
 ROUGHNESS_RMS = (1e-6,)
 
 
-def _rough_row(store, rms):
-    """The stored roughness row of the generated, elastic surfaces of ``rms`` and its curves per grid,
-    coarse to fine (each a list over the seeds), or (row or None, None) where any member failed."""
+def _rough_row(store, rms, plastic=False):
+    """The stored roughness row of the generated surfaces of ``rms``, elastic or (``plastic``) with
+    plastic asperities, and its curves per grid, coarse to fine (each a list over the seeds), or (row or
+    None, None) where any member failed."""
     res = store("roughness")
     if res is None:
         return None, None
     row = next((r for r in res["roughness"] if not r.get("measured") and r.get("rms") is not None
-                and abs(r["rms"] - rms) < 1e-12 and not r.get("hardness")), None)
+                and abs(r["rms"] - rms) < 1e-12 and bool(r.get("hardness")) == plastic), None)
     if row is None or row.get("failed"):
         return row, None
     by = row.get("curves_by_grid") or {}
@@ -264,13 +266,16 @@ def _ensemble_ladder(values_by_level, sizes):
     return means[-1], sem, ladder_error(sizes, means)["error"]
 
 
-def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
+def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool = False) -> dict:
     """The sphere's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
     stored rough surface's normal curve (``roughness``: the rough half-space's F_N(d) on every grid of
     its ladder, ``mdr.equivalent.EquivalentProfile``) against the smooth sphere, a change of the slip
     index. Error: the ensemble's standard error, the grid error of the ensemble mean over the ladder,
     and what the equivalent profile misses of the rough half-space's own dissipation in the scene
-    (|mean| + its error bar), as a share of the slip index."""
+    (|mean| + its error bar), as a share of the slip index. ``plastic``: the surfaces with perfectly
+    plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
+    flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
+    further and is undetermined."""
     from mdr.equivalent import EquivalentProfile
 
     if p.b > 0:
@@ -279,12 +284,16 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
             return cell(None, None, "absolute", "roughness", f"b = {p.b * 1e6:g} um: a rough flat face is not run")
     if store("roughness") is None:
         return missing("roughness")
-    row, levels = _rough_row(store, rms)
+    row, levels = _rough_row(store, rms, plastic)
+    what = f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
     if row is None:
-        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um not in the stored scene")
+        return cell(None, None, "absolute", "roughness", f"{what} not in the stored scene")
     v = row["verdicts"]["mdr_equivalent:dissipation"]
     if levels is None or v["difference"] is None or v["error"] is None or len(row["seeds"]) < 2:
-        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um: undetermined ensemble")
+        return cell(None, None, "absolute", "roughness", f"{what}: undetermined ensemble")
+    if plastic and (row.get("preload") is None or p.F0 + p.dF > row["preload"] * (1 + 1e-9)):
+        return cell(None, None, "absolute", "roughness",
+                    f"F0 + dF = {p.F0 + p.dF:g} N beyond the flattening load {row.get('preload')} N")
     top = min(max(c["F"]) for lv in levels for c in lv)
     if p.F0 + p.dF > top:
         return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
@@ -292,11 +301,11 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0]) -> dict:
     si = [_slip_indices([EquivalentProfile(c["d"], c["F"], mat) for c in lv], [p] * len(lv)) for lv in levels]
     mean, sem, grid = _ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
     if grid is None:
-        return cell(None, None, "absolute", "roughness", f"rms {rms * 1e6:g} um: no grid error")
+        return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
     smooth = point_slip_index(replace(p, b=0.0))
     err = sem + grid + (abs(v["difference"]) + v["error"]) * mean
     return cell(mean - smooth, err, "absolute", "roughness",
-                f"rms {rms * 1e6:g} um: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
+                f"{what}: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
 
 
 # ------------------------------------------------------------------ cells computed with MDR
@@ -407,18 +416,20 @@ def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6
 
 
 def transitions(store) -> list:
-    """The sticking transition of the smooth sphere and of the rough spheres of ``ROUGHNESS_RMS`` (MDR
-    with each stored surface's equivalent profile, on every grid of the scene's ladder): rows {rms, kx
+    """The sticking transition of the smooth sphere and of the rough spheres of ``ROUGHNESS_RMS``, elastic
+    and with plastic asperities (MDR with each stored surface's equivalent profile, on every grid of the
+    scene's ladder): rows {rms, plastic, kx
     (the ensemble mean on the finest grid), sem, grid (the mean's grid error), error (their sum),
     members}."""
     from mdr.equivalent import EquivalentProfile
     from mdr.profiles import TruncatedSphere
 
-    rows = [{"rms": 0.0, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0, "grid": 0.0,
+    rows = [{"rms": 0.0, "plastic": False, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0,
+             "grid": 0.0,
              "error": 0.0, "members": 1}]
-    for rms in ROUGHNESS_RMS:
-        row, levels = _rough_row(store, rms)
-        out = {"rms": rms, "kx": None, "sem": None, "grid": None, "error": None,
+    for rms, plastic in [(rms, plastic) for rms in ROUGHNESS_RMS for plastic in (False, True)]:
+        row, levels = _rough_row(store, rms, plastic)
+        out = {"rms": rms, "plastic": plastic, "kx": None, "sem": None, "grid": None, "error": None,
                "members": 0 if row is None else len(row["seeds"])}
         if levels is not None and len(row["seeds"]) > 1:
             ks = [[sticking_transition(EquivalentProfile(c["d"], c["F"], Materials())) for c in lv] for lv in levels]
@@ -455,8 +466,9 @@ def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
         for col, fun in (("size", size_cell), ("curvature", curvature_cell), ("direction", direction_cell),
                          ("tilt", tilt_cell)):
             cells[col] = combine([scaled(fun(p, store), x) for p, x in zip(r.points, si)], TITLES[col])
-        cells["roughness"] = combine([roughness_cell(p, store, rms) for p in r.points for rms in ROUGHNESS_RMS],
-                                     TITLES["roughness"])
+        for col, plastic in (("roughness", False), ("plastic", True)):
+            cells[col] = combine([roughness_cell(p, store, rms, plastic) for p in r.points for rms in ROUGHNESS_RMS],
+                                 TITLES[col])
         cells["coupling"] = cell(0.0, 0.0, "exact", "Dundurs", "indenter and block of one steel: beta = 0")
         if mdr_cells:
             cells["kink"] = combine([kink_cell(p) for p in r.points], "MDR apparatus")
@@ -507,7 +519,8 @@ def markdown(b: dict) -> list:
                       "grid error over the scene's ladder):", "",
                   "| surface | k_x (N/um) |", "|---|---|"]
         for t in b["transition"]:
-            name = "smooth" if not t["rms"] else f"rms {t['rms'] * 1e6:g} um, {t['members']} surfaces"
+            name = "smooth" if not t["rms"] else (f"rms {t['rms'] * 1e6:g} um{', plastic asperities' if t.get('plastic') else ''}"
+                                                  f", {t['members']} surfaces")
             val = "undetermined" if t["kx"] is None or t["error"] is None else (
                 num(t["kx"], ".2f", 1e-6) + ("" if not t["error"] else f" +- {num(t['error'], '.2f', 1e-6)} "
                                              f"(surfaces {num(t['sem'], '.2f', 1e-6)}, grids "

@@ -27,7 +27,8 @@ scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest
 truncated where the grid can resolve it, a modelling choice the result depends on and states),
 ``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period); ``hardness`` (Pa,
 optional): perfectly plastic asperities, the pressure capped there (``rough.normal.saturated_pressure``;
-the paper's steel: ``rough.normal.HARDNESS_X5CRNI18_10``).
+the paper's steel: ``rough.normal.HARDNESS_X5CRNI18_10``), flattened by a first loading to ``preload``
+(N, at least the scene's F0, default F0; ``rough.equivalent.mdr_against_rough``), elastic after.
 """
 from __future__ import annotations
 
@@ -108,7 +109,8 @@ def member(s: Scene, task: dict) -> dict:
         heights = resample(coarse, n)
     try:
         res = mdr_against_rough(profile_of(s), materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
-                                cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"))
+                                cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"),
+                                preload=v.get("preload"))
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
         return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
     return {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
@@ -169,7 +171,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     rms = (float(np.mean([m["rms"] for m in mine if "rms" in m])) if any("rms" in m for m in mine) else None) \
         if measured else float(v["rms"])
     return {"variant": i, "rms": rms, "measured": list(v["maps"]) if measured else None,
-            "hardness": v.get("hardness"),
+            "hardness": v.get("hardness"), "preload": float(v.get("preload", s.F0)) if v.get("hardness") else None,
             "seeds": list(v["seeds"]), "grids": list(v["grids"]),
             "period": P, "hurst": None if measured else float(v["hurst"]),
             "lambda_short": None if measured else float(v["short"]) * P / v["grids"][0],
@@ -240,7 +242,8 @@ def table(res) -> list:
 
     a = res["errors"]["a_ref"]
     for r in res[KEY]:
-        plastic = f", H = {num(r['hardness'], '.2g', 1e-9)} GPa" if r.get("hardness") else ""
+        plastic = (f", H = {num(r['hardness'], '.2g', 1e-9)} GPa, flattened at "
+                   f"{num(r['preload'], '.2g')} N") if r.get("hardness") else ""
         lines.append(f"| {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''}{plastic} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
                      f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
