@@ -167,6 +167,18 @@ def _checked(profile, materials, mu, F_max, h_contact, contact_extent, displacem
     return m, mu, F_max, contact_extent, tilt, traction, coupling
 
 
+def surface_heights(mi, surface) -> np.ndarray:
+    """The heights ``surface(x, y)`` (m) at the interface's P2 nodes, finite and even in y (the half
+    model's symmetry plane), else one-line errors."""
+    x, y = mi.nodes.x, mi.nodes.y
+    h, mirrored = (np.broadcast_to(np.asarray(surface(x, s * y), dtype=float), x.shape) for s in (1.0, -1.0))
+    if not np.isfinite(h).all():
+        raise InputError("surface: heights must be finite at every interface node")
+    if np.max(np.abs(h - mirrored), initial=0.0) > 1e-9 * max(np.max(np.abs(h), initial=0.0), 1e-300):
+        raise InputError("surface: heights must be even in y (the half model's symmetry plane y = 0)")
+    return np.array(h)
+
+
 class FEContact3D:
     """3D FE contact law of one profile (see the module docstring for the model).
 
@@ -208,17 +220,20 @@ class FEContact3D:
                               displacement=displacement, cache_dir=cache_dir, backend=backend)
         self._assume(model, mu, traction, coupling, tilt)
 
-    def _assume(self, model: Model3D, mu, traction, coupling, tilt):
+    def _assume(self, model: Model3D, mu, traction, coupling, tilt, surface=None):
         """Set the model and the assumptions of a run (checked), with an empty normal cache (seeded
-        with the model's aligned solution at F_max)."""
+        with the model's aligned solution at F_max where the face is the profile's own)."""
         self.model, self.mu, self.traction, self.coupling, self.tilt = model, mu, traction, coupling, tilt
-        self.gap0 = model.gap(tilt)  # the weighted initial gap of the (tilted) face
+        self.surface = surface
+        h = 0.0 if surface is None else model.mi.B @ surface_heights(model.mi, surface)
+        self.gap0 = model.gap(tilt) - h  # the weighted initial gap of the (tilted) face
+        self._gap0_aligned = model.gap0_aligned - h
         #: vertices whose q_y is held at zero: the symmetry plane, or every vertex under Mindlin's
         #: assumption (``traction="x"``)
         self._qy_zero = _qy_zero(model.mi, traction)
         self._normal_cache = {}
         self.stats = {"steps": 0, "trial_solves": 0, "newton": 0, "normal_solves": 0}
-        if model.normal_at_F_max is not None and tilt == 0.0:
+        if model.normal_at_F_max is not None and tilt == 0.0 and surface is None:
             p, dd, it = model.normal_at_F_max
             self._normal_cache[("F", float(f"{model.F_max:.13g}"), "aligned")] = self._normal3d(p, dd, it, True)
             self.stats["normal_solves"] = 1
@@ -232,8 +247,19 @@ class FEContact3D:
                                                 self.coupling if coupling is None else coupling)
         tilt = self.tilt if tilt is None else check_tilt(tilt)
         cache = dict(self._normal_cache) if tilt == self.tilt else {}
-        new._assume(self.model, self.mu, traction, coupling, tilt)
+        new._assume(self.model, self.mu, traction, coupling, tilt, self.surface)
         new._normal_cache, new.stats["normal_solves"] = cache, 0
+        return new
+
+    def with_surface(self, surface) -> "FEContact3D":
+        """The same model and assumptions with heights ``surface(x, y)`` (m, vectorised over the
+        interface nodes' coordinates; None: the profile's own face) added to the indenter's face towards
+        the block: the gap shrinks by them (the rough half-space's convention, ``rough.normal``). The
+        half model's symmetry plane y = 0 needs them even in y (checked at the nodes); the mesh must
+        resolve them (an assumption: its elements are not refined for them)."""
+        new = copy.copy(self)
+        new._assume(self.model, self.mu, self.traction, self.coupling, self.tilt, surface)
+        new.stats["normal_solves"] = 0
         return new
 
     # ----------------------------------------------------------------- info
@@ -315,7 +341,7 @@ class FEContact3D:
         key = key + ("aligned",) if aligned else key
         res = self._normal_cache.get(key)
         if res is None:
-            gap0 = self.model.gap0_aligned if aligned else self.gap0
+            gap0 = self._gap0_aligned if aligned else self.gap0
             res = self._normal3d(*normal_solution(self.model, gap0, F_N=F_N, d=d), aligned)
             self._normal_cache[key] = res
             self.stats["normal_solves"] += 1
