@@ -85,27 +85,29 @@ def test_docs_rough_table_is_current():
     assert run.returncode == 0, run.stderr
 
 
-def test_force_approach_leaves_out_single_pixel_contacts(monkeypatch):
-    """A load whose contact the FFT solver cannot resolve (one pixel: an asperity's tip) is left out of
-    the curve, a sample less; the curve needs 4 resolved loads and its largest."""
+def test_force_approach_leaves_out_unresolved_loads(monkeypatch):
+    """A load whose contact the solver cannot resolve is left out of the curve, a sample less; the curve
+    needs 4 resolved loads and its largest."""
     import rough.normal as rn
     from common.errors import ConvergenceError
 
     def fake(unresolved):
-        def normal_contact(profile, materials, F, grid, heights=None, hardness=None):
+        def elastic_pressure(surface, F, grid, E_star, start=None):
             if F in unresolved:
-                raise ConvergenceError("single pixel")
-            return {"approach": 1e-7 * F}
-        return normal_contact
+                raise ConvergenceError("did not converge")
+            return np.full(surface.shape, F)
+        return elastic_pressure
 
+    monkeypatch.setattr(rn, "_rigid_surface", lambda profile, grid, heights: np.zeros((grid.n, grid.n)))
+    monkeypatch.setattr(rn, "_approach", lambda p, s, pixel, E_star: (1e-7 * float(p.flat[0]), 0.0))
     loads = np.geomspace(1e-3, 1.0, 8)
-    monkeypatch.setattr(rn, "normal_contact", fake({loads[0], loads[1], loads[4]}))
+    monkeypatch.setattr(rn, "elastic_pressure", fake({loads[0], loads[1], loads[4]}))
     d, F = rn.force_approach(None, MAT, loads, GRID)
     assert np.array_equal(F, loads[[2, 3, 5, 6, 7]]) and np.allclose(d, 1e-7 * F)
-    monkeypatch.setattr(rn, "normal_contact", fake({loads[-1]}))
+    monkeypatch.setattr(rn, "elastic_pressure", fake({loads[-1]}))
     with pytest.raises(ConvergenceError, match="the largest not"):
         rn.force_approach(None, MAT, loads, GRID)
-    monkeypatch.setattr(rn, "normal_contact", fake(set(loads[:5])))
+    monkeypatch.setattr(rn, "elastic_pressure", fake(set(loads[:5])))
     with pytest.raises(ConvergenceError, match="3 of 8 loads"):
         rn.force_approach(None, MAT, loads, GRID)
 
