@@ -140,6 +140,7 @@ def test_the_settled_direction_effect_holds_the_stationary_cycle(pairs):
     assert abs(_effect(long) - _effect(runs)) <= s["error"]
 
 
+@pytest.mark.slow
 def test_the_coupled_pair_settles_slowly_and_its_bar_holds_it(pairs):
     """The coupled steel/aluminium pair on this mesh settles in modes: a fast one gone by cycle ~9,
     then a slow tail of ~5e-5 per cycle at a ratio of ~0.93 for tens of cycles. Runs settled to
