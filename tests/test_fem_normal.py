@@ -358,8 +358,18 @@ def test_cli_prints_to_stdout_by_default_and_offers_the_exact_cap(cache):
     ["--profile", "cone", "--F", "0.5"],
     ["--profile", "sphere", "--R", "abc", "--F", "0.5"],
 ])
-def test_cli_bad_input_exit_2_one_line(args, tmp_path):
-    p = run_cli("normal", *args, "--json", str(tmp_path / "o.json"))
-    assert p.returncode == 2
-    assert p.stderr.count("\n") == 1 and "error" in p.stderr
+def test_cli_bad_input_exit_2_one_line(args, tmp_path, capsys):
+    """The command's ``main`` in this process (``python -m fem`` itself: the first case, below)."""
+    from fem.cli import main
+
+    try:
+        code = main(["normal", *args, "--json", str(tmp_path / "o.json")])
+    except SystemExit as e:  # argparse's own errors
+        code = e.code
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "error" in err
     assert not (tmp_path / "o.json").exists()
+    if args[1] == "truncated":  # once as a user runs it
+        p = run_cli("normal", *args, "--json", str(tmp_path / "o.json"))
+        assert p.returncode == 2 and p.stderr.count("\n") == 1 and "error" in p.stderr
+        assert not (tmp_path / "o.json").exists()

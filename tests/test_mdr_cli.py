@@ -53,12 +53,25 @@ def test_contact_json_to_stdout():
     (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--fa", "0.2"], "fa"),
     (["contact", "--profile", "sphere", "--R", "6e-3", "--mu", "0.2", "--F0", "0.5", "--ua", "1e-7", "--steps", "10"], "steps"),
 ])
-def test_bad_input_exit_2_one_line(args, word, tmp_path):
+def test_bad_input_exit_2_one_line(args, word, tmp_path, capsys):
+    """In this process (the command's own ``main``; the interpreter's start is the one test below)."""
     out = tmp_path / "x.json"
-    proc = run([*args, "--json", str(out)])
-    assert proc.returncode == 2
+    try:
+        code = main([*args, "--json", str(out)])
+    except SystemExit as e:  # argparse's own errors
+        code = e.code
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and word in lines[0] and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_bad_input_of_the_command_itself_is_one_line(tmp_path):
+    """``python -m mdr`` as a user runs it: exit 2, one line naming the parameter, no file."""
+    out = tmp_path / "x.json"
+    proc = run(["normal", "--profile", "sphere", "--R", "-6e-3", "--F", "0.5", "--json", str(out)])
     lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1 and word in lines[0] and "Traceback" not in proc.stderr
+    assert proc.returncode == 2 and len(lines) == 1 and "R" in lines[0] and "Traceback" not in proc.stderr
     assert not out.exists()
 
 
