@@ -68,9 +68,9 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
         if preload < F0:
             raise InputError(f"preload must be at least F0 = {F0:.4g} N (the largest load the surface saw), "
                              f"got {preload!r}")
-        first = normal_contact(profile, materials, preload, grid, heights, hardness=hardness)
+        plastic = normal_contact(profile, materials, preload, grid, heights, hardness=hardness)
         h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
-        heights, plastic_area = HeightMap(h - first["flattening"], grid.pixel), first["plastic_area"]
+        heights, plastic_area = HeightMap(h - plastic["flattening"], grid.pixel), plastic["plastic_area"]
     elif preload is not None:
         raise InputError("preload needs a hardness (the load that flattened the asperities)")
     normal = normal_contact(profile, materials, F0, grid, heights)
