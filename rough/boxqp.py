@@ -100,12 +100,13 @@ def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
 MAX_ITER_DISK = 20000
 
 
-def project_disks_to_total(v, lim, inside, T, dA):
+def project_disks_to_total(v, lim, inside, T, dA, start=None, with_multiplier=False):
     """The Euclidean projection of the traction field ``v`` (2, n, n) onto {|q_i| <= lim_i cell by cell,
     sum(q) dA = T} (T a 2-vector; cells outside ``inside`` carry nothing): q_i = P_i(v_i + c) with P_i
     the projection onto cell i's disk and c the multiplier of the total, the minimiser of the convex
     phi(c) = sum_i e_i(v_i + c) - c.T / dA (grad e_i = P_i), found by Newton's method with a
-    backtracking line search on phi."""
+    backtracking line search on phi, from ``start`` (a previous projection's c; default 0). With
+    ``with_multiplier`` it returns (q, c)."""
     x, l = v[:, inside], lim[inside]
     target = np.asarray(T, dtype=float) / dA
     scale_T = float(l.sum()) + float(np.hypot(*target))
@@ -118,14 +119,21 @@ def project_disks_to_total(v, lim, inside, T, dA):
         return w, r, out, f
 
     def phi(c):
+        """phi(c) and the size of its terms (the scale of its round-off)."""
         w, r, out, _ = parts(c)
-        return float(np.sum(0.5 * r ** 2 - 0.5 * np.where(out, r - l, 0.0) ** 2)) - float(c @ target)
+        e = float(np.sum(0.5 * r ** 2 - 0.5 * np.where(out, r - l, 0.0) ** 2))
+        return e - float(c @ target), abs(e) + abs(float(c @ target))
 
-    c = np.zeros(2)
+    def gradient(c):
+        w, r, out, f = parts(c)
+        return (w * f).sum(axis=1) - target
+
+    c = np.zeros(2) if start is None else np.array(start, dtype=float)
     for _ in range(200):
         w, r, out, f = parts(c)
         grad = (w * f).sum(axis=1) - target
-        if np.hypot(*grad) <= 1e-12 * scale_T:
+        g_norm = float(np.hypot(*grad))
+        if g_norm <= 1e-12 * scale_T:
             break
         u = np.where(out, w / np.where(r > 0, r, 1.0), 0.0)
         H = np.eye(2) * float(np.count_nonzero(~out))
@@ -133,8 +141,17 @@ def project_disks_to_total(v, lim, inside, T, dA):
         H += np.eye(2) * float(fo.sum()) - np.einsum("k,ik,jk->ij", fo, u[:, out], u[:, out])
         H += np.eye(2) * 1e-12 * max(float(np.trace(H)), 1.0)
         dc = -np.linalg.solve(H, grad)
-        t, p0, slope = 1.0, phi(c), float(grad @ dc)
-        while phi(c + t * dc) > p0 + 1e-4 * t * slope and t > 1e-12:
+        (p0, size), slope, t = phi(c), float(grad @ dc), 1.0
+
+        def accepted(t):
+            # Armijo's decrease, or, where the decrease is below phi's round-off (near the root), a
+            # smaller gradient: phi can no longer tell the steps apart, its gradient still can
+            p1, _ = phi(c + t * dc)
+            if p1 <= p0 + 1e-4 * t * slope:
+                return True
+            return abs(p1 - p0) <= 1e-12 * size and float(np.hypot(*gradient(c + t * dc))) < g_norm
+
+        while not accepted(t) and t > 1e-12:
             t *= 0.5
         if t <= 1e-12 or np.all(c + t * dc == c):  # round-off: phi no longer decreases
             break
@@ -142,7 +159,7 @@ def project_disks_to_total(v, lim, inside, T, dA):
     w, r, out, f = parts(c)
     q = np.zeros_like(v)
     q[:, inside] = w * f
-    return q
+    return (q, c) if with_multiplier else q
 
 
 def solve_disk(apply_K, s, lim, Q, q, dA, tol, L, what="contact"):
@@ -156,10 +173,11 @@ def solve_disk(apply_K, s, lim, Q, q, dA, tol, L, what="contact"):
     vector of delta - K q - s where that would leave the disk."""
     inside = lim > 0
     q = project_disks_to_total(q, lim, inside, Q, dA)
-    y, t = q.copy(), 1.0
+    y, t, c = q.copy(), 1.0, None
     for it in range(MAX_ITER_DISK):
         u = apply_K(y)
-        q_new = project_disks_to_total(y - (u + s) / L, lim, inside, Q, dA)
+        # the multiplier moves little from one iteration to the next: each projection starts from the last
+        q_new, c = project_disks_to_total(y - (u + s) / L, lim, inside, Q, dA, start=c, with_multiplier=True)
         step = y - q_new
         if it % 10 == 0 and _disk_residual(apply_K, s, lim, inside, q_new) <= tol:
             return q_new

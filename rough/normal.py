@@ -295,16 +295,26 @@ class PixelConvolution:
         import scipy.fft as sfft
 
         self.n = (K.shape[0] + 1) // 2
-        self.m = 3 * self.n - 2  # linear (not circular) convolution of n and 2n - 1 samples
+        # a linear (not circular) convolution of n and 2n - 1 samples needs 3n - 2; a fast FFT length
+        self.m = sfft.next_fast_len(3 * self.n - 2, real=True)
         self.hat = sfft.rfft2(K, s=(self.m, self.m))
         self.hat.flags.writeable = False
 
-    def __call__(self, field) -> np.ndarray:
+    def transform(self, field) -> np.ndarray:
+        """The zero-padded field's FFT (several kernels applied to one field share it)."""
         import scipy.fft as sfft
 
-        n, m = self.n, self.m
-        full = sfft.irfft2(sfft.rfft2(field, s=(m, m)) * self.hat, s=(m, m))
-        return full[n - 1:2 * n - 1, n - 1:2 * n - 1]
+        return sfft.rfft2(field, s=(self.m, self.m))
+
+    def back(self, spectrum) -> np.ndarray:
+        """The window of the inverse FFT of a product of kernel and field transforms."""
+        import scipy.fft as sfft
+
+        n = self.n
+        return sfft.irfft2(spectrum, s=(self.m, self.m))[n - 1:2 * n - 1, n - 1:2 * n - 1]
+
+    def __call__(self, field) -> np.ndarray:
+        return self.back(self.transform(field) * self.hat)
 
     def circulant_eigenvalues(self) -> np.ndarray:
         """The eigenvalues of the circulant on the padded grid that embeds this convolution, for an even
