@@ -25,6 +25,7 @@ dissipation (exact for the implicit step: the slipping traction is the one at th
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,27 +66,37 @@ def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGE
     (the point kernel sampled alone converges non-monotonically: -1.8, -0.4, -0.8 % in the sphere's
     dissipation at a/8, a/16, a/32). The mean (k = 0, rigid) mode is 0."""
     _check_component(component)
+    return _compliance(grid, materials, component, int(images))
+
+
+@functools.lru_cache(maxsize=16)
+def _compliance(grid: Grid, materials, component: str, images: int) -> np.ndarray:
+    """``compliance``, kept per (grid, materials, component, images): the members of an ensemble on one
+    grid share it (read-only)."""
     h, n = grid.pixel, grid.n
     kx = 2.0 * np.pi * np.fft.fftfreq(n, d=h)
     ky = 2.0 * np.pi * np.fft.rfftfreq(n, d=h)
     KX0, KY0 = np.meshgrid(kx, ky, indexing="ij")
     mods = [(nu, E / (2.0 * (1.0 + nu))) for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2))]
+    inv_G, nu_over_G = sum(1.0 / G for _, G in mods), sum(nu / G for nu, G in mods)
+    diag = 1.0 if component != "xy" else 0.0
     out = np.zeros_like(KX0)
     shift = 2.0 * np.pi / h
+    KYs = [KY0 + my * shift for my in range(-images, images + 1)]
+    sys_ = [np.sinc(KY * h / (2.0 * np.pi)) for KY in KYs]  # numpy's sinc(x) = sin(pi x) / (pi x)
     for mx in range(-images, images + 1):
         KX = KX0 + mx * shift
-        sx = np.sinc(KX * h / (2.0 * np.pi))  # numpy's sinc(x) = sin(pi x) / (pi x)
-        for my in range(-images, images + 1):
-            KY = KY0 + my * shift
+        sx = np.sinc(KX * h / (2.0 * np.pi))
+        for KY, sy in zip(KYs, sys_):
             k = np.hypot(KX, KY)
             zero = k == 0.0
             k = np.where(zero, 1.0, k)
             ki, kj = {"xx": (KX, KX), "xy": (KX, KY), "yy": (KY, KY)}[component]
-            cc = (ki / k) * (kj / k)
-            diag = 1.0 if component != "xy" else 0.0
-            term = sum((diag - nu * cc) / (G * k) for nu, G in mods) * sx * np.sinc(KY * h / (2.0 * np.pi))
+            # sum over the bodies of (delta_ij - nu k_i k_j / k^2) / (G k)
+            term = (diag * inv_G - nu_over_G * (ki / k) * (kj / k)) / k * (sx * sy)
             out += np.where(zero, 0.0, term)
     out[0, 0] = 0.0
+    out.flags.writeable = False
     return out
 
 
