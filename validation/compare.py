@@ -388,11 +388,24 @@ def compare(args) -> int:
 
     with Heartbeat(say) as say:
         say(f"validation.compare: {len(scenes)} scene(s){' (quick)' if args.quick else ''} -> {out}/")
+        from .hard_cases import hard_cases_cached, stored_hard_cases
+
+        def hard_cases():
+            return hard_cases_cached(out, quick=args.quick, log=say, force=args.force)
+
+        hard_running = None
         with executor_for(jobs, args.scheduler) as (executor, label):
             say(f"executor: {label}")
+            if executor is not None and not args.no_hard_cases:
+                # this process only waits on the workers: it runs the hard cases meanwhile (their own
+                # results, independent of the scenes'), so no core idles at the scenes' tail
+                import concurrent.futures as futures
+
+                pool = futures.ThreadPoolExecutor(max_workers=1)
+                hard_running = pool.submit(hard_cases)
+                pool.shutdown(wait=False)
             status = run_all(scenes, out, executor=executor, jobs=jobs, force=args.force,
                              fields=not args.no_fields, log=say)
-        from .hard_cases import hard_cases_cached, stored_hard_cases
 
         hard_note = None
         if args.no_hard_cases:  # keep the last table, said to be not rerun
@@ -401,7 +414,7 @@ def compare(args) -> int:
                 hard_note = (f"Not rerun by this run (--no-hard-cases): the table of the last run that computed it "
                              f"(sources {code}{'' if code != code_version() else ', the same as this run'}).")
         else:
-            hard = hard_cases_cached(out, quick=args.quick, log=say, force=args.force)
+            hard = hard_running.result() if hard_running is not None else hard_cases()
         witness = None
         if args.witness:
             from .calculix import witness_cached
