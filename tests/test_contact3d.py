@@ -172,11 +172,11 @@ def test_cycle_dissipation(model, hertz):
 
 
 @pytest.fixture(scope="module")
-def law3d(tmp_path_factory):
+def law3d(shared_mesh_cache):
     from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
-    return FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=tmp_path_factory.mktemp("m3d"))
+    return FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=shared_mesh_cache)
 
 
 def test_law3d_follows_the_protocol(law3d):
@@ -689,11 +689,11 @@ ALU = Materials(E1=MAT.E1, nu1=MAT.nu1, E2=70e9, nu2=0.33)  # steel indenter on 
 
 
 @pytest.fixture(scope="module")
-def law_alu(tmp_path_factory):
+def law_alu(shared_mesh_cache):
     from fem.solid3d.law import FEContact3D
     from mdr.profiles import Sphere
 
-    return FEContact3D(Sphere(R), ALU, 0.5, F_max=F, h_contact=0.25, cache_dir=tmp_path_factory.mktemp("m3da"))
+    return FEContact3D(Sphere(R), ALU, 0.5, F_max=F, h_contact=0.25, cache_dir=shared_mesh_cache)
 
 
 def test_dundurs_beta(law_alu, law3d):

@@ -497,14 +497,14 @@ def test_cli_tilt_bad_input(flags, msg, capsys):
     assert msg in capsys.readouterr().err
 
 
-def test_tilted_sphere_is_a_shifted_sphere(tmp_path):
+def test_tilted_sphere_is_a_shifted_sphere(shared_mesh_cache):
     """A sphere tilted by theta is the same sphere moved by -R theta along x (r^2/2R + theta x =
     ((x + R theta)^2 + y^2)/2R - R theta^2/2): the Hertz contact, centred at x = -R theta.
     Measured at a/4, theta = 5e-4 (shift 0.109 a): pressure centroid within 0.7 % of the shift;
     the contact's x extent only to one element (vertex resolution)."""
     from mdr.profiles import Sphere
 
-    law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=tmp_path)
+    law = FEContact3D(Sphere(R), MAT, MU, F_max=F, h_contact=0.25, cache_dir=shared_mesh_cache)
     a = ref.hertz(F, R, ES)["a"]
     t = law.assuming(tilt=5e-4)
     nr = t.normal(F_N=F)

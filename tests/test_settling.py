@@ -80,14 +80,14 @@ MU, F0, DF, FA = 0.2, 0.5, 0.1, 0.06  # Table 2 loading with the assumptions-3d 
 
 
 @pytest.fixture(scope="module")
-def pairs(tmp_path_factory):
+def pairs(shared_mesh_cache):
     """On a coarse 3D mesh (a/5): the steel sphere with its traction free and along x, and the
     steel/aluminium pair (Dundurs beta = +0.11) coupled and not."""
     from fem.solid3d.law import FEContact3D
     from mdr.materials import Materials
     from mdr.profiles import Sphere
 
-    cache = tmp_path_factory.mktemp("m3d")
+    cache = shared_mesh_cache
     steel = FEContact3D(Sphere(6e-3), Materials(), MU, F_max=F0 + DF, h_contact=0.2, cache_dir=cache)
     alu = FEContact3D(Sphere(6e-3), Materials(E2=70e9, nu2=0.33), MU, F_max=F0 + DF, h_contact=0.2, cache_dir=cache)
     return {"direction": (steel.assuming(traction="free"), steel.assuming(traction="x")),

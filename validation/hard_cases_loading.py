@@ -141,7 +141,8 @@ def case_friction_extremes(quick=True, cache_dir=None):
     dw = abs(res["dissipation"]) / (4 * F * ua0)
     rows.append(_row("mu = 0 (frictionless)", "mdr", max(fx, dw), ROUNDOFF,
                      "F_x = 0, dW = 0, slip index undefined; error: max of max|F_x|/F_N, dW/(4 F_N u_A)", t0,
-                     note=f"max|F_x|/F_N = {fx:.1e}, dW/(4 F_N u_A) = {dw:.1e}, slip index {res['slip_index']}",
+                     note=f"max|F_x|/F_N = {fx:.1e}, dW/(4 F_N u_A) = {dw:.1e}, slip index "
+                          + ("undefined" if res["slip_index"] is None else f"{res['slip_index']:.3g} (should be undefined)"),
                      flagged=res["slip_index"] is not None))
     t0 = time.perf_counter()
     law = _fe(Sphere(R), 0.0, h=0.1, cache_dir=cache_dir)

@@ -271,7 +271,8 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
     geo = [r for r in results.values() if r["scene"]["group"] == "geometry" and r["scene"]["profile"] != "flat"]
     if geo:
         pts = {side: [(max(r["scene"]["b"], 1e-6), r[side].get("slip_index")) for r in geo] for side in ("mdr", "fem")}
-        plots["delta_b"] = lambda path, pts=pts: figures.series_figure(pts, "b (m; the sphere plotted at 1 um)", path)
+        label = "b (m; the sphere plotted at 1 um)" if any(r["scene"]["b"] == 0 for r in geo) else "b (m)"
+        plots["delta_b"] = lambda path, pts=pts, label=label: figures.series_figure(pts, label, path)
     app = [r for r in results.values() if r["scene"]["group"] == "apparatus"]
     if app:
         pts = {side: [(r["scene"]["kx"] / 1e6, r[side].get("slip_index")) for r in app] for side in ("mdr", "fem")}
