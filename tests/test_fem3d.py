@@ -133,6 +133,7 @@ def boussinesq():
     return axi, levels
 
 
+@pytest.mark.slow  # a 3D convergence study: three levels to a/10 (about 20 s)
 def test_boussinesq_disk_load(boussinesq):
     """Measured (2 cores, CHOLMOD): centre / half-space - 1 = -4.20, -3.46, -3.28 % (3D, h = a/2.5,
     a/5, a/10), -3.12 % axisymmetric; mean over the disk -5.44, -4.23, -3.90 % vs -3.67 %.
@@ -148,6 +149,7 @@ def test_boussinesq_disk_load(boussinesq):
     assert -0.045 < w0 / W_CENTRE - 1 < -0.025
 
 
+@pytest.mark.slow
 def test_boussinesq_converges(boussinesq):
     (axi_w0, axi_wm), levels = boussinesq
     for k, ref in ((0, axi_w0), (1, axi_wm)):

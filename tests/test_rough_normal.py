@@ -80,6 +80,7 @@ def test_the_truncated_sphere_agrees_with_mdr_within_its_error_bar():
     assert x["status"] == "asymptotic" and abs(x["value"] - rm) <= x["error"] < 1e-3 * rm, x
 
 
+@pytest.mark.slow  # four solves on 512^2 grids (about 18 s)
 def test_a_nominally_flat_rough_contact_grows_its_real_area_with_the_load():
     """The rough engine against the asymptotic law of rough contact: at small loads the real contact
     area of a nominally flat self-affine surface is proportional to the load, A / A0 = kappa p /
