@@ -77,6 +77,7 @@ def _set(obj, path, value):
     obj[path[-1]] = value
 
 
+@pytest.mark.xdist_group("report-any-value")  # the module fixture results built once, on one worker
 def test_the_families_render_as_computed(results):
     text = report.render_report(results, list(results), {n: "ok" for n in results})
     for name in results:
@@ -90,6 +91,7 @@ def test_the_families_render_as_computed(results):
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture,
                                                                    HealthCheck.too_slow])
 @given(data=st.data())
+@pytest.mark.xdist_group("report-any-value")  # the module fixture results built once, on one worker
 def test_any_value_in_any_field_renders(results, data):
     res = copy.deepcopy(results)
     slots = [(n, p, kind) for n, r in res.items() for p, kind in _slots(r) if p[0] != "scene"]
@@ -103,6 +105,7 @@ def test_any_value_in_any_field_renders(results, data):
 
 
 @pytest.mark.parametrize("value", ODD_NUMBERS)
+@pytest.mark.xdist_group("report-any-value")  # the module fixture results built once, on one worker
 def test_a_whole_result_of_one_odd_value_renders(results, value):
     """Every number of every family at once the same odd value (all None, all NaN, all 0, ...)."""
     res = copy.deepcopy(results)

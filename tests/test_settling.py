@@ -108,6 +108,7 @@ def _effect(runs):
     return runs["on"]["dissipation"] / runs["off"]["dissipation"] - 1
 
 
+@pytest.mark.xdist_group("settling-pairs")  # one worker builds the pairs (--dist loadgroup)
 def test_a_continued_run_is_one_long_run(pairs):
     """``settle`` continues the history from the last state: the same cycles as one long run (to the
     solver's tolerance), the centres still those of the first loading, ``per_cycle`` whole."""
@@ -127,6 +128,7 @@ def test_a_continued_run_is_one_long_run(pairs):
     assert cont["per_cycle"]["stick_axis_x"][-1] == pytest.approx(cont["stick_axis_x"], rel=1e-12)
 
 
+@pytest.mark.xdist_group("settling-pairs")  # one worker builds the pairs (--dist loadgroup)
 def test_the_settled_direction_effect_holds_the_stationary_cycle(pairs):
     """The direction effect on the dissipation (free minus along x, relative), runs settled to
     SETTLE_TOL_3D: stationary, and the effect of 8 more cycles lies within its settling bar."""

@@ -37,6 +37,7 @@ def quick_report(tmp_path_factory):
     return rc, out
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_quick_report_structure(quick_report):
     rc, out = quick_report
     assert rc == 0
@@ -66,6 +67,7 @@ def test_quick_report_structure(quick_report):
             assert (out / line.rsplit("(", 1)[1].rstrip(")")).is_file(), line
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_quick_report_physics(quick_report):
     """Sphere at constant F_N: both sides against Mindlin-Deresiewicz and Hertz (closed forms)."""
     _, out = quick_report
@@ -88,6 +90,7 @@ def test_quick_report_physics(quick_report):
         ref.mindlin_deresiewicz_dissipation_force(0.05, 0.5, 0.2, us), rel=1e-12)
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_field_plot_not_blank(quick_report):
     import matplotlib.image as mpimg
 
@@ -98,6 +101,7 @@ def test_field_plot_not_blank(quick_report):
     assert image_is_blank(np.full((50, 50, 3), 255, np.uint8))
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_vtu_has_fields(quick_report):
     import meshio
 
@@ -256,6 +260,7 @@ def test_metrics():
     assert metrics.dissipation_error(1e-3, 0.0, 0.2, 0.5, 1e-7) == pytest.approx(1e-3 / (4 * 0.2 * 0.5 * 1e-7))
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_report_renders_hard_cases_table(quick_report, tmp_path):
     """The hard-cases rows (validation.hard_cases) become a table; cell text cannot break it."""
     import shutil
@@ -278,6 +283,7 @@ def test_report_renders_hard_cases_table(quick_report, tmp_path):
     assert json.loads((dst / "results.json").read_text())["hard_cases"] == [row]
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_force_reruns_the_hard_cases_and_no_hard_cases_keeps_the_last_table(quick_report, tmp_path, monkeypatch):
     """The hard-cases table follows --force like the scenes do; --no-hard-cases keeps the last stored
     table in the report, marked as not rerun (never drops it silently). The hard cases themselves are
@@ -308,6 +314,7 @@ def test_force_reruns_the_hard_cases_and_no_hard_cases_keeps_the_last_table(quic
     assert "| case run 2 |" in text and "Not rerun" not in text
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_json_to_stdout_keeps_stdout_clean(quick_report, capsys):
     """--json - : stdout holds only the JSON (progress goes to stderr); the stored scene is reused."""
     _, out = quick_report
@@ -547,6 +554,7 @@ def test_a_3d_apparatus_scene_runs_through_the_runner():
     assert res["verdicts"]["slip_index"]["grade"] == "consistent within its spread"
 
 
+@pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_a_report_that_fails_to_render_changes_no_file(quick_report, tmp_path, monkeypatch):
     """write_report renders the whole text before it writes anything: a failure there leaves the
     previous report.md, results.json and summary figures byte for byte."""

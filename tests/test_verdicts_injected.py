@@ -38,6 +38,7 @@ def _grades(s, mdr, fe, ts):
     return {q: v["grade"] for q, v in pair.scene_verdicts(s, fe, mdr, ts).items()}
 
 
+@pytest.mark.xdist_group("verdicts-ladders")  # the module fixture ladders built once, on one worker
 def test_the_real_ladders_give_graded_verdicts(ladders):
     s, mdr, fe, ts = ladders
     V = pair.scene_verdicts(s, fe, mdr, ts)
@@ -60,6 +61,7 @@ def test_the_real_ladders_give_graded_verdicts(ladders):
 
 @pytest.mark.parametrize("factor", [1.10, 1.02])
 @pytest.mark.parametrize("side", ["fem", "mdr"])
+@pytest.mark.xdist_group("verdicts-ladders")  # the module fixture ladders built once, on one worker
 def test_an_error_injected_into_one_level_takes_the_holds_away(ladders, side, factor):
     s, mdr, fe, ts = ladders
     base = _grades(s, mdr, fe, ts)
@@ -75,6 +77,7 @@ def test_an_error_injected_into_one_level_takes_the_holds_away(ladders, side, fa
 
 
 @pytest.mark.parametrize("side", ["fem", "mdr"])
+@pytest.mark.xdist_group("verdicts-ladders")  # the module fixture ladders built once, on one worker
 def test_a_nan_on_any_level_makes_the_verdict_undetermined(ladders, side):
     s, mdr, fe, ts = ladders
     n = len(mdr if side == "mdr" else fe)
