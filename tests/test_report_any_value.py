@@ -37,7 +37,9 @@ def _tiny(name, **kw):
                    steps=kw.pop("steps", 24), cycles=3, **kw)
 
 
-@pytest.fixture(scope="module")
+# session scope: a module fixture is torn down whenever its worker runs another module's test in
+# between, and built again; its tests are grouped on one worker (xdist_group), so it is built once
+@pytest.fixture(scope="session")
 def results(tmp_path_factory):
     """Real results of the families the report renders differently: a force-driven partial-slip
     contact, a sticking flat punch (zero dissipation on every level), an apparatus scene, the

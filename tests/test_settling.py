@@ -79,7 +79,9 @@ def test_round_off_changes_are_settled():
 MU, F0, DF, FA = 0.2, 0.5, 0.1, 0.06  # Table 2 loading with the assumptions-3d scene's force amplitude
 
 
-@pytest.fixture(scope="module")
+# session scope: a module fixture is torn down whenever its worker runs another module's test in
+# between, and built again; its tests are grouped on one worker (xdist_group), so it is built once
+@pytest.fixture(scope="session")
 def pairs(shared_mesh_cache):
     """On a coarse 3D mesh (a/5): the steel sphere with its traction free and along x, and the
     steel/aluminium pair (Dundurs beta = +0.11) coupled and not."""

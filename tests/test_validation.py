@@ -30,7 +30,9 @@ def tiny(name="sphere-md", **kw):
     return replace(s, fe_levels=(1 / 8, 1 / 16), mdr_cells=(25, 100), steps=40, cycles=3, **kw)
 
 
-@pytest.fixture(scope="module")
+# session scope: a module fixture is torn down whenever its worker runs another module's test in
+# between, and built again; its tests are grouped on one worker (xdist_group), so it is built once
+@pytest.fixture(scope="session")
 def quick_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("compare")
     rc = compare.main(["--quick", "--scenes", "sphere-md", "--out", str(out), "--no-hard-cases"])

@@ -24,7 +24,9 @@ from validation.scenes import CATALOGUE
 SCALARS = ("contact_radius", "stick_radius", "dissipation", "slip_index")
 
 
-@pytest.fixture(scope="module")
+# session scope: a module fixture is torn down whenever its worker runs another module's test in
+# between, and built again; its tests are grouped on one worker (xdist_group), so it is built once
+@pytest.fixture(scope="session")
 def ladders():
     s = CATALOGUE["geom-b20um"].quick_version()
     mdr = [sides.run_mdr(s, n) for n in s.mdr_cells]
