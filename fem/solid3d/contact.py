@@ -319,14 +319,10 @@ class _ContactBlock:
 
     def matrix(self, z, g, fc, A, dscale):
         """The Newton matrix on the contact's unknowns at z (with ``fc`` the u column and the force row)."""
-        nz = np.hypot(z[:, 0], z[:, 1])
-        slip = (nz > g) & (g > 0)
-        tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
-        ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
-        fac = np.where(g <= 0, 0.0, np.where(slip, g / np.maximum(nz, 1e-300), 1.0))
+        Pxx, Pyy, Pxy = _projection_derivative(z, g)
         j = self.vertex
-        s1 = np.where(self.is_x, fac[j] * (1 - tx[j] * tx[j]), fac[j] * (1 - ty[j] * ty[j]))
-        s2 = np.where(self.has_partner, -fac[j] * tx[j] * ty[j], 0.0)
+        s1 = np.where(self.is_x, Pxx[j], Pyy[j])
+        s2 = np.where(self.has_partner, Pxy[j], 0.0)
         k = self.kv.size + (1 if fc else 0)
         J = np.zeros((k, k))
         P = s1[:, None] * self.D
@@ -366,6 +362,18 @@ def _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale) -> tuple:
     return Jkk, Jko
 
 
+def _projection_derivative(z, g) -> tuple:
+    """The entries (P'_xx, P'_yy, P'_xy) per vertex of the 2x2 derivative of the projection onto the disk
+    |q| <= g at z: fac (I - t t^T) where z slips (|z| > g, t its direction, fac = g / |z|), I where it
+    sticks and 0 out of contact (g = 0)."""
+    nz = np.hypot(z[:, 0], z[:, 1])
+    slip = (nz > g) & (g > 0)
+    tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
+    ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
+    fac = np.where(g <= 0, 0.0, np.where(slip, g / np.maximum(nz, 1e-300), 1.0))
+    return fac * (1 - tx * tx), fac * (1 - ty * ty), -fac * tx * ty
+
+
 def _projection_jacobian(z, g, yi, dz_dv, dz_du, rows=None):
     """The chain rule through the disk projections of the Coulomb residual: (P' dz/dv, P' dz/du)
     in the packed layout (q_x of every vertex, q_y of the vertices ``yi`` off the plane), with the
@@ -373,16 +381,7 @@ def _projection_jacobian(z, g, yi, dz_dv, dz_du, rows=None):
     direction, fac_j = g_j / |z_j|), I where it sticks and 0 out of contact (g_j = 0). ``rows``: only
     those packed rows (sorted), each entry computed as in the whole."""
     n = z.shape[0]
-    nz = np.hypot(z[:, 0], z[:, 1])
-    slip = (nz > g) & (g > 0)
-    free0 = g <= 0
-    tx = np.where(slip, z[:, 0] / np.maximum(nz, 1e-300), 0.0)
-    ty = np.where(slip, z[:, 1] / np.maximum(nz, 1e-300), 0.0)
-    fac = np.where(slip, g / np.maximum(nz, 1e-300), 1.0)
-    fac = np.where(free0, 0.0, fac)
-    Pxx = fac * (1 - tx * tx)
-    Pyy = fac * (1 - ty * ty)
-    Pxy = -fac * tx * ty
+    Pxx, Pyy, Pxy = _projection_derivative(z, g)
     if rows is not None:
         jx = rows[rows < n]  # x rows: vertex j
         iy = rows[rows >= n] - n  # y rows: position in yi
