@@ -350,6 +350,29 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+
+class _Background:
+    """``fun()`` in a daemon thread: ``result()`` waits for it and returns its value or raises its error."""
+
+    def __init__(self, fun):
+        import threading
+
+        self._box = {}
+        self._thread = threading.Thread(target=self._run, args=(fun,), name="background", daemon=True)
+        self._thread.start()
+
+    def _run(self, fun):
+        try:
+            self._box["value"] = fun()
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller of result()
+            self._box["error"] = exc
+
+    def result(self):
+        self._thread.join()
+        if "error" in self._box:
+            raise self._box["error"]
+        return self._box["value"]
+
 def main(argv=None) -> int:
     """The command line: exit 0, 1 if a scene failed, 2 on bad input (``common.cli.run_command``)."""
     return run_command(build_parser(), argv, write_result=False)
@@ -398,12 +421,9 @@ def compare(args) -> int:
             say(f"executor: {label}")
             if executor is not None and not args.no_hard_cases:
                 # this process only waits on the workers: it runs the hard cases meanwhile (their own
-                # results, independent of the scenes'), so no core idles at the scenes' tail
-                import concurrent.futures as futures
-
-                pool = futures.ThreadPoolExecutor(max_workers=1)
-                hard_running = pool.submit(hard_cases)
-                pool.shutdown(wait=False)
+                # results, independent of the scenes'), so no core idles at the scenes' tail; a daemon
+                # thread, so that an interrupted run exits at once (their table is written atomically)
+                hard_running = _Background(hard_cases)
             status = run_all(scenes, out, executor=executor, jobs=jobs, force=args.force,
                              fields=not args.no_fields, log=say)
 
