@@ -205,14 +205,15 @@ class TangentialContact:
         (n, n) along x or (2, n, n) in the plane; up to the rigid mean on the periodic grid."""
         if self.traction == "x":
             return self._ops["xx"](q)
-        xx, xy, yy = self._ops["xx"], self._ops["xy"], self._ops["yy"]
+        # one transform per component, shared by the kernels that read it
         if self.periodic:
             f0, f1 = np.fft.rfft2(q[0]), np.fft.rfft2(q[1])
             back = lambda z: np.fft.irfft2(z, s=q.shape[1:])  # noqa: E731
             hats = self.K["xx"], self.K["xy"], self.K["yy"]
-        else:  # one transform per component, shared by the kernels that read it
+        else:
+            xx = self._ops["xx"]
             f0, f1, back = xx.transform(q[0]), xx.transform(q[1]), xx.back
-            hats = xx.hat, xy.hat, yy.hat
+            hats = xx.hat, self._ops["xy"].hat, self._ops["yy"].hat
         return np.stack([back(hats[0] * f0 + hats[1] * f1), back(hats[1] * f0 + hats[2] * f1)])
 
     def sticking(self, q, p) -> np.ndarray:

@@ -350,7 +350,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-
 class _Background:
     """``fun()`` in a daemon thread: ``result()`` waits for it and returns its value or raises its error."""
 
@@ -372,6 +371,7 @@ class _Background:
         if "error" in self._box:
             raise self._box["error"]
         return self._box["value"]
+
 
 def main(argv=None) -> int:
     """The command line: exit 0, 1 if a scene failed, 2 on bad input (``common.cli.run_command``)."""

@@ -300,7 +300,7 @@ class _ContactBlock:
     q_y row). The same entries as ``_newton_blocks``, in as many floating-point operations."""
 
     def __init__(self, kv, n, yi, dz_dv, dz_du):
-        self.kv, self.n = kv, n
+        self.kv = kv
         self.D = dz_dv[np.ix_(kv, kv)]
         ypos = np.full(n, -1)
         ypos[yi] = np.arange(yi.size)
