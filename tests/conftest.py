@@ -31,3 +31,21 @@ def shared_mesh_cache(tmp_path_factory):
     path = root / "shared-mesh-cache"
     path.mkdir(exist_ok=True)
     return path
+
+
+@pytest.hookimpl(trylast=True)  # after pytest-xdist has suffixed the grouped ids
+def pytest_collection_modifyitems(config, items):
+    """Warn when ``--dist loadgroup`` does not group: pytest-xdist marks a grouped test by a suffix
+    ``@group`` on its node id, and with a pytest it cannot edit the id of (pytest-dev/pytest-xdist#1386,
+    pytest 9.2 with xdist 3.8) the tests are spread one by one without a word. Nothing fails then, but
+    each group's heavy fixture is built on both workers (about 40 s of the fast suite)."""
+    if getattr(config.option, "loadgroup", False) is not True:
+        return  # not an xdist worker under loadgroup
+    grouped = [item for item in items if item.get_closest_marker("xdist_group") is not None]
+    if grouped and not any("@" in item.nodeid for item in grouped):
+        import warnings
+
+        warnings.warn(pytest.PytestWarning(
+            "pytest-xdist's --dist loadgroup does not group with this pytest (pytest-dev/pytest-xdist#1386): "
+            "the grouped heavy fixtures are built on every worker; install the test extra's pytest "
+            "(pip install -e '.[test]') or run without -n"))
