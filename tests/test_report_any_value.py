@@ -40,18 +40,18 @@ def _tiny(name, **kw):
 # session scope: a module fixture is torn down whenever its worker runs another module's test in
 # between, and built again; its tests are grouped on one worker (xdist_group), so it is built once
 @pytest.fixture(scope="session")
-def results(tmp_path_factory):
+def results():
     """Real results of the families the report renders differently: a force-driven partial-slip
     contact, a sticking flat punch (zero dissipation on every level), an apparatus scene, the
-    block/cap validity table and the curvature table (tiny ladders: structure, not accuracy)."""
-    out = tmp_path_factory.mktemp("any-value")
+    block/cap validity table and the curvature table (tiny ladders: structure, not accuracy; no
+    directory, so no figures: the report's text is under test, the figures in test_summary_figures_*)."""
     scenes = [_tiny("sphere-md"), _tiny("geom-flat"), _tiny("app-kx2", steps=40),
               _tiny("validity", fe_levels=(1 / 8,), variants=({"block": 5.0}, {"cap": 5.0})),
               _tiny("validity-curvature", fe_levels=(1 / 6, 1 / 8, 1 / 10),
                     variants=({"a_over_R": 4.6e-3, "nu": 0.29},))]
     res = {}
     for s in scenes:
-        r = runner.run_scene(s, out, fields=False)
+        r = runner.run_scene(s, None, fields=False)  # no directory: no figures (the report's text is under test)
         res[s.name] = json.loads(dumps_json(r))  # as stored: JSON types, non-finite as null
     return res
 
