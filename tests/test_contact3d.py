@@ -569,6 +569,7 @@ def test_convergence_ladder(tmp_path):
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("ring-pair")
 def test_ring_ladder(ring_pair, tmp_path):
     """The mesh refined in the slip annulus (ring (0.9, 0.18, h / 2) around the coarse h, docs/fem3d.md's
     ring table; 100 steps per cycle as there): the dissipation falls towards Mindlin-Deresiewicz,
@@ -618,7 +619,9 @@ def test_law3d_keeps_no_record_of_its_runs(law3d):
     assert runs.window_peak(whole[0]) == loading.last_peak()[0]
 
 
-@pytest.fixture(scope="module")
+# session scope and one xdist group: a module fixture is torn down whenever its worker runs another
+# module's test in between; under -n the group keeps the tests that share it on one worker
+@pytest.fixture(scope="session")
 def ring_pair(tmp_path_factory):
     """pair(h, r): the sphere on the ring mesh (r, 0.18, h / 2) around the coarse h, F_x amplitude
     mu F_N / 2, 3 cycles of 100 steps, with the traction along x and of free direction on the same
@@ -641,6 +644,7 @@ def ring_pair(tmp_path_factory):
 
 
 @pytest.mark.slow  # two pairs on the ring meshes of test_ring_ladder, ~1 min
+@pytest.mark.xdist_group("ring-pair")
 def test_fitted_stick_ellipse_converges_to_cattaneo_mindlin(ring_pair):
     """The stick ellipse fitted to the slack (``FEContact3D.stick_zone``, ``stick_fit_x/y``) at the
     peak of F_x = mu F_N / 2, on the ring meshes of ``test_ring_ladder``. With the traction along x
@@ -663,6 +667,7 @@ def test_fitted_stick_ellipse_converges_to_cattaneo_mindlin(ring_pair):
 
 
 @pytest.mark.slow  # two more pairs at a/7, ~1.5 min
+@pytest.mark.xdist_group("ring-pair")
 def test_ring_ensemble_dissipation_and_direction(ring_pair):
     """Three ring meshes of one resolution (h = a/7, ring circles r = 0.88, 0.9, 0.92 a; docs/fem3d.md
     "An ensemble of ring meshes"): the free-direction dissipation's ensemble mean is within 0.4 % of

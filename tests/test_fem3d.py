@@ -126,7 +126,9 @@ def _half3d_centre_mean(h):
     return w0, (f @ u) / -f[node_dofs3d(b)[2]].sum()
 
 
-@pytest.fixture(scope="module")
+# session scope and one xdist group: a module fixture is torn down whenever its worker runs another
+# module's test in between; under -n the group keeps the tests that share it on one worker
+@pytest.fixture(scope="session")
 def boussinesq():
     axi = _axisym_centre_mean(0.025)  # mesh-converged to 1e-4 (0.05 -> 0.0125: -3.121 -> -3.119 %)
     levels = {h: _half3d_centre_mean(h) for h in (0.4, 0.2, 0.1)}
@@ -134,6 +136,7 @@ def boussinesq():
 
 
 @pytest.mark.slow  # a 3D convergence study: three levels to a/10 (about 20 s)
+@pytest.mark.xdist_group("boussinesq")
 def test_boussinesq_disk_load(boussinesq):
     """Measured (2 cores, CHOLMOD): centre / half-space - 1 = -4.20, -3.46, -3.28 % (3D, h = a/2.5,
     a/5, a/10), -3.12 % axisymmetric; mean over the disk -5.44, -4.23, -3.90 % vs -3.67 %.
@@ -150,6 +153,7 @@ def test_boussinesq_disk_load(boussinesq):
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("boussinesq")
 def test_boussinesq_converges(boussinesq):
     (axi_w0, axi_wm), levels = boussinesq
     for k, ref in ((0, axi_w0), (1, axi_wm)):

@@ -25,14 +25,16 @@ import pytest
 from validation import compare, metrics
 from validation.scenes import CATALOGUE
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("catalogue")]  # one worker runs the catalogue once
 
 
 #: the README's command for the full catalogue, run as a user runs it (a fresh process, hard cases included)
 README_COMMAND = [sys.executable, "-m", "validation.compare", "--jobs", "2"]
 
 
-@pytest.fixture(scope="module")
+# session scope and one xdist group: a module fixture is torn down whenever its worker runs another
+# module's test in between; under -n the group keeps the tests that share it on one worker
+@pytest.fixture(scope="session")
 def full_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("full")
     proc = subprocess.run(README_COMMAND + ["--out", str(out)], capture_output=True, text=True,
@@ -40,7 +42,7 @@ def full_run(tmp_path_factory):
     return proc, out
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def full(full_run):
     proc, out = full_run
     assert proc.returncode == 0, proc.stderr[-3000:]
