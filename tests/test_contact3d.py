@@ -783,6 +783,40 @@ def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
     assert np.all(dW[1:] < dW[:-1])  # the coupled cycles settle monotonically
 
 
+def test_the_coupled_newton_method_solves_what_the_alternation_solves(law_alu):
+    """A dissimilar pair's increment by one Newton method on both problems (the default) and by the
+    alternation of the Signorini and Coulomb solves, from the same states of a cycle under a varying
+    normal force (force and displacement control): the same pressures, tractions, approach,
+    displacement and slip within 1e-7 (both solve to about 1e-9), each by its own method (no
+    fallback to the alternation); the coupling they both solve is no round-off (the solve with K off
+    differs by over 1e3 times that)."""
+    from fem.solid3d.contact import RelativeFlexibility, solve_coupled3d
+
+    m, mi = law_alu.model, law_alu.model.mi
+    st = law_alu.rest_state()
+    for f in np.linspace(0.1, 1.0, 5) * F:
+        _, st = law_alu.step(st, Fx=0.0, F_N=f)
+    loads = zip(0.25 * F * np.sin(np.linspace(0, 2 * np.pi, 13)[1:]), F * (1 - 0.2 * np.sin(np.linspace(0, 3, 12))))
+    worst, coupling = 0.0, 0.0
+    for k, (fx, fn) in enumerate(loads):
+        kw = dict(F_n=fn / 2, q0=np.asarray(st.q), u0=st.u, p0=np.asarray(st.p))
+        kw.update(F_t=fx / 2) if k % 3 else kw.update(u=st.u + 0.3 * (st.u or 1e-8))
+        args = (m.rf, law_alu.gap0, mi.A, law_alu.mu, np.asarray(st.P), law_alu._qy_zero)
+        (p1, d1, r1, _), (p2, d2, r2, _) = (solve_coupled3d(*args, method=meth, **kw) for meth in ("newton", "alternate"))
+        assert r1.method == "coupled newton" and r2.method != "coupled newton"
+        P = p2.max()
+        on = ~law_alu._qy_zero  # the slip's y on the symmetry plane is no unknown (q_y = 0 there)
+        worst = max(worst, np.max(np.abs(p1 - p2)) / P, np.max(np.abs(r1.q - r2.q)) / (law_alu.mu * P),
+                    abs(d1 / d2 - 1), abs(r1.u - r2.u) / max(abs(r2.u), HZ["d"] * 1e-3),
+                    np.max(np.abs(r1.s[:, 0] - r2.s[:, 0])) / np.max(np.abs(r2.s)),
+                    np.max(np.abs(r1.s[on, 1] - r2.s[on, 1])) / np.max(np.abs(r2.s)))
+        p0, _, r0, _ = solve_coupled3d(RelativeFlexibility(m.rf.Dn, m.rf.Dt), *args[1:], **kw)  # K off
+        coupling = max(coupling, np.max(np.abs(p0 - p1)) / P, np.max(np.abs(r0.q - r1.q)) / (law_alu.mu * P))
+        _, st = law_alu.step(st, Fx=fx, F_N=fn) if "F_t" in kw else law_alu.step(st, kw["u"], F_N=fn)
+    assert worst < 1e-7, worst
+    assert coupling > 1e3 * worst, (coupling, worst)
+
+
 def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
     import json
 

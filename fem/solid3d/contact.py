@@ -515,20 +515,29 @@ def _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact):
 
 
 def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_n=None, d=None, u=None,
-                    F_t=None, q0=None, u0=None, p0=None, tol=1e-9, max_iter=200):
+                    F_t=None, q0=None, u0=None, p0=None, tol=1e-9, max_iter=200, method="newton"):
     """One increment of the coupled problem of a dissimilar pair (module docstring): the normal
     gap feels the tangential traction and the slip the pressure through ``rf.K``,
 
-        gap = gap0 - d A + D_n p - K^T q,     s = u A e_x - D_t q + K p,
+        gap = gap0 - d A + D_n p - K^T q,     s = u A e_x - D_t q + K p.
 
-    solved by alternating the Signorini and the Coulomb solves (block Gauss-Seidel) until the
-    pressure and the traction change by less than ``tol`` of their largest values; the
-    coupling of elastic pairs is weak (its size is Dundurs' beta, |beta| <= 1/2 and ~0.1 for
-    steel on aluminium), so this converges linearly at a rate of about beta^2. ``F_n``/``d``:
-    half-model normal force or approach; ``u``/``F_t``: tangential displacement or
-    half-model force; ``P_old`` the weighted slip (true, including K p) of the last step.
-    Returns ``(p, d, TangentialResult with s the true slip, iterations)``; raises
-    ``ConvergenceError`` if the alternation does not settle."""
+    ``method="newton"`` (default): one semi-smooth Newton method on both complementarity functions
+    at once (``_coupled_newton``), started from the Signorini solve at the last traction; where it
+    does not converge, the alternation. ``method="alternate"``: the Signorini and the Coulomb solves
+    in turn (block Gauss-Seidel) until the pressure and the traction change by less than ``tol`` of
+    their largest values; the coupling of elastic pairs is weak (its size is Dundurs' beta,
+    |beta| <= 1/2 and ~0.1 for steel on aluminium), so this converges linearly at a rate of about
+    beta^2 (five passes per increment for steel on aluminium). Both solve the same equations to
+    their tolerances. ``F_n``/``d``: half-model normal force or approach; ``u``/``F_t``: tangential
+    displacement or half-model force; ``P_old`` the weighted slip (true, including K p) of the
+    last step. Returns ``(p, d, TangentialResult with s the true slip, iterations)``; raises
+    ``ConvergenceError`` if neither settles."""
+    if method not in ("newton", "alternate"):
+        raise ValueError(f"method must be 'newton' or 'alternate', got {method!r}")
+    if method == "newton" and rf.K is not None:
+        out = _coupled_newton(rf, gap0, A, mu, P_old, on_plane, F_n=F_n, d=d, u=u, F_t=F_t, q0=q0, u0=u0, p0=p0)
+        if out is not None:
+            return out
     n = A.size
     K = rf.K
     q = np.zeros((n, 2)) if q0 is None else np.asarray(q0, dtype=float)
@@ -551,6 +560,155 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_
             return p, dd, res, it
     raise ConvergenceError(f"coupled normal-tangential increment: the alternation did not settle in {max_iter} "
                            f"passes (last change {dp / scale:.3g} of the largest pressure, {dq / scale:.3g} in q)")
+
+
+#: the packed coupling operators of the last few (K, on_plane) pairs (``_coupled_operators``)
+_COUPLED: dict = {}
+
+
+def _coupled_operators(rf: RelativeFlexibility, on_plane) -> tuple:
+    """(Kp, Kp^T, dz/d(p, v)) of a dissimilar pair in the packed layout of ``_reduced``: K's rows of the
+    packed unknowns (m, n), its transpose, and [diag(c) Kp, dz/dv] (m, n + m), the derivative of the
+    trial traction z by the pressures and the tractions. Formed once per flexibility and plane set, held
+    weakly by K as ``_reduced`` holds its operators."""
+    key = (id(rf.K), np.asarray(on_plane, dtype=bool).tobytes())
+    hit = _COUPLED.get(key)
+    if hit is not None and hit[0]() is rf.K:
+        return hit[1]
+    n = rf.K.shape[1]
+    yi, _, cd, dz_dv = _reduced(rf.Dt, on_plane)
+    Kp = rf.K[np.concatenate([np.arange(n), n + yi])]
+    ops = (Kp, np.ascontiguousarray(Kp.T), np.hstack([cd[:, None] * Kp, dz_dv]))
+    for a in ops:
+        a.setflags(write=False)
+    if len(_COUPLED) >= _REDUCED_MAX:
+        _COUPLED.pop(next(iter(_COUPLED)))
+    _COUPLED[key] = (weakref.ref(rf.K), ops)
+    weakref.finalize(rf.K, _COUPLED.pop, key, None)
+    return ops
+
+
+def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=50):
+    """``solve_coupled3d`` by one semi-smooth Newton method on the unknowns (p, q, [d], [u]) and the
+    residuals
+
+        R_n = p - max(0, p - c_n gap),   R_t,j = q_j - proj_{|.| <= mu max(p_j, 0)}(q_j + c_j (s_j - P_j,old)),
+
+    with the force rows (sum A p - F_n) / sum A and (sum A q_x - F_t) / sum A where a force is
+    prescribed (c_n = 1 / diag D_n, c = 1 / diag D_t as in the uncoupled solves). Its generalized
+    Jacobian couples them through K (dgap/dq = -K^T, ds/dp = K) and the slip limit (a slipping
+    vertex's traction grows with its pressure: d proj / d g = its slip direction). Rows of vertices
+    out of contact are identity rows (p = 0 off the active set, q = 0 where p <= 0): set to zero, the
+    rest solved densely on the contact; a step that does not lower ||R|| is backtracked. Starts from
+    the Signorini solve at the traction ``q0``. Converged when every residual is within ``TOL`` of
+    the largest pressure (mu times it for the tangential rows) and the active set is that of the
+    iterate; returns ``solve_coupled3d``'s tuple, or None where it does not converge (the caller
+    alternates then)."""
+    n = A.size
+    yi, D, cd, dz_dv = _reduced(rf.Dt, on_plane)
+    m = D.shape[0]
+    Kp, KpT, dz_dpv = _coupled_operators(rf, on_plane)
+    Dn = rf.Dn
+    cn = 1.0 / np.diag(Dn)
+    ex = np.concatenate([A, np.zeros(yi.size)])
+    Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
+    dz_du = cd * ex
+    fn, ft = F_n is not None, F_t is not None
+    sA = float(A.sum())
+    sn = 1.0 / float(np.mean(cn * A))  # column scalings of d and u: O(1) entries (m against Pa)
+    st = 1.0 / float(np.mean(cd[:n] * A))
+    N = n + m + fn + ft
+
+    def unpack(v):
+        q = np.zeros((n, 2))
+        q[:, 0] = v[:n]
+        q[yi, 1] = v[n:]
+        return q
+
+    def pack(q):
+        return np.concatenate([q[:, 0], q[yi, 1]])
+
+    def split(x):
+        dd = x[n + m] * sn if fn else d
+        uu = x[N - 1] * st if ft else u
+        return x[:n], x[n:n + m], dd, uu
+
+    def residual(x):
+        p, v, dd, uu = split(x)
+        gap = gap0 - dd * A + Dn @ p - KpT @ v
+        s = uu * ex - D @ v + Kp @ p
+        z = unpack(v + cd * (s - Pold))
+        g = mu * np.maximum(p, 0.0)
+        R = np.concatenate([p - np.maximum(0.0, p - cn * gap), v - pack(project_disk(z, g))])
+        if fn:
+            R = np.append(R, (A @ p - F_n) / sA)
+        if ft:
+            R = np.append(R, (A @ v[:n] - F_t) / sA)
+        return R, s, z, g, p - cn * gap > 0
+
+    v0 = np.zeros(m) if q0 is None else pack(np.asarray(q0, dtype=float))
+    try:
+        p, dd, _, _ = solve_normal3d(Dn, gap0 - KpT @ v0, A, force=F_n, approach=d, p0=p0)
+    except ConvergenceError:
+        return None
+    x = np.concatenate([p, pack(project_disk(unpack(v0), mu * p))] + ([[dd / sn]] if fn else [])
+                       + ([[(0.0 if u0 is None else float(u0)) / st]] if ft else []))
+    R, s, z, g, act = residual(x)
+    scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
+    wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
+    for it in range(1, max_iter + 1):
+        if np.max(np.abs(R) * wt) <= TOL * scale(x):
+            p, v, dd, uu = split(x)
+            return p, dd, TangentialResult(unpack(v), float(uu), unpack(s), it - 1, "coupled newton"), it - 1
+        # the rows: normal (min-map: c_n gap on the active set, identity off it), tangential (I - P' dz/dv;
+        # -P' dz/dp - mu t where the vertex slips; identity out of contact), the force rows
+        on = np.concatenate([g > 0, g[yi] > 0])  # packed tangential unknowns in contact
+        keep = np.concatenate([act, on, np.ones(fn + ft, bool)])
+        kept, out = np.flatnonzero(keep), np.flatnonzero(~keep)
+        J = np.zeros((kept.size, N))
+        ia = np.flatnonzero(act)
+        kv = np.flatnonzero(on)
+        r0 = ia.size
+        J[:r0, :n] = cn[ia, None] * Dn[ia]
+        J[:r0, n:n + m] = -cn[ia, None] * KpT[ia]
+        if fn:
+            J[:r0, n + m] = -cn[ia] * A[ia] * sn
+        Ppv, Pu = _projection_jacobian(z, g, yi, dz_dpv, dz_du, rows=kv)
+        rt = slice(r0, r0 + kv.size)
+        np.negative(Ppv, out=J[rt, :n + m])
+        J[r0 + np.arange(kv.size), n + kv] += 1.0
+        nz = np.hypot(z[:, 0], z[:, 1])
+        slip = (nz > g) & (g > 0)
+        t = np.where(slip[:, None], z / np.maximum(nz, 1e-300)[:, None], 0.0)
+        vert = np.where(kv < n, kv, yi[np.minimum(np.maximum(kv - n, 0), yi.size - 1)])
+        J[rt, :n][np.arange(kv.size), vert] -= mu * np.where(kv < n, t[vert, 0], t[vert, 1])
+        if ft:
+            J[rt, N - 1] = -Pu * st
+        if fn:
+            J[r0 + kv.size, :n] = A / sA
+        if ft:
+            J[-1, n:2 * n] = A / sA
+        dx = np.zeros(N)
+        dx[out] = -x[out]  # identity rows: their unknowns are 0
+        try:
+            rhs = R[kept] + J[:, out] @ dx[out] if np.any(dx[out]) else R[kept]
+            dx[kept] = -np.linalg.solve(J[:, kept], rhs)
+        except np.linalg.LinAlgError:
+            return None
+        nr0 = np.linalg.norm(R)
+        step = 1.0
+        for _ in range(30):
+            xt = x + step * dx
+            xt[out] = 0.0
+            Rt_ = residual(xt)
+            if np.linalg.norm(Rt_[0]) < (1 - 1e-4 * step) * nr0:
+                break
+            step *= 0.5
+        else:
+            return None
+        x = xt
+        R, s, z, g, act = Rt_
+    return None
 
 
 def predict(state, A, g, u, Fx):

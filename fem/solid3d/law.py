@@ -208,6 +208,10 @@ class FEContact3D:
 
     stick_onset = est.STICK_ONSET
     batch = ()
+    #: how a dissimilar pair's coupled increment is solved (``fem.solid3d.contact.solve_coupled3d``):
+    #: "newton" (one Newton method on both problems) or "alternate" (the two solves in turn); the same
+    #: equations to the solvers' tolerances
+    coupled_method = "newton"
 
     def __init__(self, profile: Profile, materials: Materials | None = None, mu=0.2, *, F_max=None,
                  h_contact=H_CONTACT_3D_DEFAULT, contact_extent=None, block_size=None,
@@ -391,10 +395,11 @@ class FEContact3D:
         if ctx["coupled"]:  # dissimilar pair: both together
             if F_N is not None:  # (under approach control the Coulomb solve itself refuses)
                 self._check_force_limit(Fx, F_N)
+            q0, u0 = predict(state, mi.A, self.mu * np.asarray(state.p), u, Fx)
             p, dd, res, _ = solve_coupled3d(
                 m.rf, self.gap0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
                 F_n=None if F_N is None else F_N / 2, d=d, u=u,
-                F_t=None if Fx is None else Fx / 2, q0=q0, u0=state.u,
+                F_t=None if Fx is None else Fx / 2, q0=q0, u0=u0, method=self.coupled_method,
                 p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
             self.stats["normal_solves"] += 1
             m.check_rim(p)
