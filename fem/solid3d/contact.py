@@ -588,7 +588,7 @@ def _coupled_operators(rf: RelativeFlexibility, on_plane) -> tuple:
     return ops
 
 
-def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=50):
+def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
     """``solve_coupled3d`` by one semi-smooth Newton method on the unknowns (p, q, [d], [u]) and the
     residuals
 
@@ -603,7 +603,9 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     the Signorini solve at the traction ``q0``. Converged when every residual is within ``TOL`` of
     the largest pressure (mu times it for the tangential rows) and the active set is that of the
     iterate; returns ``solve_coupled3d``'s tuple, or None where it does not converge (the caller
-    alternates then)."""
+    alternates then). A factorised Jacobian is reused (the chord method) while its steps halve ||R||,
+    and refactorised at x when they do not or the kept unknowns change: only the iterations depend
+    on the reuse, not the solution."""
     n = A.size
     yi, D, cd, dz_dv = _reduced(rf.Dt, on_plane)
     m = D.shape[0]
@@ -656,59 +658,96 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     R, s, z, g, act = residual(x)
     scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
     wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
+    gathered = {}  # the contact's blocks of the operators, per set of kept unknowns
+    lu, lu_key, fresh = None, None, False
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R) * wt) <= TOL * scale(x):
             p, v, dd, uu = split(x)
             return p, dd, TangentialResult(unpack(v), float(uu), unpack(s), it - 1, "coupled newton"), it - 1
-        # the rows: normal (min-map: c_n gap on the active set, identity off it), tangential (I - P' dz/dv;
-        # -P' dz/dp - mu t where the vertex slips; identity out of contact), the force rows
         on = np.concatenate([g > 0, g[yi] > 0])  # packed tangential unknowns in contact
         keep = np.concatenate([act, on, np.ones(fn + ft, bool)])
-        kept, out = np.flatnonzero(keep), np.flatnonzero(~keep)
-        J = np.zeros((kept.size, N))
-        ia = np.flatnonzero(act)
-        kv = np.flatnonzero(on)
-        r0 = ia.size
-        J[:r0, :n] = cn[ia, None] * Dn[ia]
-        J[:r0, n:n + m] = -cn[ia, None] * KpT[ia]
-        if fn:
-            J[:r0, n + m] = -cn[ia] * A[ia] * sn
-        Ppv, Pu = _projection_jacobian(z, g, yi, dz_dpv, dz_du, rows=kv)
-        rt = slice(r0, r0 + kv.size)
-        np.negative(Ppv, out=J[rt, :n + m])
-        J[r0 + np.arange(kv.size), n + kv] += 1.0
-        nz = np.hypot(z[:, 0], z[:, 1])
-        slip = (nz > g) & (g > 0)
-        t = np.where(slip[:, None], z / np.maximum(nz, 1e-300)[:, None], 0.0)
-        vert = np.where(kv < n, kv, yi[np.minimum(np.maximum(kv - n, 0), yi.size - 1)])
-        J[rt, :n][np.arange(kv.size), vert] -= mu * np.where(kv < n, t[vert, 0], t[vert, 1])
-        if ft:
-            J[rt, N - 1] = -Pu * st
-        if fn:
-            J[r0 + kv.size, :n] = A / sA
-        if ft:
-            J[-1, n:2 * n] = A / sA
-        dx = np.zeros(N)
-        dx[out] = -x[out]  # identity rows: their unknowns are 0
-        try:
-            rhs = R[kept] + J[:, out] @ dx[out] if np.any(dx[out]) else R[kept]
-            dx[kept] = -np.linalg.solve(J[:, kept], rhs)
-        except np.linalg.LinAlgError:
-            return None
+        if np.any(x[~keep]):  # identity rows (off the active set, out of contact): their unknowns are 0
+            x = np.where(keep, x, 0.0)
+            R, s, z, g, act = residual(x)
+            continue
+        key = keep.tobytes()
+        kept = np.flatnonzero(keep)
+        if lu is None or key != lu_key:  # a new set of kept unknowns: a new Jacobian
+            lu = None
         nr0 = np.linalg.norm(R)
-        step = 1.0
-        for _ in range(30):
-            xt = x + step * dx
-            xt[out] = 0.0
-            Rt_ = residual(xt)
-            if np.linalg.norm(Rt_[0]) < (1 - 1e-4 * step) * nr0:
-                break
-            step *= 0.5
-        else:
-            return None
-        x = xt
+        for attempt in range(2):
+            if lu is None:  # the generalized Jacobian at x, factorised (kept while the steps contract)
+                ia, kv = np.flatnonzero(act), np.flatnonzero(on)
+                if key not in gathered:
+                    gathered.clear()
+                    gathered[key] = _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn)
+                J = _coupled_jacobian(gathered[key], z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
+                try:
+                    lu, lu_key, fresh = sla.lu_factor(J, check_finite=False), key, True
+                except (sla.LinAlgError, ValueError):
+                    return None
+            dx = np.zeros(N)
+            dx[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
+            step = 1.0
+            for _ in range(30 if fresh else 1):  # a reused Jacobian's step is taken whole or not at all
+                Rt_ = residual(x + step * dx)
+                if np.linalg.norm(Rt_[0]) < (0.5 if not fresh else 1 - 1e-4 * step) * nr0:
+                    break
+                step *= 0.5
+            else:
+                if fresh:
+                    return None
+                lu = None  # the reused Jacobian did not halve ||R||: the current one
+                continue
+            break
+        fresh = False
+        x = x + step * dx
         R, s, z, g, act = Rt_
     return None
+
+
+def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn) -> dict:
+    """The parts of ``_coupled_newton``'s Jacobian that depend only on the kept unknowns (the active
+    pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns and dz/d(p, v)
+    restricted to the kept columns, gathered once per set."""
+    cols = np.concatenate([ia, n + kv])
+    normal = np.zeros((ia.size, cols.size + fn))
+    normal[:, :ia.size] = cn[ia, None] * Dn[np.ix_(ia, ia)]
+    normal[:, ia.size:cols.size] = -cn[ia, None] * KpT[np.ix_(ia, kv)]
+    if fn:
+        normal[:, -1] = -cn[ia] * A[ia] * sn
+    where = np.full(n, -1)
+    where[ia] = np.arange(ia.size)
+    return {"normal": normal, "dz": dz_dpv[:, cols], "where": where}
+
+
+def _coupled_jacobian(b, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft):
+    """``_coupled_newton``'s generalized Jacobian on the kept unknowns, ordered [p_ia, v_kv, d (fn),
+    u (ft)]: the normal rows (c_n dgap), the tangential ones (I - P' dz/d(p, v), -mu t where a vertex
+    slips, -P' dz/du), the force rows."""
+    r0, t = ia.size, kv.size
+    K = r0 + t + fn + ft
+    J = np.zeros((K, K))
+    J[:r0, :r0 + t] = b["normal"][:, :r0 + t]
+    if fn:
+        J[:r0, r0 + t] = b["normal"][:, -1]
+    P, Pu = _projection_jacobian(z, g, yi, b["dz"], dz_du, rows=kv)
+    np.negative(P, out=J[r0:r0 + t, :r0 + t])
+    J[r0 + np.arange(t), r0 + np.arange(t)] += 1.0
+    nz = np.hypot(z[:, 0], z[:, 1])
+    vert = np.where(kv < n, kv, yi[np.clip(kv - n, 0, max(yi.size - 1, 0))])
+    slip = (nz[vert] > g[vert]) & (g[vert] > 0)
+    comp = np.where(kv < n, z[vert, 0], z[vert, 1])
+    col = b["where"][vert]
+    sel = slip & (col >= 0)
+    J[r0 + np.flatnonzero(sel), col[sel]] -= mu * comp[sel] / nz[vert][sel]  # d proj / d g = the slip direction
+    if ft:
+        J[r0:r0 + t, -1] = -Pu * st
+    if fn:
+        J[r0 + t, :r0] = A[ia] / sA
+    if ft:
+        J[-1, r0:r0 + t] = np.where(kv < n, A[np.minimum(kv, n - 1)], 0.0) / sA
+    return J
 
 
 def predict(state, A, g, u, Fx):
