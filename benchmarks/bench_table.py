@@ -24,6 +24,9 @@ the ratios much less. Rows:
    condensation) and warm (both read back), the stationary dissipation against the half-space answer
    without Mindlin's assumption, 0.9957 of Mindlin-Deresiewicz (an independent boundary-element ladder,
    -0.43 +- 0.01 %; this project's half-space engine -0.42 +- 0.02 %, docs/rough.md).
+5. **A dissimilar pair**: the sphere of row 4 on an aluminium block (beta = +0.11, the coupled
+   normal-tangential increments of ``fem.solid3d.contact.solve_coupled3d``) against the identical pair on
+   the same mesh, both warm: the ratio is the coupling's cost (the goal: at most 2x).
 
 ``--write`` replaces the generated table in docs/speed.md (between its ``bench_table`` markers);
 ``--no-calculix`` leaves out row 2 where ``ccx`` is not installed (``apt-get install calculix-ccx``).
@@ -148,26 +151,41 @@ def stick_radius_fe_against_fft() -> list:
     return rows
 
 
+def _fem_3d(cache, *materials) -> tuple:
+    """``python -m fem contact --model 3d`` on the sphere of rows 4-5 (``materials``: its flags for
+    another pair): (wall time in s, the result's JSON)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        js = Path(tmp) / "out.json"
+        cmd = [sys.executable, "-m", "fem", "contact", "--model", "3d", "--profile", "sphere", "--R", str(R),
+               "--mu", str(MU), "--F0", str(F), "--dF", "0", "--fa", str(0.5 * MU * F), "--cycles", "3",
+               "--steps", "100", *MESH_3D, *materials, "--cache-dir", cache, "--json", str(js)]
+        t0 = time.perf_counter()
+        subprocess.run(cmd, check=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return time.perf_counter() - t0, json.loads(js.read_text())
+
+
 def sphere_3d() -> list:
-    """Row 4: the 3D sphere from a cold and a warm cache (``python -m fem contact --model 3d``)."""
+    """Rows 4-5: the 3D sphere from a cold and a warm cache (``python -m fem contact --model 3d``), and
+    the same sphere on an aluminium block (Dundurs' beta = +0.11: the coupled normal-tangential
+    increments) on the same mesh, warm, beside the identical pair's warm run."""
     us = ref.gross_slip_displacement(ref.hertz(F, R, MAT.E_star)["d"], MU, MAT.E_star, MAT.G_star)
     W_md = float(ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us))
     cache = tempfile.mkdtemp(prefix="bench_table_3d_")
     out = []
     for label in ("cold cache", "warm cache"):
-        with tempfile.TemporaryDirectory() as tmp:
-            js = Path(tmp) / "out.json"
-            cmd = [sys.executable, "-m", "fem", "contact", "--model", "3d", "--profile", "sphere", "--R", str(R),
-                   "--mu", str(MU), "--F0", str(F), "--dF", "0", "--fa", str(0.5 * MU * F), "--cycles", "3",
-                   "--steps", "100", *MESH_3D, "--cache-dir", cache, "--json", str(js)]
-            t0 = time.perf_counter()
-            subprocess.run(cmd, check=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
-                           stdout=subprocess.DEVNULL)
-            wall = time.perf_counter() - t0
-            d = json.loads(js.read_text())
+        wall, d = _fem_3d(cache)
         out.append(row("3D FE, two-component traction", f"sphere at Q = mu F / 2, 3 cycles of 100 steps, {label}: "
                        "the dissipation against the half-space answer (0.9957 of Mindlin-Deresiewicz)",
                        f"a/7, ring a/14, {d['dofs']} DOFs", wall, d["dissipation"] / W_md / HALF_SPACE_TURNING - 1))
+    alu = ("--E2", "70e9", "--nu2", "0.33")
+    _fem_3d(cache, *alu)  # the aluminium block's condensed interface, into the cache
+    wall_alu, d_alu = _fem_3d(cache, *alu)
+    wall_steel, d_steel = _fem_3d(cache)
+    out.append(row("3D FE, dissimilar pair (coupled increments)", "the sphere of row 4 on an aluminium block "
+                   "(beta = +0.11), warm cache: the cost of the normal-tangential coupling",
+                   f"a/7, ring a/14, {d_alu['dofs']} DOFs", wall_alu, None, "the same sphere on steel, warm",
+                   f"{d_steel['dofs']} DOFs", wall_steel, d_steel["dissipation"] / W_md / HALF_SPACE_TURNING - 1))
     return out
 
 
@@ -209,7 +227,7 @@ def main(argv=None) -> int:
     if not args.no_calculix:
         steps.append(("axisymmetric FE against CalculiX", lambda: [fe_against_calculix()]))
     steps += [("stick radius: FE against the FFT boundary elements", stick_radius_fe_against_fft),
-              ("the 3D sphere, cold and warm", sphere_3d)]
+              ("the 3D sphere, cold and warm, and on aluminium", sphere_3d)]
     for label, fun in steps:
         t0 = time.perf_counter()
         print(f"{label} ...", file=sys.stderr, flush=True)
