@@ -5,6 +5,7 @@ The physics of the full catalogue is asserted in tests/test_validation_full.py (
 from __future__ import annotations
 
 import concurrent.futures as cf
+import copy
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -311,7 +312,12 @@ def test_force_reruns_the_hard_cases_and_no_hard_cases_keeps_the_last_table(quic
     monkeypatch.undo()
     monkeypatch.setattr(hard_cases, "hard_cases", lambda quick, log: calls.append(quick) or
                         [{"name": f"case run {len(calls)}", "model": "mdr", "status": "ok", "error": 0.0, "tol": 1e-3}])
+    # the scene's rerun under --force is the stored result again (its physics is the quick report's)
+    stored = json.loads((dst / "results.json").read_text())["scenes"]["sphere-md"]
+    reruns = []
+    monkeypatch.setattr(runner, "run_scene", lambda s, *a, **k: reruns.append(s.name) or copy.deepcopy(stored))
     assert compare.main(args + ["--force"]) == 0 and len(calls) == 2  # --force: the hard cases again
+    assert reruns == ["sphere-md"]  # and the scene
     text = (dst / "report.md").read_text()
     assert "| case run 2 |" in text and "Not rerun" not in text
 
