@@ -222,29 +222,39 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
     kept = np.flatnonzero(np.append(~off, True) if fc else ~off)
     out = np.flatnonzero(off)
     R, s, z = residual(v, dl)
-    block = None
+    block, lu = None, None
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R)) <= tolR:
             return TangentialResult(unpack(v), dl, unpack(s), it - 1, "newton")
+        nr0 = np.linalg.norm(R)
+        if lu is not None:  # the chord step: the last factorised Jacobian, taken whole if it halves ||R||
+            step = np.zeros_like(R)
+            step[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
+            Rt, st, zt = residual(v + step[:m], dl + (step[m] * dscale if fc else 0.0))
+            if np.linalg.norm(Rt) < 0.5 * nr0:
+                v, dl, R, s, z = v + step[:m], dl + (step[m] * dscale if fc else 0.0), Rt, st, zt
+                continue
         # generalized Jacobian of R (module docstring); the rows of vertices out of contact (g = 0) are
         # identity rows (their traction is zero): eliminated, so the dense solve has the size of the
         # contact, not of the candidate disk, and only the kept rows are formed. Those rows hold q = 0
         # from the start (the projection), so their residual is 0 and their columns are needed only
         # where it is not; then the contact's block of dz/dv, gathered once per step, serves every
-        # iteration (``_ContactBlock``)
+        # iteration (``_ContactBlock``), and its factorisation the following ones while their steps
+        # contract (the chord method above: the iterations depend on it, not the solution)
         step = -R.copy()
         try:
             if np.any(R[out]):
                 Jkk, Jko = _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale)
                 step[kept] = -sla.solve(Jkk, R[kept] - Jko @ R[out], check_finite=False)
+                lu = None
             else:
                 block = block or _ContactBlock(kept[kept < m], n, yi, dz_dv, dz_du)
-                step[kept] = -sla.solve(block.matrix(z, g, fc, A, dscale), R[kept], check_finite=False)
+                lu = sla.lu_factor(block.matrix(z, g, fc, A, dscale), check_finite=False)
+                step[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
         except (sla.LinAlgError, ValueError):
             break
         dv = step[:m]
         ddl = step[m] * dscale if fc else 0.0
-        nr0 = np.linalg.norm(R)
         t = 1.0
         for _ in range(30):
             Rt, st, zt = residual(v + t * dv, dl + t * ddl)
@@ -659,7 +669,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
     wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
     gathered = {}  # the contact's blocks of the operators, per set of kept unknowns
-    lu, lu_key, fresh = None, None, False
+    fac, fac_key, split_ok = None, None, True
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R) * wt) <= TOL * scale(x):
             p, v, dd, uu = split(x)
@@ -672,38 +682,73 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
             continue
         key = keep.tobytes()
         kept = np.flatnonzero(keep)
-        if lu is None or key != lu_key:  # a new set of kept unknowns: a new Jacobian
-            lu = None
+        if key != fac_key:  # a new set of kept unknowns: a new Jacobian
+            fac = None
         nr0 = np.linalg.norm(R)
-        for attempt in range(2):
-            if lu is None:  # the generalized Jacobian at x, factorised (kept while the steps contract)
+        while True:
+            fresh = fac is None
+            if fresh:  # the Jacobian at x, factorised (kept while the steps contract)
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
                 if key not in gathered:
                     gathered.clear()
                     gathered[key] = _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn)
                 J = _coupled_jacobian(gathered[key], z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
                 try:
-                    lu, lu_key, fresh = sla.lu_factor(J, check_finite=False), key, True
+                    fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok), key
                 except (sla.LinAlgError, ValueError):
                     return None
             dx = np.zeros(N)
-            dx[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
-            step = 1.0
-            for _ in range(30 if fresh else 1):  # a reused Jacobian's step is taken whole or not at all
-                Rt_ = residual(x + step * dx)
-                if np.linalg.norm(Rt_[0]) < (0.5 if not fresh else 1 - 1e-4 * step) * nr0:
+            dx[kept] = -fac.solve(R[kept])
+            Rt_ = residual(x + dx)
+            if np.linalg.norm(Rt_[0]) < 0.5 * nr0:  # a step that halves ||R||: taken whole
+                step = 1.0
+                break
+            if not fresh:  # a reused factorisation that no longer contracts: the Jacobian at x
+                fac = None
+                continue
+            if fac.split:  # the split Jacobian (weak coupling left out) does not contract here: the whole one
+                split_ok, fac = False, None
+                continue
+            step = 1.0  # the whole Jacobian at x: backtracked until ||R|| decreases
+            for _ in range(30):
+                if np.linalg.norm(Rt_[0]) < (1 - 1e-4 * step) * nr0:
                     break
                 step *= 0.5
+                Rt_ = residual(x + step * dx)
             else:
-                if fresh:
-                    return None
-                lu = None  # the reused Jacobian did not halve ||R||: the current one
-                continue
+                return None
             break
-        fresh = False
         x = x + step * dx
         R, s, z, g, act = Rt_
     return None
+
+
+class _CoupledFactor:
+    """The factorised Jacobian of ``_coupled_newton`` (unknowns [p_ia, v_kv, d, u]). ``split``: the
+    normal rows' dependence on the tractions (-c_n K^T, of the size of Dundurs' beta) left out, so J is
+    block lower-triangular and two LU factorisations of its blocks (the normal one [p, d]; the
+    tangential one [v, u]) replace one of the whole (a quasi-Newton step that contracts at a rate of
+    about beta^2; the caller falls back to the whole J where it does not halve ||R||)."""
+
+    def __init__(self, J, r0, t, fn, ft, split):
+        K = J.shape[0]
+        self.iN = np.concatenate([np.arange(r0), [r0 + t] if fn else []]).astype(int)
+        self.iT = np.concatenate([np.arange(r0, r0 + t), [K - 1] if ft else []]).astype(int)
+        self.split = bool(split and self.iN.size and self.iT.size)
+        if self.split:
+            self.lu_n = sla.lu_factor(J[np.ix_(self.iN, self.iN)], check_finite=False)
+            self.lu_t = sla.lu_factor(J[np.ix_(self.iT, self.iT)], check_finite=False)
+            self.Jtn = J[np.ix_(self.iT, self.iN)]
+        else:
+            self.lu = sla.lu_factor(J, check_finite=False)
+
+    def solve(self, r):
+        if not self.split:
+            return sla.lu_solve(self.lu, r, check_finite=False)
+        y = np.empty_like(r)
+        y[self.iN] = sla.lu_solve(self.lu_n, r[self.iN], check_finite=False)
+        y[self.iT] = sla.lu_solve(self.lu_t, r[self.iT] - self.Jtn @ y[self.iN], check_finite=False)
+        return y
 
 
 def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn) -> dict:
