@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import weakref
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import scipy.linalg as sla
@@ -182,14 +183,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
                                f"sum A mu p = {float(A @ g):.6g} N of the half model (gross slip has no "
                                "force-controlled solution; drive the displacement instead)")
 
-    def unpack(v):
-        q = np.zeros((n, 2))
-        q[:, 0] = v[:n]
-        q[yi, 1] = v[n:]
-        return q
-
-    def pack(q):
-        return np.concatenate([q[:, 0], q[yi, 1]])
+    unpack, pack = partial(_unpack, n=n, yi=yi), partial(_pack, yi=yi)
 
     def residual(v, dl):
         s = dl * ex - D @ v  # weighted relative displacement
@@ -268,6 +262,20 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
         return _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter)
     vq, r = _fista(D, dl * ex - Pold, unpack, pack, g, fista_iter, tolR, v)
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
+
+
+def _unpack(v, n, yi):
+    """The (n, 2) tractions of the packed layout of ``_reduced`` (q_x of every vertex, then q_y of the
+    vertices ``yi`` off the plane; q_y = 0 on it)."""
+    q = np.zeros((n, 2))
+    q[:, 0] = v[:n]
+    q[yi, 1] = v[n:]
+    return q
+
+
+def _pack(q, yi):
+    """The packed layout of ``_reduced`` of the (n, 2) tractions ``q``."""
+    return np.concatenate([q[:, 0], q[yi, 1]])
 
 
 #: the reduced operators of the last few (Dt, on_plane) pairs (``_reduced``): a law's flexibility is
@@ -631,14 +639,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     st = 1.0 / float(np.mean(cd[:n] * A))
     N = n + m + fn + ft
 
-    def unpack(v):
-        q = np.zeros((n, 2))
-        q[:, 0] = v[:n]
-        q[yi, 1] = v[n:]
-        return q
-
-    def pack(q):
-        return np.concatenate([q[:, 0], q[yi, 1]])
+    unpack, pack = partial(_unpack, n=n, yi=yi), partial(_pack, yi=yi)
 
     def split(x):
         dd = x[n + m] * sn if fn else d
