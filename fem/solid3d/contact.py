@@ -284,29 +284,38 @@ _REDUCED: dict = {}
 _REDUCED_MAX = 4
 
 
+def _held_by(cache: dict, M, on_plane, build) -> tuple:
+    """``build()``'s read-only arrays, kept in ``cache`` per matrix ``M`` and plane set ``on_plane``
+    (at most ``_REDUCED_MAX`` entries). ``M`` is held weakly: its entry goes when the law's flexibility
+    does (no memory kept for a finished law), and a new matrix at a reused address is never taken for
+    the old one."""
+    key = (id(M), np.asarray(on_plane, dtype=bool).tobytes())
+    hit = cache.get(key)
+    if hit is not None and hit[0]() is M:
+        return hit[1]
+    out = build()
+    for a in out:
+        a.setflags(write=False)
+    if len(cache) >= _REDUCED_MAX:
+        cache.pop(next(iter(cache)))
+    cache[key] = (weakref.ref(M), out)
+    weakref.finalize(M, cache.pop, key, None)  # the law's flexibility gone: its operators too
+    return out
+
+
 def _reduced(Dt, on_plane) -> tuple:
     """(yi, D, cd, dz_dv) of the packed layout: the vertices off the plane ``yi`` (their q_y is free), Dt
     restricted to q_x of every vertex and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D.
-    Formed once per flexibility and plane set (the arrays are read-only and shared). The cache holds
-    ``Dt`` weakly: its entry goes when the law's flexibility does (no memory kept for a finished law),
-    and a new matrix at a reused address is never taken for the old one."""
-    key = (id(Dt), np.asarray(on_plane, dtype=bool).tobytes())
-    hit = _REDUCED.get(key)
-    if hit is not None and hit[0]() is Dt:
-        return hit[1]
-    n = np.size(on_plane)
-    yi = np.flatnonzero(~np.asarray(on_plane, dtype=bool))
-    idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
-    D = Dt[np.ix_(idx, idx)]
-    cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
-    dz_dv = np.eye(idx.size) - cd[:, None] * D
-    for a in (yi, D, cd, dz_dv):
-        a.setflags(write=False)
-    if len(_REDUCED) >= _REDUCED_MAX:
-        _REDUCED.pop(next(iter(_REDUCED)))
-    _REDUCED[key] = (weakref.ref(Dt), (yi, D, cd, dz_dv))
-    weakref.finalize(Dt, _REDUCED.pop, key, None)  # the law's flexibility gone: its operators too
-    return yi, D, cd, dz_dv
+    Formed once per flexibility and plane set (read-only and shared, ``_held_by``)."""
+    def build():
+        n = np.size(on_plane)
+        yi = np.flatnonzero(~np.asarray(on_plane, dtype=bool))
+        idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
+        D = Dt[np.ix_(idx, idx)]
+        cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
+        return yi, D, cd, np.eye(idx.size) - cd[:, None] * D
+
+    return _held_by(_REDUCED, Dt, on_plane, build)
 
 
 class _ContactBlock:
@@ -587,23 +596,15 @@ _COUPLED: dict = {}
 def _coupled_operators(rf: RelativeFlexibility, on_plane) -> tuple:
     """(Kp, Kp^T, dz/d(p, v)) of a dissimilar pair in the packed layout of ``_reduced``: K's rows of the
     packed unknowns (m, n), its transpose, and [diag(c) Kp, dz/dv] (m, n + m), the derivative of the
-    trial traction z by the pressures and the tractions. Formed once per flexibility and plane set, held
-    weakly by K as ``_reduced`` holds its operators."""
-    key = (id(rf.K), np.asarray(on_plane, dtype=bool).tobytes())
-    hit = _COUPLED.get(key)
-    if hit is not None and hit[0]() is rf.K:
-        return hit[1]
-    n = rf.K.shape[1]
-    yi, _, cd, dz_dv = _reduced(rf.Dt, on_plane)
-    Kp = rf.K[np.concatenate([np.arange(n), n + yi])]
-    ops = (Kp, np.ascontiguousarray(Kp.T), np.hstack([cd[:, None] * Kp, dz_dv]))
-    for a in ops:
-        a.setflags(write=False)
-    if len(_COUPLED) >= _REDUCED_MAX:
-        _COUPLED.pop(next(iter(_COUPLED)))
-    _COUPLED[key] = (weakref.ref(rf.K), ops)
-    weakref.finalize(rf.K, _COUPLED.pop, key, None)
-    return ops
+    trial traction z by the pressures and the tractions. Formed once per flexibility and plane set
+    (``_held_by``)."""
+    def build():
+        n = rf.K.shape[1]
+        yi, _, cd, dz_dv = _reduced(rf.Dt, on_plane)
+        Kp = rf.K[np.concatenate([np.arange(n), n + yi])]
+        return Kp, np.ascontiguousarray(Kp.T), np.hstack([cd[:, None] * Kp, dz_dv])
+
+    return _held_by(_COUPLED, rf.K, on_plane, build)
 
 
 def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
@@ -617,13 +618,13 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     Jacobian couples them through K (dgap/dq = -K^T, ds/dp = K) and the slip limit (a slipping
     vertex's traction grows with its pressure: d proj / d g = its slip direction). Rows of vertices
     out of contact are identity rows (p = 0 off the active set, q = 0 where p <= 0): set to zero, the
-    rest solved densely on the contact; a step that does not lower ||R|| is backtracked. Starts from
-    the Signorini solve at the traction ``q0``. Converged when every residual is within ``TOL`` of
-    the largest pressure (mu times it for the tangential rows) and the active set is that of the
-    iterate; returns ``solve_coupled3d``'s tuple, or None where it does not converge (the caller
-    alternates then). A factorised Jacobian is reused (the chord method) while its steps halve ||R||,
-    and refactorised at x when they do not or the kept unknowns change: only the iterations depend
-    on the reuse, not the solution."""
+    rest solved densely on the contact. Starts from the Signorini solve at the traction ``q0``.
+    Converged when every residual is within ``TOL`` of the largest pressure (mu times it for the
+    tangential rows); returns ``solve_coupled3d``'s tuple, or None where it does not converge (the
+    caller alternates then). The steps: the split Jacobian first (``_CoupledFactor``), reused while
+    its steps halve ||R|| (the chord method) and refactorised at x when they do not or the kept
+    unknowns change; where a fresh split one does not halve ||R||, the whole Jacobian, backtracked
+    until ||R|| decreases. Only the iterations depend on these choices, not the solution."""
     n = A.size
     yi, D, cd, dz_dv = _reduced(rf.Dt, on_plane)
     m = D.shape[0]
@@ -669,7 +670,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     R, s, z, g, act = residual(x)
     scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
     wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
-    gathered = {}  # the contact's blocks of the operators, per set of kept unknowns
+    blocks, blocks_key = None, None  # the contact's blocks of the operators, for one set of kept unknowns
     fac, fac_key, split_ok = None, None, True
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R) * wt) <= TOL * scale(x):
@@ -690,10 +691,9 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
             fresh = fac is None
             if fresh:  # the Jacobian at x, factorised (kept while the steps contract)
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
-                if key not in gathered:
-                    gathered.clear()
-                    gathered[key] = _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn)
-                J = _coupled_jacobian(gathered[key], z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
+                if key != blocks_key:
+                    blocks, blocks_key = _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn), key
+                J = _coupled_jacobian(blocks, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
                 try:
                     fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok), key
                 except (sla.LinAlgError, ValueError):
