@@ -670,7 +670,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     R, s, z, g, act = residual(x)
     scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
     wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
-    blocks, blocks_key = None, None  # the contact's blocks of the operators, for one set of kept unknowns
+    plane = np.asarray(on_plane, dtype=bool).tobytes()
     fac, fac_key, split_ok = None, None, True
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R) * wt) <= TOL * scale(x):
@@ -691,11 +691,11 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
             fresh = fac is None
             if fresh:  # the Jacobian at x, factorised (kept while the steps contract)
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
-                if key != blocks_key:
-                    blocks, blocks_key = _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn), key
+                blocks = _last_blocks(rf.K, (plane, key, fn),
+                                      lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn))
                 J = _coupled_jacobian(blocks, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
                 try:
-                    fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok), key
+                    fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok, blocks["lu_n"]), key
                 except (sla.LinAlgError, ValueError):
                     return None
             dx = np.zeros(N)
@@ -731,13 +731,13 @@ class _CoupledFactor:
     tangential one [v, u]) replace one of the whole (a quasi-Newton step that contracts at a rate of
     about beta^2; the caller falls back to the whole J where it does not halve ||R||)."""
 
-    def __init__(self, J, r0, t, fn, ft, split):
+    def __init__(self, J, r0, t, fn, ft, split, lu_n):
         K = J.shape[0]
         self.iN = np.concatenate([np.arange(r0), [r0 + t] if fn else []]).astype(int)
         self.iT = np.concatenate([np.arange(r0, r0 + t), [K - 1] if ft else []]).astype(int)
         self.split = bool(split and self.iN.size and self.iT.size)
         if self.split:
-            self.lu_n = sla.lu_factor(J[np.ix_(self.iN, self.iN)], check_finite=False)
+            self.lu_n = lu_n  # the normal block depends on the kept unknowns alone (``_coupled_blocks``)
             self.lu_t = sla.lu_factor(J[np.ix_(self.iT, self.iT)], check_finite=False)
             self.Jtn = J[np.ix_(self.iT, self.iN)]
         else:
@@ -752,10 +752,29 @@ class _CoupledFactor:
         return y
 
 
-def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn) -> dict:
+#: the last gathered blocks of each dissimilar pair's coupling (``_last_blocks``)
+_BLOCKS: dict = {}
+
+
+def _last_blocks(K, key, build) -> dict:
+    """``build()``, or the blocks built last for the coupling ``K`` under the same ``key`` (the same kept
+    unknowns: at a constant normal force the contact, and so the key, mostly stays from one increment to
+    the next). One entry per K, held weakly as ``_held_by`` holds its operators."""
+    hit = _BLOCKS.get(id(K))
+    if hit is not None and hit[0]() is K and hit[1] == key:
+        return hit[2]
+    blocks = build()
+    if hit is None or hit[0]() is not K:
+        weakref.finalize(K, _BLOCKS.pop, id(K), None)
+    _BLOCKS[id(K)] = (weakref.ref(K), key, blocks)
+    return blocks
+
+
+def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn) -> dict:
     """The parts of ``_coupled_newton``'s Jacobian that depend only on the kept unknowns (the active
-    pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns and dz/d(p, v)
-    restricted to the kept columns, gathered once per set."""
+    pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns, dz/d(p, v)
+    restricted to the kept columns, and the normal block [p, d] factorised (``_CoupledFactor``'s split
+    step), gathered once per set."""
     cols = np.concatenate([ia, n + kv])
     normal = np.zeros((ia.size, cols.size + fn))
     normal[:, :ia.size] = cn[ia, None] * Dn[np.ix_(ia, ia)]
@@ -764,7 +783,13 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, ia, kv, n, sn, fn) -> dict:
         normal[:, -1] = -cn[ia] * A[ia] * sn
     where = np.full(n, -1)
     where[ia] = np.arange(ia.size)
-    return {"normal": normal, "dz": dz_dpv[:, cols], "where": where}
+    Jnn = np.zeros((ia.size + fn, ia.size + fn))  # the rows and columns [p_ia, d] of the Jacobian
+    Jnn[:ia.size, :ia.size] = normal[:, :ia.size]
+    if fn:
+        Jnn[:ia.size, -1] = normal[:, -1]
+        Jnn[-1, :ia.size] = A[ia] / sA
+    lu_n = sla.lu_factor(Jnn, check_finite=False) if Jnn.size else None
+    return {"normal": normal, "dz": dz_dpv[:, cols], "where": where, "lu_n": lu_n}
 
 
 def _coupled_jacobian(b, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft):
