@@ -172,7 +172,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
     yi, D, cd, dz_dv = _reduced(Dt, on_plane)
     m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d u, restricted
-    Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
+    Pold = _pack(np.asarray(P_old), yi)
     c = cd[:n]
     cy = np.zeros(n)
     cy[yi] = cd[n:]
@@ -632,7 +632,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     Dn = rf.Dn
     cn = 1.0 / np.diag(Dn)
     ex = np.concatenate([A, np.zeros(yi.size)])
-    Pold = np.concatenate([P_old[:, 0], P_old[yi, 1]])
+    Pold = _pack(np.asarray(P_old), yi)
     dz_du = cd * ex
     fn, ft = F_n is not None, F_t is not None
     sA = float(A.sum())
