@@ -19,6 +19,7 @@ from mdr import reference as ref
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 from validation import budget as B
+from validation.points import loop_point
 
 MAT = Materials()
 
@@ -41,14 +42,14 @@ def test_a_result_matters_if_one_point_does_and_is_negligible_only_if_all_are():
 
 
 def test_exact_zeros_on_the_sphere():
-    p = B._loop("fig4")
+    p = loop_point("fig4")
     assert p.b == 0
     for c in (B.kink_cell(p), B.tilt_cell(p, lambda name: None)):
         assert c["effect"] == 0.0 and c["kind"] == "exact" and c["verdict"] == "negligible"
 
 
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
-    p = B._loop("fig6")
+    p = loop_point("fig6")
     wide = B.kink_cell(p)
     assert abs(wide["effect"]) < 1e-3  # b = 0.6 mm: the fillet is 0.5 % of the radius (measured 1.6e-5)
     assert wide["verdict"] == "negligible"
@@ -86,7 +87,7 @@ def test_the_plastic_column_reads_the_plastic_surfaces_within_their_flattening_l
     flatten it further: undetermined."""
     rows = [_hertz_row(1e-6), _hertz_row(1e-6, radius=4 * R_INDENTER, hardness=2.1e9, preload=0.75)]
     store = lambda name: {"roughness": rows} if name == "roughness" else None  # noqa: E731
-    p = B._loop("fig4")
+    p = loop_point("fig4")
     elastic, plastic = B.roughness_cell(p, store, 1e-6), B.roughness_cell(p, store, 1e-6, plastic=True)
     assert abs(elastic["effect"]) < 2e-3
     assert abs(plastic["effect"]) > B.RESOLUTION and plastic["verdict"] == "matters"  # another curve, counted
@@ -96,7 +97,7 @@ def test_the_plastic_column_reads_the_plastic_surfaces_within_their_flattening_l
 
 
 def test_the_equivalent_profile_of_a_smooth_sphere_is_no_roughness_in_the_apparatus():
-    for p in (B._loop("fig4"), B._loop("fig5")):
+    for p in (loop_point("fig4"), loop_point("fig5")):
         c = B.roughness_cell(p, _hertz_store(1e-6), 1e-6)
         assert abs(c["effect"]) < 2e-3 and c["verdict"] == "negligible"  # the curve's sampling: 24 forces
 
@@ -134,3 +135,44 @@ def test_scaled_turns_a_relative_effect_into_a_slip_index_change():
     a = B.cell(0.02, 0.001, "absolute", "x")
     assert B.scaled(a, 0.5) is a
     assert math.isclose(B.scaled(B.cell(0.1, 0.01, "bound", "x"), 0.05)["effect"], 0.005)
+
+
+def _pair_result(fe, md, err=1e-4, bounded=True):
+    return {"verdicts": {"slip_index": {"fem": fe, "mdr": md, "fem_error": err, "mdr_error": err,
+                                         "bounded": bounded}}, "fem": {"contact_radius": 0.6e-3}}
+
+
+def test_the_curvature_is_measured_at_the_point_where_a_scene_runs_it():
+    """A point that a stored apparatus scene runs (the experiment of Fig. 6; a row of halfspace-points)
+    takes its FE - MDR there, a change of the slip index; an injected 0.05 between the models matters;
+    a non-finite one falls back to the sphere's bound (here: its scene missing, undetermined)."""
+    p6, p2 = loop_point("fig6"), B.Point(b=10e-6)
+    rows = [{"b": 10e-6, "kx": p2.kx, "slip_index_fem": 0.4221, "slip_index_mdr": 0.4224, "error": 6e-4,
+             "bounded": False, "a_over_R": 0.0046}]
+    stored = {"exp-fig6": _pair_result(0.5312, 0.5315), "halfspace-points": {"points": rows}}
+    c = B.curvature_cell(p6, stored.get)
+    assert c["source"] == "exp-fig6" and c["kind"] == "absolute" and c["verdict"] == "negligible"
+    assert c["effect"] == pytest.approx(-3e-4) and c["error"] == pytest.approx(2e-4)
+    c = B.curvature_cell(p2, stored.get)
+    assert c["source"] == "halfspace-points" and c["verdict"] == "negligible" and "spread" in c["note"]
+    stored["exp-fig6"] = _pair_result(0.5312, 0.5812)
+    assert B.curvature_cell(p6, stored.get)["verdict"] == "matters"
+    stored["exp-fig6"] = _pair_result(float("nan"), 0.5315)
+    c = B.curvature_cell(p6, stored.get)
+    assert c["verdict"] == "undetermined" and "validity-curvature" in c["source"]
+    assert B.curvature_cell(replace(p2, kx=5e6), stored.get)["source"] != "halfspace-points"  # not that point
+
+
+def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
+    """The budget's curvature column is measured, not bounded, at every point of a truncated sphere: each
+    is run by an apparatus scene of the catalogue (experiments, k_x series, halfspace-points)."""
+    from validation.families.points import point_variant
+    from validation.scenes import CATALOGUE
+
+    hs = CATALOGUE["halfspace-points"]
+    runs = [s for s in CATALOGUE.values() if s.family == "pair" and s.drive == "apparatus"]
+    runs += [point_variant(hs, v) for v in hs.variants]
+    for r in B.results():
+        for p in r.points:
+            n = sum(p.matches(s) for s in runs)
+            assert n == 1 or (p.b == 0 and n <= 1), (r.key, p, n)

@@ -15,12 +15,16 @@ verdict against the figures' resolution ``RESOLUTION``:
 
 Where the cells come from (``COLUMNS``):
 
-- *half-space size*, *curvature*, *traction direction*, *tilt*, *roughness*: the stored results of the
-  catalogue's scenes (``validity``, ``validity-curvature``, ``assumptions-3d``, ``tilt``,
-  ``roughness``; ``python -m validation.compare`` in the same ``--out``), measured at Table 2's
-  loading under force control, mapped to a result by its geometry. Size and curvature effects grow
-  monotonically with the body's smallness and with a/R, so the row measured at the nearest smaller
-  body or larger a/R is a *bound*: the true effect lies between 0 and it;
+- *half-space size*, *traction direction*, *tilt*, *roughness*: the stored results of the
+  catalogue's scenes (``validity``, ``assumptions-3d``, ``tilt``, ``roughness``;
+  ``python -m validation.compare`` in the same ``--out``), measured at Table 2's loading under force
+  control, mapped to a result by its geometry. Size effects grow monotonically with the body's
+  smallness, so the row measured at the nearest smaller body is a *bound*: the true effect lies
+  between 0 and it;
+- *curvature*: measured at each point itself, the axisymmetric FE model (the cap's real sphere)
+  against MDR in the apparatus there (``measured_in_apparatus``: the experiment scenes, the k_x
+  series, ``halfspace-points``), a change of the slip index; where none is stored, bounded by the
+  sphere's ``validity-curvature`` row at the next larger a/R;
 - *coupling*: exactly 0: the paper's indenter and block are the same steel (Dundurs' beta = 0);
 - *tilt* of the sphere: exactly 0 (a tilted sphere is the same sphere displaced);
 - *kink rounding* and *plates*: computed here with the MDR apparatus (cheap) at every point of the
@@ -32,8 +36,8 @@ Where the cells come from (``COLUMNS``):
 Assumptions of the mapping (stated in the table's notes): an effect measured under force control at
 Table 2's load is applied as the same relative change of the apparatus's dissipation, i.e. times the
 point's slip index (MDR in the apparatus, ``point_slip_index``), except the tilt's, measured as a change
-of the slip index itself (the aligned face hardly slips there), and the roughness's, a change of the
-slip index computed in the apparatus; a result spanning
+of the slip index itself (the aligned face hardly slips there), and the curvature's and the roughness's,
+changes of the slip index in the apparatus; a result spanning
 a range of b (Figs. 8, 9, Table 2's two points) is "negligible" only if every b of its range is
 covered, and "matters" as soon as one measured point of it does.
 """
@@ -41,14 +45,15 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from mdr.materials import Materials
-from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, TABLE2
+from mdr.paper import R_INDENTER
 
+from .points import Point, results
 from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
@@ -68,44 +73,6 @@ TITLES = {"size": "half-space size", "curvature": "curvature a/R", "direction": 
           "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness, elastic",
           "plastic": "roughness, plastic asperities", "kink": "kink rounding",
           "plates": "brass plates' reading"}
-
-
-@dataclass(frozen=True)
-class Point:
-    """One apparatus point of a result: the indenter (``b`` = 0: the sphere), the load and the axis."""
-
-    b: float
-    F0: float = TABLE2["F0"]
-    dF: float = TABLE2["dF"]
-    ua: float = TABLE2["ua"]
-    mu1: float = TABLE2["mu1"]
-    mu2: float = TABLE2["mu2"]
-    kx: float = KX_TABLE1
-
-
-@dataclass(frozen=True)
-class Result:
-    key: str
-    title: str
-    points: tuple
-
-
-def _loop(fig):
-    from studies.paper import LOOP_CASES
-
-    kind, F0, ua, mu1, mu2 = LOOP_CASES[fig]
-    return Point(b=0.0 if kind == "sphere" else B_TABLE1, F0=F0, dF=DF_OVER_F0 * F0, ua=ua, mu1=mu1, mu2=mu2)
-
-
-def results() -> tuple:
-    """The paper's results and their points (Figs. 8, 9: the ends and the middle of their ranges)."""
-    fig8 = tuple(Point(b=b, kx=kx) for b in (1e-6, 10e-6, 100e-6, 1e-3) for kx in (1e6, 20e6))
-    fig9 = tuple(Point(b=b, kx=kx) for b in (10e-6, 50e-6, 100e-6) for kx in (0.3e6, 3e6, 30e6))
-    return (Result("figs4-5", "Figs. 4-5: loops, sphere", (_loop("fig4"), _loop("fig5"))),
-            Result("figs6-7", "Figs. 6-7: loops, truncated b = 0.6 mm", (_loop("fig6"), _loop("fig7"))),
-            Result("fig8", "Fig. 8: slip index against b = 1 um - 1 mm", fig8),
-            Result("fig9", "Fig. 9: slip index against k_x, b = 10-100 um", fig9),
-            Result("table2", "Table 2 point: b = 0.6 mm and 10 um", (Point(b=B_TABLE1), Point(b=10e-6))))
 
 
 # ----------------------------------------------------------------------------------- cells
@@ -179,9 +146,46 @@ def size_cell(p: Point, store) -> dict:
     return cell(-total, 0.0, "bound", "validity", ", ".join(parts))
 
 
+def measured_in_apparatus(p: Point, store):
+    """The slip index's FE - MDR at the point itself, from a stored scene that runs it in the apparatus:
+    a pair scene of the catalogue (the experiments of Figs. 4-7, the k_x series) or a row of
+    ``halfspace-points`` (``validation.families.points``); (scene name, effect, error, bounded, a/R)
+    or None where none is stored (or its numbers are not finite)."""
+    from .families.points import point_variant
+
+    for name, s in CATALOGUE.items():
+        found = None
+        if s.family == "pair" and p.matches(s):
+            res = store(name)
+            if res is not None:
+                v = res["verdicts"]["slip_index"]
+                a = (res.get("fem") or {}).get("contact_radius")
+                found = (v.get("fem"), v.get("mdr"), v.get("fem_error"), v.get("mdr_error"), v.get("bounded"), a)
+        elif s.family == "points":
+            res = store(name)
+            row = next((r for r in (res or {}).get("points", []) if p.matches(point_variant(s, r))), None)
+            if row is not None:
+                found = (row.get("slip_index_fem"), row.get("slip_index_mdr"), row.get("error"), 0.0,
+                         row.get("bounded"), None if row.get("a_over_R") is None else row["a_over_R"] * s.R)
+        if found is not None:
+            fe, md, e1, e2, bounded, a = found
+            nums = (fe, md, e1, e2)
+            if all(x is not None and math.isfinite(x) for x in nums):
+                return name, fe - md, e1 + e2, bool(bounded), None if a is None else a / R_INDENTER
+    return None
+
+
 def curvature_cell(p: Point, store) -> dict:
-    """The curvature a/R (``validity-curvature``, nu = 0.29), bounded by the row at the smallest
-    measured a/R not below the point's (the effect grows with a/R)."""
+    """The half-space's shape at the point: measured where a stored scene runs the point in the apparatus
+    (``measured_in_apparatus``: the axisymmetric FE model, whose cap is the real sphere, against MDR, a
+    change of the slip index); else bounded by the sphere's row of ``validity-curvature`` (nu = 0.29)
+    at the smallest measured a/R not below the point's (the effect grows with a/R)."""
+    m = measured_in_apparatus(p, store)
+    if m is not None:
+        name, effect, error, bounded, x = m
+        return cell(effect, error, "absolute", name,
+                    f"FE - MDR at the point{'' if x is None else f', a/R = {x:.2g}'}"
+                    f"{'' if bounded else ' (the FE ladder non-monotone: its spread)'}")
     res = store("validity-curvature")
     if res is None:
         return missing("validity-curvature")

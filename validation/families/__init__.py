@@ -3,8 +3,8 @@ report (``table``, over the rows stored under ``KEY`` in its result) and its fig
 
 ``pair``: MDR against the FE model on both ladders (the report's default table and figures);
 ``validity``: the FE bodies shrunk towards the contact; ``curvature``: the contact radius swept against
-R; ``assumptions3d``: Mindlin's assumptions relaxed one at a time in 3D; ``tilt``: the flat face
-tilted. A scene names its family (``validation.scenes.Scene.family``); adding a family is a module
+R; ``points``: the paper's apparatus points, FE against MDR at each; ``assumptions3d``: Mindlin's
+assumptions relaxed one at a time in 3D; ``tilt``: the flat face tilted; ``roughness``: rough surfaces. A scene names its family (``validation.scenes.Scene.family``); adding a family is a module
 here with those names and its entry in ``validation.scenes.FAMILIES``.
 """
 from __future__ import annotations

@@ -1,0 +1,68 @@
+"""The paper's results as points of its apparatus: one home for the conditions at which the error budget
+(``validation.budget``) and the catalogue's scene of those points (``halfspace-points``) evaluate them.
+
+Willert, Machines 11 (2023) 484: the loops of Figs. 4-5 (sphere) and 6-7 (truncated sphere b = 0.6 mm)
+at their own loads (``studies.study.LOOP_CASES``); the slip-index curves of Fig. 8 (against b) and
+Fig. 9 (against the axis stiffness k_x), taken at their ends and middles; the Table 2 point. Every
+point but the loops' is at Table 2's load (``mdr.paper.TABLE2``), with Table 1's k_x where the figure
+does not vary it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, TABLE2
+
+
+@dataclass(frozen=True)
+class Point:
+    """One apparatus point of a result (SI): the indenter (``b`` = 0: the sphere, else the truncated
+    sphere's face radius), the normal force F0 and its amplitude dF, the piezo amplitude ``ua``, the
+    friction of the contact (mu1) and of the bedding (mu2), the axis stiffness ``kx``."""
+
+    b: float
+    F0: float = TABLE2["F0"]
+    dF: float = TABLE2["dF"]
+    ua: float = TABLE2["ua"]
+    mu1: float = TABLE2["mu1"]
+    mu2: float = TABLE2["mu2"]
+    kx: float = KX_TABLE1
+
+    def matches(self, s) -> bool:
+        """True where the scene ``s`` (``validation.scenes.Scene``) runs this point: the apparatus drive,
+        the same indenter, load, amplitude, friction and k_x (within 1e-9 relative)."""
+        def same(x, y):
+            return abs(float(x) - float(y)) <= 1e-9 * max(abs(float(x)), abs(float(y)), 1e-30)
+
+        b = 0.0 if s.profile == "sphere" else s.b
+        return (s.drive == "apparatus" and s.profile in ("sphere", "truncated") and same(b, self.b)
+                and all(same(x, y) for x, y in ((s.F0, self.F0), (s.dF, self.dF), (s.amplitude, self.ua),
+                                                (s.mu, self.mu1), (s.mu2, self.mu2), (s.kx, self.kx))))
+
+
+@dataclass(frozen=True)
+class Result:
+    """One of the paper's results: its key, title and points."""
+
+    key: str
+    title: str
+    points: tuple
+
+
+def loop_point(fig: str) -> Point:
+    """The point of the loop experiment ``fig`` ("fig4" .. "fig7") at its own load (Table 1's b and k_x)."""
+    from studies.study import LOOP_CASES
+
+    kind, F0, ua, mu1, mu2 = LOOP_CASES[fig]
+    return Point(b=0.0 if kind == "sphere" else B_TABLE1, F0=F0, dF=DF_OVER_F0 * F0, ua=ua, mu1=mu1, mu2=mu2)
+
+
+def results() -> tuple:
+    """The paper's results and their points (Figs. 8, 9: the ends and the middle of their ranges)."""
+    fig8 = tuple(Point(b=b, kx=kx) for b in (1e-6, 10e-6, 100e-6, 1e-3) for kx in (1e6, 20e6))
+    fig9 = tuple(Point(b=b, kx=kx) for b in (10e-6, 50e-6, 100e-6) for kx in (0.3e6, 3e6, 30e6))
+    return (Result("figs4-5", "Figs. 4-5: loops, sphere", (loop_point("fig4"), loop_point("fig5"))),
+            Result("figs6-7", "Figs. 6-7: loops, truncated b = 0.6 mm", (loop_point("fig6"), loop_point("fig7"))),
+            Result("fig8", "Fig. 8: slip index against b = 1 um - 1 mm", fig8),
+            Result("fig9", "Fig. 9: slip index against k_x, b = 10-100 um", fig9),
+            Result("table2", "Table 2 point: b = 0.6 mm and 10 um", (Point(b=B_TABLE1), Point(b=10e-6))))
