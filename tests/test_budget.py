@@ -176,3 +176,23 @@ def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
         for p in r.points:
             n = sum(p.matches(s) for s in runs)
             assert n == 1 or (p.b == 0 and n <= 1), (r.key, p, n)
+
+
+def test_the_direction_is_measured_at_the_point_where_a_3d_scene_runs_it():
+    """A point that the stored 3D scene direction-points runs takes its free - along x there, a change of
+    the slip index; an injected 0.05 matters; without the scene the force-control row of assumptions-3d
+    is read (here missing: undetermined)."""
+    from validation.scenes import CATALOGUE
+
+    s = CATALOGUE["direction-points"]
+    p = loop_point("fig6")
+    i = next(i for i, v in enumerate(s.variants) if B.Point(**v) == p)
+    row = {"variant": i, "effect": 3e-7, "error": 2e-7, "ladder_status": "two levels"}
+    stored = {"direction-points": {"points": [row]}}
+    c = B.direction_cell(p, stored.get)
+    assert c["source"] == "direction-points" and c["kind"] == "absolute" and c["verdict"] == "negligible"
+    row["effect"] = 0.05
+    assert B.direction_cell(p, stored.get)["verdict"] == "matters"
+    c = B.direction_cell(loop_point("fig7"), stored.get)  # another point: not this row
+    assert c["source"] != "direction-points" and c["verdict"] == "undetermined"
+

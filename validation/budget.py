@@ -53,17 +53,11 @@ import numpy as np
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
-from .points import Point, results
+from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, results
 from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 
-#: the resolution of a result read from the paper's figures, as a change of the slip index (the
-#: dissipation over 4 mu F0 u_A; 1 is gross slip): 1 % of its full scale, as a loop is read to 1 % of
-#: its height (the budget's own constant: the catalogue's loop tolerance has the same origin)
-RESOLUTION = 0.01
-RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross slip), as a loop is read to 1 % of "
-                     "its height")
 #: the widest rounding of the kink the paper allows: "less than the rms roughness", up to 3 um
 FILLET_MAX = 3e-6
 #: the paper's block: the indenter's contact lies h = 19 mm above the bedding (Table 1)
@@ -200,9 +194,34 @@ def curvature_cell(p: Point, store) -> dict:
                 f"a/R = {x:.2g} (row {r['a_over_R']:.2g})")
 
 
+def direction_in_apparatus(p: Point, store):
+    """The slip index's change at the point itself when the 3D model's traction turns free (against along
+    x), from a stored 3D scene of the family ``points`` (``direction-points``); (scene name, row) or None
+    where none is stored."""
+    from .families.points import point_variant
+
+    for name, s in CATALOGUE.items():
+        if s.family != "points" or s.fe_model != "3d":
+            continue
+        res = store(name)
+        for r in (res or {}).get("points", []):
+            i = r.get("variant")
+            if isinstance(i, int) and i < len(s.variants) and p.matches(point_variant(s, s.variants[i])):
+                return name, r
+    return None
+
+
 def direction_cell(p: Point, store) -> dict:
-    """Mindlin's traction along x relaxed in 3D (``assumptions-3d``): the sphere's row, or the truncated
-    sphere's of the same b."""
+    """Mindlin's traction along x relaxed in 3D: measured at the point itself in the apparatus where a
+    stored scene runs it (``direction_in_apparatus``, a change of the slip index); else under force
+    control at Table 2's load (``assumptions-3d``): the sphere's row, or the truncated sphere's of the
+    same b, a relative change of the dissipation."""
+    m = direction_in_apparatus(p, store)
+    if m is not None:
+        name, r = m
+        return cell(r.get("effect"), r.get("error"), "absolute", name,
+                    f"3D, free - along x at the point, {'sphere' if p.b == 0 else f'b = {p.b * 1e6:g} um'} "
+                    f"(ladder {r.get('ladder_status')})")
     res = store("assumptions-3d")
     if res is None:
         return missing("assumptions-3d")

@@ -13,6 +13,13 @@ from dataclasses import dataclass
 
 from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, TABLE2
 
+#: the resolution of a result read from the paper's figures, as a change of the slip index (the
+#: dissipation over 4 mu F0 u_A; 1 is gross slip): 1 % of its full scale, as a loop is read to 1 % of
+#: its height (the budget's own constant: the catalogue's loop tolerance has the same origin)
+RESOLUTION = 0.01
+RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross slip), as a loop is read to 1 % of "
+                     "its height")
+
 
 @dataclass(frozen=True)
 class Point:

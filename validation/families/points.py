@@ -1,24 +1,32 @@
-"""The family ``points``: the half-space at the apparatus points of the paper's results
-(``validation.points``) that no other scene runs, the axisymmetric FE model against MDR in the apparatus
-at each, so that the error budget (``validation.budget``, its column *curvature a/R*) reads a measured
-difference at every point rather than a bound from the sphere.
+"""The family ``points``: the paper's results at their own apparatus points (``validation.points``),
+each point a task of the scene (``tasks``, ``member``), so a comparison spreads them over its workers.
+What a point measures is what the scene's FE model relaxes beyond MDR there:
 
-The FE model relaxes what MDR assumes of the bodies: their real shape (the cap is the sphere itself, up
-to its equator, with slopes up to a/R at the contact edge, 17 % for b = 1 mm) and their finite size
-(blocks of 200 contact radii; the displacement in the half-space comparable measure, ``fem.bulk``).
-It shares Mindlin's traction along x and the absence of normal-tangential coupling with MDR (the 3D
-model relaxes those: ``assumptions-3d``). Each point runs as the pair family runs a scene
-(``validation.families.pair``: both ladders, the time step's and the cycles' settling in the error
-bars), as one task of the scene (``tasks``, ``member``), so a comparison spreads them over its workers.
+- ``fe_model = "axisym"`` (scene ``halfspace-points``): **the half-space's shape**, the axisymmetric FE
+  model against MDR, as the pair family runs a scene (``validation.families.pair``: both ladders, the
+  time step's and the cycles' settling in the error bars). The FE model relaxes what MDR assumes of
+  the bodies: their real shape (the cap is the sphere itself, up to its equator, with slopes up to
+  a/R at the contact edge, 17 % for b = 1 mm) and their finite size (blocks of 200 contact radii; the
+  displacement in the half-space comparable measure, ``fem.bulk``). It shares Mindlin's traction along
+  x and the absence of normal-tangential coupling with MDR.
+- ``fe_model = "3d"`` (scene ``direction-points``): **Mindlin's traction direction**, the 3D model with
+  a traction of free direction against the same mesh with q_y = 0 (``FEContact3D.assuming``), both in
+  the apparatus; the difference of the pair cancels the discretisation error the two share, so a
+  short 3D ladder resolves it (``direction_member``).
+
+The effect of a point is a change of its slip index (the dissipation per cycle over 4 mu1 F0 u_A),
+what the error budget (``validation.budget``: columns *curvature a/R*, *traction direction*) reads.
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import replace
 from pathlib import Path
 
 from .. import metrics
 from . import result_of
+from ..points import RESOLUTION
 from ..scenes import Scene
 from ..text import grade_text, num
 
@@ -30,13 +38,19 @@ TITLE = "the paper's points in the apparatus"
 KEPT = ("contact_radius", "dissipation", "slip_index", "loop_Fx", "loop_du")
 
 
+#: a variant's keys (those of ``validation.points.Point``) -> the scene's fields they set
+POINT_FIELDS = {"b": "b", "kx": "kx", "F0": "F0", "dF": "dF", "ua": "amplitude", "mu1": "mu", "mu2": "mu2"}
+
+
 def point_variant(s: Scene, v: dict) -> Scene:
-    """The scene of one point: ``v`` sets ``b`` (0: the sphere, else the truncated sphere's face
-    radius) and ``kx``; the rest (load, amplitude, friction, ladders, steps) is the scene's."""
-    b = float(v.get("b", s.b))
-    return replace(s, name=f"{s.name}[b = {b * 1e6:g} um, kx = {float(v['kx']) / 1e6:g} N/um]",
-                   profile="truncated" if b > 0 else "sphere", b=b, kx=float(v["kx"]), variants=(),
-                   family="pair")
+    """The scene of one point: ``v`` sets ``kx`` and may set the other keys of ``POINT_FIELDS`` (``b``:
+    0 the sphere, else the truncated sphere's face radius; the load F0, dF, the amplitude ``ua``, the
+    friction mu1, mu2); the rest (ladders, steps, FE model) is the scene's."""
+    kw = {POINT_FIELDS[k]: float(x) for k, x in v.items() if k in POINT_FIELDS}
+    b = kw.get("b", s.b)
+    load = "" if not {"F0", "dF", "ua", "mu1", "mu2"} & set(v) else f", F0 = {kw.get('F0', s.F0):g} N"
+    return replace(s, name=f"{s.name}[b = {b * 1e6:g} um, kx = {kw['kx'] / 1e6:g} N/um{load}]",
+                   profile="truncated" if b > 0 else "sphere", variants=(), family="pair", **kw)
 
 
 def tasks(s: Scene) -> list:
@@ -46,17 +60,80 @@ def tasks(s: Scene) -> list:
 
 
 def member(s: Scene, task: dict) -> dict:
-    """One point (``task["variant"]``): the pair family's run of ``point_variant`` without files, reduced
-    to the verdicts of ``KEPT`` and the FE contact radius (plain data)."""
+    """One point (``task["variant"]``), plain data: of an axisymmetric scene the pair family's run of
+    ``point_variant`` without files, reduced to the verdicts of ``KEPT`` and the FE contact radius; of
+    a 3D scene ``direction_member``."""
     from .pair import run as run_pair
 
     t0 = time.perf_counter()
     i = int(task["variant"])
     sv = point_variant(s, s.variants[i])
+    if s.fe_model == "3d":
+        return {"variant": i, "b": sv.b, "kx": sv.kx, **direction_member(sv), "runtime_s": time.perf_counter() - t0}
     res = run_pair(sv, None, fields=False)
     ver = {q: res["verdicts"][q] for q in KEPT if q in res["verdicts"]}
     return {"variant": i, "b": sv.b, "kx": sv.kx, "contact_radius": res["fem"].get("contact_radius"),
             "verdicts": ver, "runtime_s": time.perf_counter() - t0}
+
+
+#: the 3D time step: the effect at the coarsest level again with this many times the steps; the change
+#: joins the effect's error bar (the 3D runs cost too much to ladder the step at the finest level)
+STEP_FACTOR = 2
+
+
+def _apparatus_runs(sv: Scene, h, loading) -> dict:
+    """The point's apparatus run with the traction free and along x on the same 3D mesh of level h."""
+    from mdr.apparatus import Apparatus, apparatus_result
+
+    from ..sides import fe_law
+
+    law = fe_law(sv, h)
+    app = Apparatus(kx=sv.kx, mu2=sv.mu2)
+    return {tr: apparatus_result(law.assuming(traction=tr), app, loading) for tr in ("free", "x")}
+
+
+def _effects_per_cycle(runs: dict) -> list:
+    """The effect free - x of every closed cycle (the cycle from rest left out) in slip-index units."""
+    scale = runs["x"]["slip_index"] / runs["x"]["dissipation"] if runs["x"]["dissipation"] else 0.0
+    return [(f - x) * scale for f, x in zip(runs["free"]["dissipation_per_cycle"][1:],
+                                             runs["x"]["dissipation_per_cycle"][1:])]
+
+
+def direction_member(sv: Scene) -> dict:
+    """Mindlin's traction direction at the point ``sv`` in the apparatus: the slip index with the traction
+    free minus along x on each 3D level of ``sv.fe_levels``; the effect's error bar is its ladder's
+    (``metrics.ladder_error``; two levels: their difference, a spread), plus the change when the coarsest
+    level runs ``STEP_FACTOR`` times the steps, plus the finest level's settling over its cycles
+    (``common.ladder.settling_error``). The apparatus's dissipation settles within a cycle or two."""
+    from common.ladder import settling_error
+
+    levels = []
+    for h in sv.fe_levels:
+        runs = _apparatus_runs(sv, h, sv.loading)
+        levels.append({"h": h, "slip_index": {tr: r["slip_index"] for tr, r in runs.items()},
+                       "effect": runs["free"]["slip_index"] - runs["x"]["slip_index"],
+                       "per_cycle": _effects_per_cycle(runs)})
+    finer = _apparatus_runs(sv, sv.fe_levels[0], replace(sv, steps=STEP_FACTOR * sv.steps).loading)
+    step = abs(finer["free"]["slip_index"] - finer["x"]["slip_index"] - levels[0]["effect"])
+    lad = metrics.ladder_error([x["h"] for x in levels], [x["effect"] for x in levels])
+    settle = settling_error(levels[-1]["per_cycle"], floor=1e-9)
+    parts = {"mesh": lad["error"], "time step": step, "cycles": settle["error"]}
+    ok = all(x is not None and math.isfinite(x) for x in parts.values())
+    return {"levels": levels, "ladder": lad, "settling": settle, "error_parts": parts,
+            "effect_direction": lad["value"], "error_direction": sum(parts.values()) if ok else None,
+            "slip_index_x": levels[-1]["slip_index"]["x"], "bounded": False}
+
+
+def _direction_row(s: Scene, m: dict) -> dict:
+    """A 3D point's row: the effect of the free traction direction on the slip index, its error bar."""
+    e, err = m.get("effect_direction"), m.get("error_direction")
+    ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
+    grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
+                                           else "beyond the budget's resolution")
+    return {"variant": m["variant"], **s.variants[m["variant"]], "b": m["b"], "kx": m["kx"],
+            "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
+            "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
+            "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}
 
 
 def _row(s: Scene, m: dict) -> dict:
@@ -85,9 +162,11 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
         for task in tasks(s):
             members.append(member(s, task))
             log(f"  point {task['variant']}: {members[-1]['runtime_s']:.0f} s")
-    rows = [_row(s, m) for m in sorted(members, key=lambda m: m["variant"])]
+    reduce = _direction_row if s.fe_model == "3d" else _row
+    rows = [reduce(s, m) for m in sorted(members, key=lambda m: m["variant"])]
+    what = "free - along x" if s.fe_model == "3d" else "FE - MDR"
     for r in rows:
-        log(f"  b = {r['b'] * 1e6:g} um, k_x = {r['kx'] / 1e6:g} N/um: slip index FE - MDR "
+        log(f"  b = {r['b'] * 1e6:g} um, k_x = {r['kx'] / 1e6:g} N/um: slip index {what} "
             f"{num(r['effect'], '+.2g')} +- {num(r['error'], '.2g')}: {r['grade']}")
     cpu = sum(m.get("runtime_s", 0.0) for m in members)
     res = result_of(s, KEY, rows, t0, out_dir, figure, members_cpu_s=cpu)
@@ -97,6 +176,8 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
 
 
 def table(res) -> list:
+    if (res.get("scene") or {}).get("fe_model") == "3d":
+        return _direction_table(res)
     lines = ["The paper's points in its apparatus (Table 2's load; b and k_x of Figs. 8-9 and Table 2 that no "
              "other scene runs): the axisymmetric FE model (the cap's real sphere, bodies of 200 a) against MDR, "
              "both on their ladders. FE - MDR of the slip index is what the half-space's shape costs there (the "
@@ -113,27 +194,49 @@ def table(res) -> list:
     return lines
 
 
+def _direction_table(res) -> list:
+    lines = ["The paper's points in its apparatus (every point of the budget's results, at its own load): the 3D "
+             "model with a traction of free direction minus the same mesh with the traction along x (Mindlin's "
+             "assumption, MDR's and the axisymmetric model's), the change of the slip index, with its error bar "
+             "(the effect's 3D ladder, its time step, its settling); the budget's resolution is 0.01.", "",
+             "| b (um) | k_x (N/um) | F0 (N) | slip index (along x) | free - along x | error bar | status |",
+             "|---|---|---|---|---|---|---|"]
+    for r in res[KEY]:
+        lines.append(f"| {num(r['b'] * 1e6, 'g')} | {num(r['kx'] / 1e6, 'g')} | {num(r.get('F0', res['scene']['F0']), 'g')} | "
+                     f"{num(r.get('slip_index'), '.3g')} | {num(r.get('effect'), '+.2g')} | {num(r.get('error'), '.2g')} "
+                     f"(spread) | {r.get('grade')} |")
+    return lines
+
+
 def figure(result: dict, out_dir) -> dict:
-    """FE - MDR of the slip index (with its error bar) against k_x, one line per face radius b (set
-    slightly apart where they share a k_x), inside the budget's resolution (0.01 of the slip index)."""
+    """The effect of each point on its slip index (FE - MDR, or the 3D traction free - along x) with its
+    error bar against k_x, one line per face radius b (set slightly apart where they share a k_x): left
+    against the budget's resolution (0.01 of the slip index), right zoomed to the measured values."""
     from ..figures import plt, save
 
+    three_d = (result.get("scene") or {}).get("fe_model") == "3d"
     rows = [r for r in result[KEY] if r.get("effect") is not None]
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     faces = sorted({r["b"] for r in rows})
-    for j, b in enumerate(faces):
-        sel = sorted((r for r in rows if r["b"] == b), key=lambda r: r["kx"])
-        dodge = 1.0 + 0.03 * (j - (len(faces) - 1) / 2)  # side by side where the faces share a k_x
-        ax.errorbar([dodge * r["kx"] / 1e6 for r in sel], [r["effect"] for r in sel],
-                    yerr=[r["error"] or 0.0 for r in sel], marker="o", capsize=3, label=f"b = {b * 1e6:g} um")
-    ax.axhspan(-0.01, 0.01, color="0.92", zorder=0, label="budget resolution (0.01)")
-    ax.axhline(0.0, color="0.5", lw=0.8)
-    ax.set_xscale("log")
-    ax.set_xlabel("axis stiffness k_x (N/um)")
-    ax.set_ylabel("slip index, FE - MDR")
-    ax.set_title("The half-space's shape at the paper's points (Table 2's load)", fontsize=10)
-    ax.grid(alpha=0.3, which="both")
+    for ax in axes:
+        for j, b in enumerate(faces):
+            sel = sorted((r for r in rows if r["b"] == b), key=lambda r: r["kx"])
+            dodge = 1.0 + 0.03 * (j - (len(faces) - 1) / 2)  # side by side where the faces share a k_x
+            ax.errorbar([dodge * r["kx"] / 1e6 for r in sel], [r["effect"] for r in sel],
+                        yerr=[r["error"] or 0.0 for r in sel], marker="o", ms=4, lw=0.8, capsize=3,
+                        label=f"b = {b * 1e6:g} um")
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_xlabel("axis stiffness k_x (N/um)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].axhspan(-RESOLUTION, RESOLUTION, color="0.92", zorder=0, label=f"budget resolution ({RESOLUTION:g})")
+    axes[0].set_ylim(-1.1 * RESOLUTION, 1.1 * RESOLUTION)
+    axes[0].set_ylabel("slip index, traction free - along x (3D)" if three_d else "slip index, FE - MDR")
+    axes[0].set_title("against the budget's resolution", fontsize=10)
+    axes[1].set_title("zoomed: the measured effects and their error bars", fontsize=10)
     if rows:
-        ax.legend(fontsize=7)
+        axes[0].legend(fontsize=7)
+    fig.suptitle("Mindlin's traction direction at the paper's points (3D, in the apparatus)" if three_d
+                 else "The half-space's shape at the paper's points (FE against MDR, in the apparatus)", fontsize=11)
     fig.tight_layout()
-    return {KEY: save(fig, Path(out_dir) / "points.png")}
+    return {KEY: save(fig, Path(out_dir) / ("directions.png" if three_d else "points.png"))}
