@@ -56,3 +56,20 @@ def test_the_traction_direction_costs_the_loop_of_fig4_nothing_in_the_apparatus(
     assert r["slip_index"] == pytest.approx(mdr, rel=0.015)  # measured 0.4 %
     assert abs(r["effect"]) < 1e-3 and 0 < r["error"] < 1e-3
     assert set(r["error_parts"]) == {"mesh", "time step", "cycles"}
+
+
+def test_a_point_that_failed_leaves_its_row_undetermined_and_the_scene_goes_on(tmp_path):
+    """A member without an answer (a solver that did not converge) gives an undetermined row, the table
+    and the figure render it, and the budget's cell at that point reads no number from it."""
+    from validation.budget import measured_in_apparatus
+
+    s = CATALOGUE["halfspace-points"]
+    v = s.variants[-2]
+    res = points.run(s, None, members=[{"variant": len(s.variants) - 2, "b": v["b"], "kx": v["kx"],
+                                        "failed": "no convergence", "runtime_s": 1.0}])
+    row = res["points"][0]
+    assert row["effect"] is None and row["grade"] == "undetermined" and row["failed"]
+    assert any("| 600 |" in line for line in points.table(res))
+    assert (tmp_path / points.figure(res, tmp_path)["points"]).stat().st_size > 0
+    p = Point(b=v["b"], kx=v["kx"])
+    assert measured_in_apparatus(p, {"halfspace-points": res}.get) is None

@@ -40,3 +40,27 @@ def result_of(s, key: str, rows: list, t0: float, out_dir, figure, **extra) -> d
     if out_dir is not None:
         result["files"].update(figure(result, Path(out_dir)))
     return result
+
+
+def members_of(s, members, tasks, member, log, describe) -> tuple:
+    """The members of a family of independent tasks: ``members`` where they ran elsewhere (``validation.
+    compare`` spreads them over its workers), else ``member(s, task)`` of every ``tasks(s)`` here in
+    turn, each logged as ``describe(k, task, result)``; returns (members, given)."""
+    if members is not None:
+        return members, True
+    out = []
+    for k, task in enumerate(tasks(s), 1):
+        out.append(member(s, task))
+        log(describe(k, task, out[-1]))
+    return out, False
+
+
+def result_of_members(s, key: str, rows: list, t0: float, out_dir, figure, members: list, given: bool) -> dict:
+    """``result_of`` for a family of independent tasks: ``members_cpu_s`` (their summed run times) beside
+    the rows; where the members ran elsewhere (``given``) the scene's cost is theirs."""
+    cpu = sum(m.get("runtime_s", 0.0) for m in members)
+    res = result_of(s, key, rows, t0, out_dir, figure, members_cpu_s=cpu)
+    if given:
+        res["runtime_s"] = cpu
+    return res
+

@@ -25,7 +25,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from .. import metrics
-from . import result_of
+from . import members_of, result_of_members
 from ..points import RESOLUTION
 from ..scenes import Scene
 from ..text import grade_text, num
@@ -62,15 +62,22 @@ def tasks(s: Scene) -> list:
 def member(s: Scene, task: dict) -> dict:
     """One point (``task["variant"]``), plain data: of an axisymmetric scene the pair family's run of
     ``point_variant`` without files, reduced to the verdicts of ``KEPT`` and the FE contact radius; of
-    a 3D scene ``direction_member``."""
+    a 3D scene ``direction_member``. A solver that does not converge leaves the point ``failed`` (its
+    row undetermined) and the scene goes on."""
     from .pair import run as run_pair
+
+    from common.errors import ConvergenceError
 
     t0 = time.perf_counter()
     i = int(task["variant"])
     sv = point_variant(s, s.variants[i])
-    if s.fe_model == "3d":
-        return {"variant": i, "b": sv.b, "kx": sv.kx, **direction_member(sv), "runtime_s": time.perf_counter() - t0}
-    res = run_pair(sv, None, fields=False)
+    try:
+        if s.fe_model == "3d":
+            return {"variant": i, "b": sv.b, "kx": sv.kx, **direction_member(sv),
+                    "runtime_s": time.perf_counter() - t0}
+        res = run_pair(sv, None, fields=False)
+    except ConvergenceError as e:  # a point without an answer is undetermined; the scene goes on
+        return {"variant": i, "b": sv.b, "kx": sv.kx, "failed": str(e), "runtime_s": time.perf_counter() - t0}
     ver = {q: res["verdicts"][q] for q in KEPT if q in res["verdicts"]}
     return {"variant": i, "b": sv.b, "kx": sv.kx, "contact_radius": res["fem"].get("contact_radius"),
             "verdicts": ver, "runtime_s": time.perf_counter() - t0}
@@ -116,7 +123,7 @@ def direction_member(sv: Scene) -> dict:
     finer = _apparatus_runs(sv, sv.fe_levels[0], replace(sv, steps=STEP_FACTOR * sv.steps).loading)
     step = abs(finer["free"]["slip_index"] - finer["x"]["slip_index"] - levels[0]["effect"])
     lad = metrics.ladder_error([x["h"] for x in levels], [x["effect"] for x in levels])
-    settle = settling_error(levels[-1]["per_cycle"], floor=1e-9)
+    settle = settling_error(levels[-1]["per_cycle"], floor=1e-9)  # 1e-9 of the slip index: round-off
     parts = {"mesh": lad["error"], "time step": step, "cycles": settle["error"]}
     ok = all(x is not None and math.isfinite(x) for x in parts.values())
     return {"levels": levels, "ladder": lad, "settling": settle, "error_parts": parts,
@@ -130,7 +137,7 @@ def _direction_row(s: Scene, m: dict) -> dict:
     ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
     grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
                                            else "beyond the budget's resolution")
-    return {"variant": m["variant"], **s.variants[m["variant"]], "b": m["b"], "kx": m["kx"],
+    return {"variant": m["variant"], **s.variants[m["variant"]], "b": m["b"], "kx": m["kx"], "failed": m.get("failed"),
             "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
             "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
             "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}
@@ -138,13 +145,15 @@ def _direction_row(s: Scene, m: dict) -> dict:
 
 def _row(s: Scene, m: dict) -> dict:
     """A point's row: FE minus MDR of the slip index (its effect: what the half-space's shape costs the
-    slip index there) with both sides' error bars, and the verdicts."""
+    slip index there) with both sides' error bars, and the verdicts (none where the point failed: its
+    row is undetermined)."""
+    m = {**m, "verdicts": m.get("verdicts") or {}}
     si = m["verdicts"].get("slip_index") or {}
     fe, md = si.get("fem"), si.get("mdr")
     err = None if si.get("fem_error") is None or si.get("mdr_error") is None else si["fem_error"] + si["mdr_error"]
     a = m.get("contact_radius")
     holds, grade = metrics.conjunction(m["verdicts"]), metrics.scene_grade(m["verdicts"])
-    return {"variant": m["variant"], "b": m["b"], "kx": m["kx"], "a_over_R": None if a is None else a / s.R,
+    return {"variant": m["variant"], "failed": m.get("failed"), "b": m["b"], "kx": m["kx"], "a_over_R": None if a is None else a / s.R,
             "slip_index_fem": fe, "slip_index_mdr": md,
             "effect": None if fe is None or md is None else fe - md, "error": err,
             "bounded": bool(si.get("bounded")), "verdicts": m["verdicts"], "holds": holds, "grade": grade,
@@ -156,23 +165,15 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
     given; one row per point (``_row``)."""
     t0 = time.perf_counter()
     log = log or (lambda msg: None)
-    given = members is not None
-    if members is None:
-        members = []
-        for task in tasks(s):
-            members.append(member(s, task))
-            log(f"  point {task['variant']}: {members[-1]['runtime_s']:.0f} s")
+    members, given = members_of(s, members, tasks, member, log,
+                                lambda k, task, m: f"  point {task['variant']}: {m['runtime_s']:.0f} s")
     reduce = _direction_row if s.fe_model == "3d" else _row
     rows = [reduce(s, m) for m in sorted(members, key=lambda m: m["variant"])]
     what = "free - along x" if s.fe_model == "3d" else "FE - MDR"
     for r in rows:
-        log(f"  b = {r['b'] * 1e6:g} um, k_x = {r['kx'] / 1e6:g} N/um: slip index {what} "
+        log(f"  b = {num(r['b'], 'g', 1e6)} um, k_x = {num(r['kx'], 'g', 1e-6)} N/um: slip index {what} "
             f"{num(r['effect'], '+.2g')} +- {num(r['error'], '.2g')}: {r['grade']}")
-    cpu = sum(m.get("runtime_s", 0.0) for m in members)
-    res = result_of(s, KEY, rows, t0, out_dir, figure, members_cpu_s=cpu)
-    if given:  # the tasks ran elsewhere: the scene's cost is theirs
-        res["runtime_s"] = cpu
-    return res
+    return result_of_members(s, KEY, rows, t0, out_dir, figure, members, given)
 
 
 def table(res) -> list:
@@ -187,7 +188,7 @@ def table(res) -> list:
              "|---|---|---|---|---|---|---|"]
     for r in res[KEY]:
         failed = [q for q, x in r["verdicts"].items() if x.get("holds") is False]
-        lines.append(f"| {num(r['b'] * 1e6, 'g')} | {num(r['kx'] / 1e6, 'g')} | {num(r.get('a_over_R'), '.2g')} | "
+        lines.append(f"| {num(r.get('b'), 'g', 1e6)} | {num(r.get('kx'), 'g', 1e-6)} | {num(r.get('a_over_R'), '.2g')} | "
                      f"{num(r.get('slip_index_mdr'), '.3g')} | {num(r.get('effect'), '+.2g')} | "
                      f"{num(r.get('error'), '.2g')}{'' if r.get('bounded') else ' (spread)'} | "
                      f"{grade_text(r)}{': ' + ', '.join(failed) if failed else ''} |")
@@ -202,7 +203,7 @@ def _direction_table(res) -> list:
              "| b (um) | k_x (N/um) | F0 (N) | slip index (along x) | free - along x | error bar | status |",
              "|---|---|---|---|---|---|---|"]
     for r in res[KEY]:
-        lines.append(f"| {num(r['b'] * 1e6, 'g')} | {num(r['kx'] / 1e6, 'g')} | {num(r.get('F0', res['scene']['F0']), 'g')} | "
+        lines.append(f"| {num(r.get('b'), 'g', 1e6)} | {num(r.get('kx'), 'g', 1e-6)} | {num(r.get('F0'), 'g')} | "
                      f"{num(r.get('slip_index'), '.3g')} | {num(r.get('effect'), '+.2g')} | {num(r.get('error'), '.2g')} "
                      f"(spread) | {r.get('grade')} |")
     return lines
@@ -215,7 +216,8 @@ def figure(result: dict, out_dir) -> dict:
     from ..figures import plt, save
 
     three_d = (result.get("scene") or {}).get("fe_model") == "3d"
-    rows = [r for r in result[KEY] if r.get("effect") is not None]
+    rows = [r for r in result[KEY] if all(isinstance(r.get(k), (int, float)) and math.isfinite(r[k])
+                                          for k in ("b", "kx", "effect"))]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     faces = sorted({r["b"] for r in rows})
     for ax in axes:
@@ -223,7 +225,8 @@ def figure(result: dict, out_dir) -> dict:
             sel = sorted((r for r in rows if r["b"] == b), key=lambda r: r["kx"])
             dodge = 1.0 + 0.03 * (j - (len(faces) - 1) / 2)  # side by side where the faces share a k_x
             ax.errorbar([dodge * r["kx"] / 1e6 for r in sel], [r["effect"] for r in sel],
-                        yerr=[r["error"] or 0.0 for r in sel], marker="o", ms=4, lw=0.8, capsize=3,
+                        yerr=[r["error"] if isinstance(r.get("error"), (int, float)) and math.isfinite(r["error"])
+                              else 0.0 for r in sel], marker="o", ms=4, lw=0.8, capsize=3,
                         label=f"b = {b * 1e6:g} um")
         ax.axhline(0.0, color="0.5", lw=0.8)
         ax.set_xscale("log")

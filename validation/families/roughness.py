@@ -43,7 +43,7 @@ from common.ladder import ladder_error
 from .. import metrics
 from ..scenes import ROUGH_DEFAULTS, Scene, a_ref, maps_grids
 from ..text import grade_text, num
-from . import result_of
+from . import members_of, result_of_members
 
 KEY = "roughness"
 TITLE = "roughness"
@@ -190,23 +190,15 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
     given; then one row per variant (``_variant_row``)."""
     t0 = time.perf_counter()
     log = log or (lambda msg: None)
-    given = members is not None
-    if members is None:
-        members = []
-        for k, task in enumerate(tasks(s), 1):
-            members.append(member(s, task))
-            log(f"  member {k}: variant {task['variant']}, seed {task['seed']}, n = {task['n']} "
-                f"({members[-1]['runtime_s']:.0f} s)")
+    members, given = members_of(s, members, tasks, member, log,
+                                lambda k, task, m: f"  member {k}: variant {task['variant']}, seed {task['seed']}, "
+                                                   f"n = {task['n']} ({m['runtime_s']:.0f} s)")
     rows = [_variant_row(s, i, members) for i in range(len(s.variants))]
     for r in rows:
         d = r["verdicts"]["mdr_equivalent:dissipation"]
         log(f"  {rms_text(r['rms'])}: equivalent MDR's dissipation {num(d['difference'], '+.2%')} "
             f"+- {num(d['error'], '.2%')}: {r['grade']}")
-    cpu = sum(m.get("runtime_s", 0.0) for m in members)
-    res = result_of(s, KEY, rows, t0, out_dir, figure, members_cpu_s=cpu)
-    if given:  # the tasks ran elsewhere: the scene's cost is theirs
-        res["runtime_s"] = cpu
-    return res
+    return result_of_members(s, KEY, rows, t0, out_dir, figure, members, given)
 
 
 def rms_text(rms) -> str:
