@@ -146,9 +146,12 @@ def test_the_curvature_is_measured_at_the_point_where_a_scene_runs_it():
     """A point that a stored apparatus scene runs (the experiment of Fig. 6; a row of halfspace-points)
     takes its FE - MDR there, a change of the slip index; an injected 0.05 between the models matters;
     a non-finite one falls back to the sphere's bound (here: its scene missing, undetermined)."""
+    from validation.scenes import CATALOGUE
+
     p6, p2 = loop_point("fig6"), B.Point(b=10e-6)
-    rows = [{"b": 10e-6, "kx": p2.kx, "slip_index_fem": 0.4221, "slip_index_mdr": 0.4224, "error": 6e-4,
-             "bounded": False, "a_over_R": 0.0046}]
+    i = next(i for i, v in enumerate(CATALOGUE["halfspace-points"].variants) if B.Point(**v) == p2)
+    rows = [{"variant": i, "b": 10e-6, "kx": p2.kx, "slip_index_fem": 0.4221, "slip_index_mdr": 0.4224,
+             "error": 6e-4, "bounded": False, "a_over_R": 0.0046}]
     stored = {"exp-fig6": _pair_result(0.5312, 0.5315), "halfspace-points": {"points": rows}}
     c = B.curvature_cell(p6, stored.get)
     assert c["source"] == "exp-fig6" and c["kind"] == "absolute" and c["verdict"] == "negligible"

@@ -140,13 +140,23 @@ def size_cell(p: Point, store) -> dict:
     return cell(-total, 0.0, "bound", "validity", ", ".join(parts))
 
 
+def _row_at(p: Point, s, res):
+    """The row of a stored result ``res`` of the ``points`` scene ``s`` whose variant runs the point
+    ``p`` (``validation.families.points.point_variant``), or None."""
+    from .families.points import point_variant
+
+    for r in (res or {}).get("points", []):
+        i = r.get("variant")
+        if isinstance(i, int) and 0 <= i < len(s.variants) and p.matches(point_variant(s, s.variants[i])):
+            return r
+    return None
+
+
 def measured_in_apparatus(p: Point, store):
     """The slip index's FE - MDR at the point itself, from a stored scene that runs it in the apparatus:
     a pair scene of the catalogue (the experiments of Figs. 4-7, the k_x series) or a row of
     ``halfspace-points`` (``validation.families.points``); (scene name, effect, error, bounded, a/R)
     or None where none is stored (or its numbers are not finite)."""
-    from .families.points import point_variant
-
     for name, s in CATALOGUE.items():
         found = None
         if s.family == "pair" and p.matches(s):
@@ -155,9 +165,8 @@ def measured_in_apparatus(p: Point, store):
                 v = res["verdicts"]["slip_index"]
                 a = (res.get("fem") or {}).get("contact_radius")
                 found = (v.get("fem"), v.get("mdr"), v.get("fem_error"), v.get("mdr_error"), v.get("bounded"), a)
-        elif s.family == "points":
-            res = store(name)
-            row = next((r for r in (res or {}).get("points", []) if p.matches(point_variant(s, r))), None)
+        elif s.family == "points" and s.fe_model == "axisym":
+            row = _row_at(p, s, store(name))
             if row is not None:
                 found = (row.get("slip_index_fem"), row.get("slip_index_mdr"), row.get("error"), 0.0,
                          row.get("bounded"), None if row.get("a_over_R") is None else row["a_over_R"] * s.R)
@@ -198,16 +207,12 @@ def direction_in_apparatus(p: Point, store):
     """The slip index's change at the point itself when the 3D model's traction turns free (against along
     x), from a stored 3D scene of the family ``points`` (``direction-points``); (scene name, row) or None
     where none is stored."""
-    from .families.points import point_variant
-
     for name, s in CATALOGUE.items():
         if s.family != "points" or s.fe_model != "3d":
             continue
-        res = store(name)
-        for r in (res or {}).get("points", []):
-            i = r.get("variant")
-            if isinstance(i, int) and i < len(s.variants) and p.matches(point_variant(s, s.variants[i])):
-                return name, r
+        r = _row_at(p, s, store(name))
+        if r is not None:
+            return name, r
     return None
 
 
