@@ -88,13 +88,11 @@ def member(s: Scene, task: dict) -> dict:
 STEP_FACTOR = 2
 
 
-def _apparatus_runs(sv: Scene, h, loading) -> dict:
-    """The point's apparatus run with the traction free and along x on the same 3D mesh of level h."""
+def _apparatus_runs(sv: Scene, law, loading) -> dict:
+    """The point's apparatus run with the traction free and along x on the same 3D mesh (``law``; each
+    run from rest)."""
     from mdr.apparatus import Apparatus, apparatus_result
 
-    from ..sides import fe_law
-
-    law = fe_law(sv, h)
     app = Apparatus(kx=sv.kx, mu2=sv.mu2)
     return {tr: apparatus_result(law.assuming(traction=tr), app, loading) for tr in ("free", "x")}
 
@@ -114,13 +112,17 @@ def direction_member(sv: Scene) -> dict:
     (``common.ladder.settling_error``). The apparatus's dissipation settles within a cycle or two."""
     from common.ladder import settling_error
 
-    levels = []
+    from ..sides import fe_law
+
+    levels, coarsest = [], None
     for h in sv.fe_levels:
-        runs = _apparatus_runs(sv, h, sv.loading)
+        law = fe_law(sv, h)
+        coarsest = coarsest or law
+        runs = _apparatus_runs(sv, law, sv.loading)
         levels.append({"h": h, "slip_index": {tr: r["slip_index"] for tr, r in runs.items()},
                        "effect": runs["free"]["slip_index"] - runs["x"]["slip_index"],
                        "per_cycle": _effects_per_cycle(runs)})
-    finer = _apparatus_runs(sv, sv.fe_levels[0], replace(sv, steps=STEP_FACTOR * sv.steps).loading)
+    finer = _apparatus_runs(sv, coarsest, replace(sv, steps=STEP_FACTOR * sv.steps).loading)
     step = abs(finer["free"]["slip_index"] - finer["x"]["slip_index"] - levels[0]["effect"])
     lad = metrics.ladder_error([x["h"] for x in levels], [x["effect"] for x in levels])
     settle = settling_error(levels[-1]["per_cycle"], floor=1e-9)  # 1e-9 of the slip index: round-off
