@@ -172,8 +172,8 @@ class Scene:
     every tilt share each level's mesh).
     ``family`` (``FAMILIES``): how the scene runs and reports, a module of ``validation.families``:
     ``pair`` (MDR against the FE model, both ladders; no variants), ``validity`` (the FE bodies
-    shrunk), ``curvature`` (a/R swept), ``points`` (the paper's apparatus points, variants ``{"b",
-    "kx"}``), ``assumptions3d`` (Mindlin's assumptions relaxed in 3D), ``tilt`` (the flat face tilted),
+    shrunk), ``curvature`` (a/R swept), ``points`` (the paper's apparatus points, variants holding a
+    ``validation.points.Point``'s fields: ``kx`` and any of ``b``, ``F0``, ``dF``, ``ua``, ``mu1``, ``mu2``), ``assumptions3d`` (Mindlin's assumptions relaxed in 3D), ``tilt`` (the flat face tilted),
     ``roughness`` (rough surfaces); each variant of a family holds its key (``FAMILIES``).
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """
@@ -471,8 +471,8 @@ def _points_scene(sc: list) -> Scene:
 
 
 #: the 3D levels (h_contact / a_ref) of ``direction-points``: the effect free - along x on one mesh
-#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 5e-5 of the
-#: slip index, 200 times below the budget's resolution)
+#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1e-4 of the
+#: slip index with its error bar, 100 times below the budget's resolution)
 DIRECTION_LEVELS_3D = (0.2, 0.14)
 
 
