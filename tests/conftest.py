@@ -33,25 +33,12 @@ def shared_mesh_cache(tmp_path_factory):
     return path
 
 
-#: the modules whose tests run longest (the slow suite's full catalogue, about 10 min on one worker; the
-#: CalculiX witness, 1.5-2 min per geometry; the 3D ring ladders; the rough engine's 3D witness): their
-#: tests go first, so that pytest-xdist's workers start them at once and the short ones fill in at the
-#: end (collected last, the catalogue started when the other worker had most of its work still queued)
-LONG_FIRST = ("test_validation_full.py", "test_calculix.py", "test_contact3d.py", "test_rough_waviness.py")
-
-
 @pytest.hookimpl(trylast=True)  # after pytest-xdist has suffixed the grouped ids
 def pytest_collection_modifyitems(config, items):
-    """The longest modules first (``LONG_FIRST``; the order within a module and of the others kept), and
-    a warning when ``--dist loadgroup`` does not group: pytest-xdist marks a grouped test by a suffix
+    """Warn when ``--dist loadgroup`` does not group: pytest-xdist marks a grouped test by a suffix
     ``@group`` on its node id, and with a pytest it cannot edit the id of (pytest-dev/pytest-xdist#1386,
     pytest 9.2 with xdist 3.8) the tests are spread one by one without a word. Nothing fails then, but
     each group's heavy fixture is built on both workers (about 40 s of the fast suite)."""
-    def rank(item):
-        name = item.path.name
-        return LONG_FIRST.index(name) if name in LONG_FIRST else len(LONG_FIRST)
-
-    items.sort(key=rank)  # stable: every worker collects the same order
     if getattr(config.option, "loadgroup", False) is not True:
         return  # not an xdist worker under loadgroup
     grouped = [item for item in items if item.get_closest_marker("xdist_group") is not None]
