@@ -21,6 +21,10 @@ RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross sl
                      "its height")
 
 
+#: a point's fields -> the fields of a scene (``validation.scenes.Scene``) that hold them
+SCENE_FIELDS = {"b": "b", "F0": "F0", "dF": "dF", "ua": "amplitude", "mu1": "mu", "mu2": "mu2", "kx": "kx"}
+
+
 @dataclass(frozen=True)
 class Point:
     """One apparatus point of a result (SI): the indenter (``b`` = 0: the sphere, else the truncated
@@ -43,8 +47,7 @@ class Point:
 
         b = 0.0 if s.profile == "sphere" else s.b
         return (s.drive == "apparatus" and s.profile in ("sphere", "truncated") and same(b, self.b)
-                and all(same(x, y) for x, y in ((s.F0, self.F0), (s.dF, self.dF), (s.amplitude, self.ua),
-                                                (s.mu, self.mu1), (s.mu2, self.mu2), (s.kx, self.kx))))
+                and all(same(getattr(s, f), getattr(self, k)) for k, f in SCENE_FIELDS.items() if k != "b"))
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .. import metrics
 from . import members_of, result_of_members
-from ..points import RESOLUTION
+from ..points import RESOLUTION, SCENE_FIELDS
 from ..scenes import Scene
 from ..text import grade_text, num
 
@@ -38,15 +38,12 @@ TITLE = "the paper's points in the apparatus"
 KEPT = ("contact_radius", "dissipation", "slip_index", "loop_Fx", "loop_du")
 
 
-#: a variant's keys (those of ``validation.points.Point``) -> the scene's fields they set
-POINT_FIELDS = {"b": "b", "kx": "kx", "F0": "F0", "dF": "dF", "ua": "amplitude", "mu1": "mu", "mu2": "mu2"}
-
-
 def point_variant(s: Scene, v: dict) -> Scene:
-    """The scene of one point: ``v`` sets ``kx`` and may set the other keys of ``POINT_FIELDS`` (``b``:
-    0 the sphere, else the truncated sphere's face radius; the load F0, dF, the amplitude ``ua``, the
-    friction mu1, mu2); the rest (ladders, steps, FE model) is the scene's."""
-    kw = {POINT_FIELDS[k]: float(x) for k, x in v.items() if k in POINT_FIELDS}
+    """The scene of one point: ``v`` sets ``kx`` and may set the other fields of a point
+    (``validation.points.SCENE_FIELDS``: ``b``, 0 the sphere, else the truncated sphere's face radius;
+    the load F0, dF, the amplitude ``ua``, the friction mu1, mu2); the rest (ladders, steps, FE model)
+    is the scene's."""
+    kw = {SCENE_FIELDS[k]: float(x) for k, x in v.items() if k in SCENE_FIELDS}
     b = kw.get("b", s.b)
     load = "" if not {"F0", "dF", "ua", "mu1", "mu2"} & set(v) else f", F0 = {kw.get('F0', s.F0):g} N"
     return replace(s, name=f"{s.name}[b = {b * 1e6:g} um, kx = {kw['kx'] / 1e6:g} N/um{load}]",
