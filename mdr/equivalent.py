@@ -32,6 +32,12 @@ _T, _W = np.polynomial.legendre.leggauss(64)
 _T, _W = 0.25 * np.pi * (_T + 1.0), 0.25 * np.pi * _W
 
 
+#: the width of the wall (relative to the contact radius) where a(d) ends on a plateau: a flat face whose
+#: contact no longer grows (the smooth face b = 0.6 mm: a - b < 1e-9 b to 0.75 N) rises to the curve's
+#: largest approach there, so that the profile carries the curve's whole force range
+WALL = 1e-9
+
+
 class EquivalentProfile(TabulatedProfile):
     """The plane profile g of the MDR law whose normal force-approach curve is (``d``, ``F``) (m, N;
     1D samples, at least 4) on ``materials`` (module docstring). ``repair``: the largest change the
@@ -60,6 +66,8 @@ class EquivalentProfile(TabulatedProfile):
         self.repair = float(np.max(a_mono - a) / a_mono[-1])
         keep = np.concatenate([[True], np.diff(a_mono) > 1e-12 * a_mono[-1]])
         x, y = a_mono[keep], d[keep]
+        if not keep[-1]:  # a(d) ends on a plateau (F linear in d: a flat punch's edge): g rises there as a wall
+            x, y = np.append(x, x[-1] * (1.0 + WALL)), np.append(y, d[-1])
         if x[0] > 0:  # a finite contact radius at first touch: g is flat (zero) out to it
             x, y = np.concatenate([[0.0], x]), np.concatenate([[0.0], y])
         self._x, self._y, self.materials = x, y, materials

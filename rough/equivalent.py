@@ -50,7 +50,7 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     """The three models of the module docstring at normal force F0 (N) and tangential force amplitude
     fa (N, below mu F0) on ``grid``: per model ``dissipation`` (J, the last cycle's) and
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
-    dissipation and stiffness over the rough half-space's, minus 1; ``curve``: the rough half-space's
+    dissipation and stiffness over the rough half-space's, minus 1 (None where the rough half-space's is 0); ``curve``: the rough half-space's
     normal force-approach samples (``d``, ``F``) the equivalent profile was built from. ``hardness``
     (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``), flattened by a
     first loading to ``preload`` (N, at least F0; default F0): the largest normal force the surface
@@ -93,6 +93,8 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
         out[name] = {"dissipation": res["dissipation"], "stiffness": 2.0 * materials.G_star * res["contact_radius"],
                      "contact_radius": res["contact_radius"]}
     ref = out["rough_halfspace"]
-    out["relative"] = {name: {k: out[name][k] / ref[k] - 1.0 for k in ("dissipation", "stiffness")}
+    # None where the rough half-space's own value is 0 (a contact sticking everywhere dissipates nothing)
+    out["relative"] = {name: {k: out[name][k] / ref[k] - 1.0 if ref[k] > 0 else None
+                              for k in ("dissipation", "stiffness")}
                        for name in ("mdr_equivalent", "mdr_smooth")}
     return out

@@ -39,6 +39,11 @@ def test_a_result_matters_if_one_point_does_and_is_negligible_only_if_all_are():
     assert B.combine([small, gap], "x")["verdict"] == "undetermined"
     assert B.combine([small, small], "x")["verdict"] == "negligible"
     assert "python -m validation.compare --scenes tilt" in gap["source"]
+    # the cell shown is the one that decides: a point that matters, not a larger but uncertain one
+    vague = B.cell(-0.2, 0.25, "measured", "c")
+    shown = B.combine([vague, big], "x")
+    assert shown["verdict"] == "matters" and shown["effect"] == 0.05
+    assert B.combine([vague, small], "x")["effect"] == -0.2  # undetermined: the largest bound
 
 
 def test_exact_zeros_on_the_sphere():
@@ -199,3 +204,41 @@ def test_the_direction_is_measured_at_the_point_where_a_3d_scene_runs_it():
     c = B.direction_cell(loop_point("fig7"), stored.get)  # another point: not this row
     assert c["source"] != "direction-points" and c["verdict"] == "undetermined"
 
+
+
+def _face_row(b, rms=1e-6, members=3, **extra):
+    """A stored rough-face row whose 'rough' curves are the smooth truncated sphere's own F_N(d) (MDR's
+    normal solution of the face b, exact for the axisymmetric body) and whose equivalent MDR matched the
+    half-space exactly."""
+    from mdr.normal import approach_from_force
+    from mdr.profiles import TruncatedSphere
+
+    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
+    d = np.asarray(approach_from_force(TruncatedSphere(R_INDENTER, b), MAT, F), dtype=float)
+    curve = {"d": d.tolist(), "F": F.tolist()}
+    return {**_hertz_row(rms, members), "b": b, "period": 4 * b,
+            "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members},
+            **extra}
+
+
+def test_a_face_reads_the_rough_row_of_its_own_b_against_its_own_smooth_face():
+    """The points of a face wider than the sphere's contact (Figs. 6-7: b = 0.6 mm) read scene
+    roughness-faces at their own b, against the smooth truncated sphere: the smooth face's own normal
+    curve is no roughness (within the 24 forces' sampling); the sphere's curve on that face's row is a far
+    softer contact, which matters; a face without a row, or without the scene, is undetermined and says
+    why; the sphere-like b = 10 um still reads the sphere's scene."""
+    p = loop_point("fig6")
+    rows = [_face_row(p.b)]
+    store = lambda name: {"roughness": rows} if name == B.ROUGH_FACES else None  # noqa: E731
+    c = B.roughness_cell(p, store, 1e-6)
+    assert abs(c["effect"]) < 2e-3 and c["verdict"] == "negligible" and "b = 600 um" in c["note"]
+    sphere_curve = _hertz_row(1e-6)["curves"][0]
+    rows[0] = {**rows[0], "curves_by_grid": {"128": [sphere_curve] * 3, "256": [sphere_curve] * 3}}
+    c = B.roughness_cell(p, store, 1e-6)
+    assert c["effect"] < -0.05 and c["verdict"] == "matters"  # the sphere's contact: far softer than the face
+    other = B.roughness_cell(B.Point(b=100e-6), store, 1e-6)
+    assert other["verdict"] == "undetermined" and "b = 100 um" in other["note"]
+    c = B.roughness_cell(p, lambda name: None, 1e-6)
+    assert c["verdict"] == "undetermined" and "roughness-faces" in c["source"]
+    sphere_like = B.roughness_cell(B.Point(b=10e-6), _hertz_store(1e-6), 1e-6)
+    assert sphere_like["verdict"] == "negligible" and "b = " not in sphere_like["note"]

@@ -132,7 +132,7 @@ def test_measured_maps_are_the_surfaces_they_hold(members, tmp_path):
 
 @pytest.mark.parametrize("bad,word", [("nan", "non-finite"), ("oblong", "square"), ("pixel", "pixel size"),
                                       ("one", "at least 2"), ("grid", "ladder from the maps"),
-                                      ("twice", "distinct maps"), ("small", "4 Hertz radii")])
+                                      ("twice", "distinct maps"), ("small", "4 smooth contact radii")])
 def test_a_bad_measured_map_is_one_line(bad, word, tmp_path):
     h = np.random.default_rng(0).normal(size=(32, 32)) * 1e-8
     good, other = tmp_path / "good.npy", tmp_path / "other.npy"
@@ -187,3 +187,21 @@ def test_map_paths_are_relative_to_the_scene_file_and_a_vanished_map_fails_its_s
     (tmp_path / "maps" / "m1.npy").unlink()
     status = run_all([s], tmp_path / "out", executor=ThreadPoolExecutor(2), fields=False, log=lambda m: None)
     assert status["mine"] != "ok" and "m1.npy" in status["mine"]
+
+
+def test_a_face_variant_runs_on_its_own_truncated_sphere():
+    """A variant's ``b`` sets the indenter's face (scene roughness-faces): on the face b = 100 um with rms
+    1 um, MDR with the equivalent profile of the rough face's own normal curve has the rough half-space's
+    initial tangential stiffness (Mindlin's 2 G* a of the curve's slope) within 10 % (measured +1 to
+    +5 %), where the smooth face's MDR is more than twice as stiff (a face touching at a few asperity
+    clusters); the grid's side is 4 of the face's smooth contact radii, not the sphere's; a face beyond
+    R / 2 is one line."""
+    face = replace(CATALOGUE["roughness-faces"], variants=({"b": 100e-6, "rms": 1e-6, "period": 4.0,
+                                                              "grids": (128, 192), "seeds": (0, 1)},))
+    r = R.run(face, None, fields=False)["roughness"][0]
+    assert r["b"] == 100e-6 and r["period"] == pytest.approx(4 * r["a_smooth"]) and r["a_smooth"] > 100e-6
+    eq, smooth = r["verdicts"]["mdr_equivalent:stiffness"], r["verdicts"]["mdr_smooth:stiffness"]
+    assert abs(eq["difference"]) < 0.1, eq
+    assert smooth["difference"] > 1.0, smooth
+    with pytest.raises(InputError, match="b must be in"):
+        replace(face, variants=({"b": 4e-3, "rms": 0.0},))

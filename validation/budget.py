@@ -16,7 +16,7 @@ verdict against the figures' resolution ``RESOLUTION``:
 Where the cells come from (``COLUMNS``):
 
 - *half-space size*, *traction direction*, *tilt*, *roughness*: the stored results of the
-  catalogue's scenes (``validity``, ``assumptions-3d``, ``tilt``, ``roughness``;
+  catalogue's scenes (``validity``, ``assumptions-3d``, ``tilt``, ``roughness`` and ``roughness-faces``;
   ``python -m validation.compare`` in the same ``--out``), measured at Table 2's loading under force
   control, mapped to a result by its geometry. Size effects grow monotonically with the body's
   smallness, so the row measured at the nearest smaller body is a *bound*: the true effect lies
@@ -94,10 +94,13 @@ def missing(scene: str, why: str = "") -> dict:
 
 def combine(cells: list, source: str) -> dict:
     """A result over several points: ``matters`` if one measured point matters; ``negligible`` only if
-    every point is; else undetermined. The largest |effect| is shown."""
+    every point is; else undetermined. The cell shown is the one that decides: of the points that matter
+    the one that matters most surely (the largest |effect| - error), else the largest |effect| + error."""
     verdicts = [c["verdict"] for c in cells]
-    shown = max((c for c in cells if c["effect"] is not None), key=lambda c: abs(c["effect"]) + c["error"],
-                default=cells[0])
+    deciding = [c for c in cells if c["verdict"] == "matters"]
+    shown = max(deciding, key=lambda c: abs(c["effect"]) - c["error"]) if deciding else \
+        max((c for c in cells if c["effect"] is not None), key=lambda c: abs(c["effect"]) + c["error"],
+            default=cells[0])
     out = dict(shown)
     out["source"] = source if len(cells) > 1 else shown["source"]
     out["verdict"] = "matters" if "matters" in verdicts else ("negligible" if all(v == "negligible" for v in verdicts)
@@ -262,19 +265,28 @@ def tilt_cell(p: Point, store) -> dict:
 
 
 #: the paper's roughness on the sphere's contact: the sphere's own rms (Section 2); combined with the
-#: block's 3 um (3.2 um) its contact touches single pixels on the scene's grids and is not run
+#: block's 3 um (3.2 um) its contact touches single pixels on the scene's grids and is not run. The flat
+#: faces are measured at the same rms (their own 2 um, turned, is not resolved by the faces' grids)
 ROUGHNESS_RMS = (1e-6,)
+#: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
+ROUGH_FACES = "roughness-faces"
 
 
-def _rough_row(store, rms, plastic=False):
-    """The stored roughness row of the generated surfaces of ``rms``, elastic or (``plastic``) with
+def _same_b(x, y) -> bool:
+    return abs(float(x) - float(y)) <= 1e-9 * max(abs(float(x)), abs(float(y)), 1e-30)
+
+
+def _rough_row(store, rms, plastic=False, b=0.0):
+    """The stored roughness row of the generated surfaces of ``rms`` on the indenter of face radius ``b``
+    (0: the sphere, scene ``roughness``; else scene ``ROUGH_FACES``), elastic or (``plastic``) with
     plastic asperities, and its curves per grid, coarse to fine (each a list over the seeds), or (row or
     None, None) where any member failed."""
-    res = store("roughness")
+    res = store("roughness" if b == 0 else ROUGH_FACES)
     if res is None:
         return None, None
     row = next((r for r in res["roughness"] if not r.get("measured") and r.get("rms") is not None
-                and abs(r["rms"] - rms) < 1e-12 and bool(r.get("hardness")) == plastic), None)
+                and abs(r["rms"] - rms) < 1e-12 and bool(r.get("hardness")) == plastic
+                and _same_b(r.get("b", 0.0), b)), None)
     if row is None or row.get("failed"):
         return row, None
     by = row.get("curves_by_grid") or {}
@@ -295,10 +307,12 @@ def _ensemble_ladder(values_by_level, sizes):
 
 
 def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool = False) -> dict:
-    """The sphere's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
-    stored rough surface's normal curve (``roughness``: the rough half-space's F_N(d) on every grid of
-    its ladder, ``mdr.equivalent.EquivalentProfile``) against the smooth sphere, a change of the slip
-    index. Error: the ensemble's standard error, the grid error of the ensemble mean over the ladder,
+    """The indenter's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
+    stored rough surface's normal curve (the rough half-space's F_N(d) on every grid of its ladder,
+    ``mdr.equivalent.EquivalentProfile``) against the smooth indenter, a change of the slip index. A
+    face within half the sphere's Hertz radius (b = 1, 10 um) is the sphere's contact (scene
+    ``roughness``, against the smooth sphere); a wider face is read from the row of its own b in scene
+    ``ROUGH_FACES`` (against the smooth truncated sphere). Error: the ensemble's standard error, the grid error of the ensemble mean over the ladder,
     and what the equivalent profile misses of the rough half-space's own dissipation in the scene
     (|mean| + its error bar), as a share of the slip index. ``plastic``: the surfaces with perfectly
     plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
@@ -306,14 +320,13 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool
     further and is undetermined."""
     from mdr.equivalent import EquivalentProfile
 
-    if p.b > 0:
-        a_hertz = contact_radius(replace(p, b=0.0))
-        if p.b > 0.5 * a_hertz:  # the face reaches into the contact: not the sphere's roughness
-            return cell(None, None, "absolute", "roughness", f"b = {p.b * 1e6:g} um: a rough flat face is not run")
-    if store("roughness") is None:
-        return missing("roughness")
-    row, levels = _rough_row(store, rms, plastic)
-    what = f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
+    # the face reaches into the contact where it is wider than half the sphere's: its own rough row
+    face = p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
+    scene = "roughness" if face == 0 else ROUGH_FACES
+    if store(scene) is None:
+        return missing(scene)
+    row, levels = _rough_row(store, rms, plastic, face)
+    what = (f"b = {face * 1e6:g} um, " if face else "") + f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
     if row is None:
         return cell(None, None, "absolute", "roughness", f"{what} not in the stored scene")
     v = row["verdicts"]["mdr_equivalent:dissipation"]
@@ -330,7 +343,7 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool
     mean, sem, grid = _ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
     if grid is None:
         return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
-    smooth = point_slip_index(replace(p, b=0.0))
+    smooth = point_slip_index(replace(p, b=face))
     err = sem + grid + (abs(v["difference"]) + v["error"]) * mean
     return cell(mean - smooth, err, "absolute", "roughness",
                 f"{what}: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")

@@ -71,7 +71,7 @@ def budget_table(scenes: dict) -> list:
 #: the generated tables: name -> function of results.json's ``scenes``
 TABLES = {"catalogue": catalogue_table, "budget": budget_table,
           **{n: _family_table(n) for n in ("assumptions-3d", "validity", "validity-curvature", "halfspace-points",
-                                                   "direction-points", "roughness")}}
+                                                   "direction-points", "roughness", "roughness-faces")}}
 
 
 def blocks(text: str) -> list:

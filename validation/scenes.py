@@ -102,6 +102,16 @@ ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.
 ROUGH_PRELOAD = 0.75
 
 
+#: the rough flat faces (scene ``roughness-faces``): the face radii run (the budget's points with a face
+#: beyond the sphere's contact), those run with plastic asperities too, and their grids: a period of 4
+#: smooth contact radii (b = 100 um: the ensemble mean at 8 radii is the same within its spread, 0.148
+#: against 0.140 of the apparatus slip index over 6 surfaces), 256-512 pixels, cut off at 8 pixels of the
+#: coarsest grid (where the apparatus slip index of every surface is converged within 0.02 from 256 on)
+ROUGH_FACES_B = (50e-6, 100e-6, B_TABLE1, 1e-3)
+ROUGH_FACES_B_PLASTIC = (100e-6, B_TABLE1)
+ROUGH_FACE_PERIOD, ROUGH_FACE_GRIDS, ROUGH_FACE_SHORT = 4.0, (256, 384, 512), 8.0
+
+
 def maps_grids(n_map: int) -> tuple:
     """The default grid ladder of measured maps of n_map pixels: theirs, 1.5x and 2x (resampled)."""
     return (n_map, 3 * n_map // 2, 2 * n_map)
@@ -251,8 +261,9 @@ class Scene:
 
     def _check_rough(self):
         """The roughness family's variants (``validation.families.roughness``, its ``DEFAULTS``): the sphere
-        under force control at constant F_N; generated surfaces: rms >= 0 (m), at least 2 seeds where
-        rms > 0, a period of at least 4 Hertz radii, the cut-offs inside the grid; measured ones: at
+        or the truncated sphere (a variant's ``b``, m, the face radius: 0 the sphere) under force control
+        at constant F_N; generated surfaces: rms >= 0 (m), at least 2 seeds where rms > 0, a period of at
+        least 4 smooth contact radii, the cut-offs inside the grid; measured ones: at
         least 2 readable square maps of one size with their pixel size, the coarsest grid their pixels;
         at least 2 grids increasing from 16 pixels."""
         rough = [v for v in self.variants if "rms" in v or "maps" in v]
@@ -261,13 +272,21 @@ class Scene:
         from rough.surfaces import load_height_map
 
         DEFAULTS = ROUGH_DEFAULTS
-        if self.family != "roughness" or len(rough) != len(self.variants) or self.profile != "sphere" \
-                or self.drive != "force" or self.dF != 0.0:
-            raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere', "
-                             "drive 'force' and dF = 0 on every variant")
+        if self.family != "roughness" or len(rough) != len(self.variants) \
+                or self.profile not in ("sphere", "truncated") or self.drive != "force" or self.dF != 0.0:
+            raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere' or "
+                             "'truncated', drive 'force' and dF = 0 on every variant")
         for v in rough:
             def bad(key, rng):
                 return InputError(f"scene {self.name}: rough variant {v!r}: {key} must be {rng}")
+
+            if "b" in v:
+                try:
+                    ok = not isinstance(v["b"], bool) and 0.0 <= float(v["b"]) < 0.5 * self.R
+                except (TypeError, ValueError):
+                    ok = False
+                if not ok:
+                    raise bad("b", f"in [0, {0.5 * self.R:g}) (m; the face radius, 0 the sphere)")
 
             if "maps" in v:
                 maps = v["maps"]
@@ -283,8 +302,9 @@ class Scene:
                 grids = [int(x) for x in v.get("grids", maps_grids(n_map))]
                 if len(grids) < 2 or grids[0] != n_map:
                     raise bad("grids", f"at least 2 pixel counts, a ladder from the maps' {n_map} pixels")
-                if not read[0].pixel * n_map >= 4.0 * a_ref(self):
-                    raise bad("maps", f"maps of at least 4 Hertz radii ({4.0 * a_ref(self):.3g} m) on a side: the "
+                a = a_ref(self, rough_face(self, v))
+                if not read[0].pixel * n_map >= 4.0 * a:
+                    raise bad("maps", f"maps of at least 4 smooth contact radii ({4.0 * a:.3g} m) on a side: the "
                                       f"contact overlaps its periodic images on {read[0].pixel * n_map:.3g} m")
             else:
                 try:
@@ -304,7 +324,7 @@ class Scene:
                 if rms > 0 and (len(set(seeds)) != len(seeds) or len(seeds) < 2 or min(seeds) < 0):
                     raise bad("seeds", "at least 2 distinct integers >= 0, none twice (one realisation is no answer)")
                 if not period >= 4.0:
-                    raise bad("period", ">= 4 (Hertz contact radii)")
+                    raise bad("period", ">= 4 (smooth contact radii)")
                 if not 2.0 <= short <= grids[0] / 2:
                     raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
                 if not short / grids[0] < long_ <= 1.0:
@@ -601,6 +621,23 @@ def _catalogue() -> dict:
                           "grids and is not run). rms 1 um again with perfectly plastic asperities at the steel's hardness "
                           "(2.1 GPa), flattened at 0.75 N (above the paper's largest load, 0.73 N in Fig. 5) and "
                           "elastic after. Needs tamaas (pip install -e '.[rough]')."))
+    # the same on the flat faces of the paper's truncated spheres (the budget's points: b = 50 um - 1 mm)
+    face = {"rms": 1e-6, "period": ROUGH_FACE_PERIOD, "grids": ROUGH_FACE_GRIDS, "short": ROUGH_FACE_SHORT}
+    plastic = {"hardness": HARDNESS_X5CRNI18_10, "preload": ROUGH_PRELOAD}
+    sc.append(Scene("roughness-faces", "Rough flat faces: the truncated sphere on self-affine roughness, smooth and "
+                    "equivalent MDR", "truncated", b=B_TABLE1, dF=0.0, amplitude=0.5 * 0.2 * 0.5, cycles=3, steps=40,
+                    group="rough", family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
+                    variants=tuple({"b": b, **face} for b in ROUGH_FACES_B)
+                    + tuple({"b": b, **face, **plastic} for b in ROUGH_FACES_B_PLASTIC),
+                    notes="As scene roughness, on the truncated sphere (R = 6 mm) with the flat faces of the "
+                          "paper's results: b = 50 and 100 um (Figs. 8-9), 0.6 mm (Figs. 6-7, Table 2) and 1 mm "
+                          "(Fig. 8), at the sphere's rms 1 um (Hurst 0.8), 4 realisations per face on grids of "
+                          "256, 384 and 512 pixels over 4 smooth contact radii, cut off at 8 pixels of the "
+                          "coarsest grid (b = 0.6 mm: 38 um) and rolled off at one contact radius. The faces "
+                          "touch at a few asperity clusters: a grid of 128 pixels leaves single-pixel contacts "
+                          "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
+                          "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N. "
+                          "Needs tamaas (pip install -e '.[rough]')."))
     out = {}
     for s in sc:
         if s.name in out:
@@ -665,11 +702,19 @@ def code_version() -> str:
     return h.hexdigest()[:16]
 
 
-def a_ref(scene: Scene) -> float:
-    """Half-space contact radius at the largest normal force (the FE mesh's a_ref)."""
+def a_ref(scene: Scene, b: float | None = None) -> float:
+    """Half-space contact radius at the largest normal force (the FE mesh's a_ref); ``b``: of the scene's
+    indenter with that face radius instead (0: the sphere; a rough variant's ``rough_face``)."""
     from fem.axisym.normal_run import reference_radius
     from mdr.materials import Materials
 
     E_star = Materials(scene.E1, scene.nu1, scene.E2, scene.nu2).E_star
-    return reference_radius(scene.profile, scene.R, scene.b, scene.F0 + scene.dF, E_star)
+    profile, b = (scene.profile, scene.b) if b is None else ("truncated" if b > 0 else "sphere", float(b))
+    return reference_radius(profile, scene.R, b, scene.F0 + scene.dF, E_star)
+
+
+def rough_face(scene: Scene, v: dict) -> float:
+    """The face radius (m) of a rough variant ``v`` of ``scene``: its own ``b``, else the scene's
+    indenter's (0: the sphere)."""
+    return float(v["b"]) if "b" in v else (float(scene.b) if scene.profile == "truncated" else 0.0)
 

@@ -1,5 +1,5 @@
-"""The family ``roughness``: the sphere on self-affine rough surfaces (the combined roughness of both
-bodies) through three models side by side (``rough.equivalent.mdr_against_rough``): the rough
+"""The family ``roughness``: the sphere or the truncated sphere on self-affine rough surfaces (the
+combined roughness of both bodies) through three models side by side (``rough.equivalent.mdr_against_rough``): the rough
 half-space (FFT boundary elements, tamaas, then Coulomb friction cell by cell with memory), MDR with
 the equivalent profile of each surface's own normal force-approach curve, and MDR with the smooth
 profile, the paper's model.
@@ -20,9 +20,12 @@ A variant of measured surfaces: ``maps`` (paths of square height maps, ``.npy`` 
 one per realisation, at least 2) with their ``pixel`` size (m); the grid is the maps' own (its side their
 side, its coarsest level their pixels, finer levels resampled).
 
-Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is the smooth sphere),
+The indenter: the scene's sphere or truncated sphere; a variant's ``b`` (m) sets the face radius (0: the
+sphere), so one scene holds the faces of several results (``roughness-faces``).
+
+Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is the smooth indenter),
 ``hurst`` (0.8: most engineering surfaces, ground and turned steel among them, have H = 0.7-0.9;
-Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in Hertz contact radii of the
+Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in smooth contact radii of the
 scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
 truncated where the grid can resolve it, a modelling choice the result depends on and states),
 ``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period); ``hardness`` (Pa,
@@ -41,7 +44,7 @@ from common.errors import ConvergenceError
 from common.ladder import ladder_error
 
 from .. import metrics
-from ..scenes import ROUGH_DEFAULTS, Scene, a_ref, maps_grids
+from ..scenes import ROUGH_DEFAULTS, Scene, a_ref, maps_grids, rough_face
 from ..text import grade_text, num
 from . import members_of, result_of_members
 
@@ -93,7 +96,9 @@ def member(s: Scene, task: dict) -> dict:
     from rough.normal import Grid
     from rough.surfaces import RoughnessParams, generate, resample
 
-    from ..sides import materials_of, profile_of
+    from mdr.profiles import make_profile
+
+    from ..sides import materials_of
 
     t0 = time.perf_counter()
     v = variant_params(s.variants[task["variant"]])
@@ -108,7 +113,9 @@ def member(s: Scene, task: dict) -> dict:
                                           size=P, n=n0, seed=int(task["seed"])))
         heights = resample(coarse, n)
     try:
-        res = mdr_against_rough(profile_of(s), materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
+        b = rough_face(s, v)
+        res = mdr_against_rough(make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None),
+                                materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
                                 cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"),
                                 preload=v.get("preload"))
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
@@ -120,10 +127,11 @@ def member(s: Scene, task: dict) -> dict:
 
 
 def _period(s: Scene, v: dict) -> float:
-    """The grid's side (m): a measured map's, else ``period`` Hertz radii."""
+    """The grid's side (m): a measured map's, else ``period`` smooth contact radii of the variant's
+    indenter (``validation.scenes.a_ref``)."""
     if "maps" in v:
         return float(v["pixel"]) * v["grids"][0]
-    return float(v["period"]) * a_ref(s)
+    return float(v["period"]) * a_ref(s, rough_face(s, v))
 
 
 def _variant_row(s: Scene, i: int, members: list) -> dict:
@@ -131,7 +139,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
     then the ensemble's mean, its standard error and the mean grid error; the verdicts."""
     v = variant_params(s.variants[i])
     mine = [m for m in members if m["variant"] == i]
-    a = a_ref(s)
+    a = a_ref(s, rough_face(s, v))
     P = _period(s, v)
     per_seed = []
     for seed in v["seeds"]:
@@ -143,7 +151,11 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
         seed_row = {"seed": seed, "contact_area": lv[-1]["rough_halfspace"]["contact_area"]}
         for mdl in MODELS:
             for q in QUANTITIES:
-                seed_row[mdl, q] = ladder_error(sizes, [m["relative"][mdl][q] for m in lv])
+                vals = [m["relative"][mdl][q] for m in lv]
+                # None: the rough half-space's own value is 0 on a level (a face sticking everywhere
+                # dissipates nothing), no relative difference: that quantity of the seed is undetermined
+                seed_row[mdl, q] = ladder_error(sizes, vals) if all(x is not None for x in vals) else \
+                    {"value": None, "error": None, "bounded": False, "status": "zero reference"}
         per_seed.append(seed_row)
     verdicts = {}
     for mdl in MODELS:
@@ -165,7 +177,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                                       "members": values.tolist(),
                                       "grid_status": sorted({x["status"] for x in lads})}
     areas = [r["contact_area"] for r in per_seed if r is not None]
-    hertz_area = np.pi * a ** 2
+    smooth_area = np.pi * a ** 2  # the smooth indenter's contact (Hertz's on the sphere)
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
     measured = "maps" in v
     rms = (float(np.mean([m["rms"] for m in mine if "rms" in m])) if any("rms" in m for m in mine) else None) \
@@ -176,7 +188,8 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
             "period": P, "hurst": None if measured else float(v["hurst"]),
             "lambda_short": None if measured else float(v["short"]) * P / v["grids"][0],
             "lambda_long": None if measured else float(v["long"]) * P,
-            "contact_area_over_hertz": float(np.mean(areas)) / hertz_area if areas else None,
+            "b": rough_face(s, v), "a_smooth": a,
+            "contact_area_over_smooth": float(np.mean(areas)) / smooth_area if areas else None,
             "verdicts": verdicts, **dict(zip(("holds", "grade"), metrics.judged_grade(eq))),
             "curves": [m["curve"] for m in sorted(mine, key=lambda m: m["seed"])
                        if m["n"] == max(v["grids"]) and "curve" in m],
@@ -211,15 +224,21 @@ def rms_text(rms) -> str:
     return f"{num(rms, '.3g', 1e9)} nm" if rms < 1e-6 else f"{num(rms, '.3g', 1e6)} um"
 
 
+def indenter_text(b) -> str:
+    """The indenter of a rough row: the sphere, or the truncated sphere's face radius."""
+    return "sphere" if not b else f"b = {num(b, '.3g', 1e6)} um"
+
+
 def table(res) -> list:
-    lines = ["The sphere on rough surfaces: each MDR model's dissipation per stationary cycle and initial "
+    lines = ["The indenter on rough surfaces: each MDR model's dissipation per stationary cycle and initial "
              "tangential stiffness relative to the rough half-space's (rough.equivalent), the ensemble's mean "
              "+- (its standard error + the mean grid error of its members; each member's grid ladder refines "
              "one band-limited surface). Equivalent: MDR with the profile of the rough contact's own F_N(d); "
-             "smooth: the paper's model. A spread is no upper bound: a rough row is at best consistent.", "",
-             "| rms | seeds | grids | period / a | lambda short, long (um) | contact area / Hertz | "
+             "smooth: the paper's model. A spread is no upper bound: a rough row is at best consistent. a: the "
+             "smooth indenter's contact radius (Hertz's on the sphere).", "",
+             "| indenter | rms | seeds | grids | period / a | lambda short, long (um) | contact area / smooth | "
              "equivalent: dissipation | stiffness | smooth: dissipation | stiffness | equivalent MDR holds? |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
 
     def cell(r, key):
         x = r["verdicts"][key]
@@ -232,12 +251,12 @@ def table(res) -> list:
             return "measured"
         return "-" if not r["rms"] else f"{num(r['lambda_short'], '.3g', 1e6)}, {num(r['lambda_long'], '.3g', 1e6)}"
 
-    a = res["errors"]["a_ref"]
     for r in res[KEY]:
+        a = r.get("a_smooth", res["errors"]["a_ref"])
         plastic = (f", H = {num(r['hardness'], '.2g', 1e-9)} GPa, flattened at "
                    f"{num(r['preload'], '.2g')} N") if r.get("hardness") else ""
-        lines.append(f"| {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''}{plastic} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
-                     f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r['contact_area_over_hertz'], '.2f')} | "
+        lines.append(f"| {indenter_text(r.get('b', 0.0))} | {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''}{plastic} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
+                     f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r.get('contact_area_over_smooth'), '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
     return lines
@@ -252,7 +271,7 @@ def figure(result: dict, out_dir) -> dict:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
     for ax, q in zip(axes, QUANTITIES):
         for k, (mdl, label, mk) in enumerate((("mdr_equivalent", "MDR, equivalent profile", "o"),
-                                              ("mdr_smooth", "MDR, smooth sphere", "s"))):
+                                              ("mdr_smooth", "MDR, smooth indenter", "s"))):
             xs, ys, es = [], [], []
             for j, r in enumerate(rows):
                 x = r["verdicts"][f"{mdl}:{q}"]
@@ -266,9 +285,12 @@ def figure(result: dict, out_dir) -> dict:
         if tol:
             ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0)
         ax.axhline(0.0, color="0.5", lw=0.8)
-        ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) for r in rows])
+        faces = any(r.get("b") for r in rows)
+        ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) + (f"\n{indenter_text(r.get('b', 0.0))}" if faces else "")
+                                         + ("\nplastic" if r.get("hardness") else "") for r in rows], fontsize=8)
         ax.set_ylabel(f"{q}: MDR / rough half-space - 1 (%)")
-        ax.set_title(f"{q} (sphere, F0 = {result['scene']['F0']:g} N, Q = {result['scene']['amplitude']:g} N)")
+        ax.set_title(f"{q} ({result['scene']['profile']}, F0 = {result['scene']['F0']:g} N, "
+                     f"Q = {result['scene']['amplitude']:g} N)")
         ax.legend(fontsize=8)
     fig.tight_layout()
     return {"roughness": save(fig, Path(out_dir) / "roughness.png")}
