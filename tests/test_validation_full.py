@@ -377,7 +377,7 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
     assert rough["verdict"] == "matters" and -0.6 < rough["effect"] < -0.1
     kx = {(t["rms"], t.get("plastic", False)): t["kx"] for t in b["transition"]}
     assert 0.9e6 < kx[0.0, False] < 1.1e6 and 1.4e6 < kx[1e-6, False] < 3.5e6
-    # plastic asperities (docs: -0.18 +- 0.11 on Figs. 4-5, the transition at 1.36 N/um): less than the
+    # plastic asperities (docs: -0.13 +- 0.04 on Figs. 4-5 (Fig. 5: -0.18), the transition at 1.36 N/um): less than the
     # elastic roughness, more than the resolution, the transition between the smooth and the elastic one's
     plastic = cells["figs4-5"]["plastic"]
     assert plastic["verdict"] == "matters" and rough["effect"] < plastic["effect"] < -0.05, (plastic, rough)
