@@ -16,6 +16,11 @@ from common.errors import ConvergenceError
 
 #: the projected CG's largest number of iterations
 MAX_ITER = 5000
+#: the floor of the residual's scale, as a fraction of the range of K lim (the displacement of the largest
+#: traction the limits allow): the scale is the range of the current K q, which vanishes with q where the
+#: answer is no traction at all (a contact that never slipped, unloaded to Q = 0: the problem is then
+#: homogeneous, its residual over the range of K q scale-free, and the criterion could never be met)
+SCALE_FLOOR = 1e-3
 
 
 def shift_to_total(q, lim, free, Q, dA):
@@ -60,13 +65,14 @@ def shift_to_total(q, lim, free, Q, dA):
 def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
     """The q minimising (1/2) q.Kq + q.s over |q| <= lim cell by cell with sum(q) dA = Q (``apply_K``: q ->
     K q, a symmetric positive semi-definite convolution whose mean mode is 0; cells of lim = 0 carry
-    nothing), from the start ``q`` (clipped), to ``tol`` of the range of K q: its optimality conditions
+    nothing), from the start ``q`` (clipped), to ``tol`` of the range of K q (at least ``SCALE_FLOOR`` of the range of K lim): its optimality conditions
     are, with delta the multiplier of the total, Kq + s = delta inside the box and on the side of each
     bound that keeps it there."""
     inside = lim > 0
     q = shift_to_total(q, lim, inside, Q, dA)
     d = np.zeros_like(q)
     G_old, free_old = None, None
+    floor = SCALE_FLOOR * float(np.ptp(apply_K(lim)))
     for it in range(MAX_ITER):
         u = apply_K(q)
         g = u + s
@@ -75,7 +81,7 @@ def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
         # a cell at its bound is free to leave it where its gradient points inwards
         free = interior | (inside & (q >= lim) & (g > delta)) | (inside & (q <= -lim) & (g < delta))
         r = np.where(free, g - np.mean(g[free]), 0.0)
-        if np.max(np.abs(r)) <= tol * max(float(np.ptp(u)), 1e-300):  # the step's elastic displacement
+        if np.max(np.abs(r)) <= tol * max(float(np.ptp(u)), floor, 1e-300):  # SCALE_FLOOR
             return q
         G = float(np.sum(r * r))
         if G_old is None or free_old is None or not np.array_equal(free, free_old):
@@ -174,12 +180,13 @@ def solve_disk(apply_K, s, lim, Q, q, dA, tol, L, what="contact"):
     inside = lim > 0
     q = project_disks_to_total(q, lim, inside, Q, dA)
     y, t, c = q.copy(), 1.0, None
+    floor = SCALE_FLOOR * float(np.ptp(np.hypot(*apply_K(np.stack([lim, np.zeros_like(lim)])))))
     for it in range(MAX_ITER_DISK):
         u = apply_K(y)
         # the multiplier moves little from one iteration to the next: each projection starts from the last
         q_new, c = project_disks_to_total(y - (u + s) / L, lim, inside, Q, dA, start=c, with_multiplier=True)
         step = y - q_new
-        if it % 10 == 0 and _disk_residual(apply_K, s, lim, inside, q_new) <= tol:
+        if it % 10 == 0 and _disk_residual(apply_K, s, lim, inside, q_new, floor) <= tol:
             return q_new
         if float(np.sum(step * (q_new - q))) > 0.0:  # the momentum points uphill: restart
             t = 1.0
@@ -189,8 +196,9 @@ def solve_disk(apply_K, s, lim, Q, q, dA, tol, L, what="contact"):
     raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER_DISK} iterations")
 
 
-def _disk_residual(apply_K, s, lim, inside, q) -> float:
-    """Coulomb's law with a turning traction violated, relative to the range of |K q|: with g = K q + s
+def _disk_residual(apply_K, s, lim, inside, q, floor=0.0) -> float:
+    """Coulomb's law with a turning traction violated, relative to the range of |K q| (at least ``floor``,
+    ``SCALE_FLOOR``): with g = K q + s
     and delta its mean over the cells inside their disks, the largest of |g - delta| inside a disk and,
     on a disk's rim, of the slip increment delta - g across q and against it (every cell counts,
     however small its limit: a residual in q would let the rim cells of a vanishing pressure point
@@ -207,4 +215,4 @@ def _disk_residual(apply_K, s, lim, inside, q) -> float:
     across = np.hypot(ds[0] - along * qh[0], ds[1] - along * qh[1])
     res = np.where(interior, np.hypot(ds[0], ds[1]), 0.0)
     res = np.maximum(res, np.where(rim, across + np.maximum(-along, 0.0), 0.0))
-    return float(np.max(res)) / max(float(np.ptp(np.hypot(u[0], u[1]))), 1e-300)
+    return float(np.max(res)) / max(float(np.ptp(np.hypot(u[0], u[1]))), floor, 1e-300)

@@ -239,3 +239,22 @@ def test_a_turning_traction_dissipates_what_the_boundary_elements_measured():
     error = in_grid["error"] + in_steps["error"]
     assert abs(engine - BE_TURNING) < 2 * (error + BE_TURNING_ERROR), (engine, error, ratio)
     assert all(abs(s) < 1e-3 for s in sticks), sticks
+
+
+@pytest.mark.parametrize("traction", ["x", "free"])
+def test_a_contact_that_never_slipped_unloads_to_no_traction(traction):
+    """The smooth face b = 100 um under mu F0 / 2 sticks everywhere (its edge pixel's pressure is finite
+    on the grid); unloaded to Q = 0 it carries no traction at all (nothing slipped: the elastic problem
+    is homogeneous, its solution zero). The solves reach it: their residual's scale has a floor (the range
+    of K lim), where the range of K q vanishes with q (without it the box solve ran out of iterations)."""
+    from mdr.profiles import TruncatedSphere
+    from rough.normal import normal_contact
+
+    g = Grid(400.0377e-6, 64)
+    p = normal_contact(TruncatedSphere(6e-3, 100e-6), MAT, 0.5, g)["pressure"]
+    tc = TangentialContact(g, MAT, MU, traction=traction)
+    st = tc.rest_state()
+    for Q in (0.035, 0.05, 0.035, 0.0):
+        st = tc.step(st, p, Q)
+    assert st.work == pytest.approx(0.0, abs=1e-20)  # it never slipped
+    assert np.max(np.abs(st.q)) < 1e-6 * MU * p.max()

@@ -338,7 +338,7 @@ def test_rough_surfaces_in_the_catalogue(full):
 def test_rough_flat_faces_in_the_catalogue(full):
     """docs/rough.md, *The flat faces*: every face of the budget's points is run with 4 surfaces, b = 100 um
     and 0.6 mm plastic too; a rough face touches on less than 1 % of the smooth face's contact (asserted:
-    3 %), the smooth MDR is 6-55 times too stiff (asserted: more than 3 times) and misses the dissipation
+    3 %), the smooth MDR is 8-56 times too stiff (asserted: more than 3 times) and misses the dissipation
     (the smooth face sticks: -100 %), while the equivalent profile has the stiffness within a few per cent
     (asserted: 10 %) and the dissipation within its spread."""
     _, _, sc = full
