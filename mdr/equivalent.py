@@ -32,10 +32,12 @@ _T, _W = np.polynomial.legendre.leggauss(64)
 _T, _W = 0.25 * np.pi * (_T + 1.0), 0.25 * np.pi * _W
 
 
-#: the width of the wall (relative to the contact radius) where a(d) ends on a plateau: a flat face whose
-#: contact no longer grows (the smooth face b = 0.6 mm: a - b < 1e-9 b to 0.75 N) rises to the curve's
-#: largest approach there, so that the profile carries the curve's whole force range
-WALL = 1e-9
+#: the smallest growth of the contact radius a(d) from one sample to the next that counts (relative to the
+#: largest): below it a(d) is a plateau, and where the curve ends on one (a flat face whose contact no
+#: longer grows: the smooth face b = 0.6 mm, a - b < 1e-11 b to 0.75 N) g rises to the curve's largest
+#: approach over a wall of this width, so that the profile carries the curve's whole force range (the
+#: normal solve brackets a within 1e-12 of the table's end: the wall loses 1e-6 of its rise there)
+WALL = 1e-6
 
 
 class EquivalentProfile(TabulatedProfile):
@@ -64,7 +66,7 @@ class EquivalentProfile(TabulatedProfile):
         a = np.maximum(PchipInterpolator(d, F).derivative()(d), 0.0) / (2.0 * E)
         a_mono = np.maximum.accumulate(a)
         self.repair = float(np.max(a_mono - a) / a_mono[-1])
-        keep = np.concatenate([[True], np.diff(a_mono) > 1e-12 * a_mono[-1]])
+        keep = np.concatenate([[True], np.diff(a_mono) > WALL * a_mono[-1]])
         x, y = a_mono[keep], d[keep]
         if not keep[-1]:  # a(d) ends on a plateau (F linear in d: a flat punch's edge): g rises there as a wall
             x, y = np.append(x, x[-1] * (1.0 + WALL)), np.append(y, d[-1])

@@ -13,8 +13,6 @@ whole history and for every scene of a batch (scene by scene):
 - ``apparatus_loop``: the step loop of ``mdr.apparatus.run_apparatus`` with the MDR
   law and its MDR bedding spheres (one front, two equal rear ones) (Hertz approach, sphere normal phase and the
   moment coupling of the bedding loads in the loop), the same Newton iteration per step.
-- ``approach_truncated_sphere``: ``mdr.normal.approach_from_force`` of the parabolic
-  truncated sphere, the same batch iteration (identical to the last bit).
 
 What stays in numpy, vectorised over all steps: the contact radius of each step and
 the integral of g over its one partly covered cell (``normal_inputs``; any profile),
@@ -29,9 +27,8 @@ see ``mdr.kernels_step`` on that cache).
 
 Layout: this module is the switch (``ENABLED``, ``enabled``) and the numpy side that prepares
 the inputs of the compiled code and reads its outputs; the compiled code itself is in
-``mdr.kernels_step`` (one step of one scene), ``mdr.kernels_loops`` (the time loops) and
-``mdr.kernels_normal`` (the truncated sphere's approach), whose public names are importable
-from here too.
+``mdr.kernels_step`` (one step of one scene) and ``mdr.kernels_loops`` (the time loops), whose
+public names are importable from here too.
 """
 from __future__ import annotations
 
@@ -42,14 +39,13 @@ import numpy as np
 
 from common.errors import ConvergenceError, InputError
 from .kernels_loops import run_apparatus_loop, run_law
-from .kernels_normal import approach_truncated_sphere
 from .kernels_step import BEYOND_FRICTION, BEYOND_GRID, LIFT_OFF, NO_CONVERGENCE, OK, full_cells, numba
 from .profiles import TruncatedSphere
 from .solve import MAX_ITER
 from .stick import AT_LIMIT
 
 __all__ = ["BEYOND_FRICTION", "BEYOND_GRID", "ENABLED", "LIFT_OFF", "NO_CONVERGENCE", "OK", "apparatus_loop",
-           "approach_truncated_sphere", "enabled", "full_cells", "law_history", "normal_inputs", "run_apparatus_loop",
+           "enabled", "full_cells", "law_history", "normal_inputs", "run_apparatus_loop",
            "run_law"]
 
 #: run histories through the compiled loops (False: the step API of mdr.law everywhere)

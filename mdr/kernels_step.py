@@ -1,5 +1,5 @@
 """One step of one scene of the MDR law, compiled (numba): the pieces the compiled time loops
-(``mdr.kernels_loops``) and the compiled normal contact (``mdr.kernels_normal``) are built from.
+(``mdr.kernels_loops``) are built from.
 
 Each function repeats, over the n spring cells of one scene, what the step API of ``mdr.law``
 computes with numpy: the number of fully covered cells, the normal update of a step, the
@@ -12,7 +12,7 @@ in increasing radius; the caller owns every buffer and these functions write int
 numba the decorators are the identity (the functions stay Python; the law then runs through
 its step API, ``mdr.kernels.enabled``). Disk cache (``cache=True``): numba checks only the file
 of each compiled function, not the files of the functions it calls, so a cached loop of
-``mdr.kernels_loops`` or ``mdr.kernels_normal`` older than this file (or ``mdr.solve``, whose
+``mdr.kernels_loops`` older than this file (or ``mdr.solve``, whose
 constants are compiled in) is removed when this module is imported (``drop_stale_caches``) and
 compiles afresh.
 """
@@ -30,7 +30,7 @@ except ImportError:  # pragma: no cover - exercised by the fallback test through
 #: the files whose code the compiled functions of ``DEPENDENTS`` take in at compile time
 SOURCES = ("kernels_step.py", "solve.py")
 #: the modules whose compiled functions call into ``SOURCES``
-DEPENDENTS = ("kernels_loops", "kernels_normal")
+DEPENDENTS = ("kernels_loops",)
 
 
 def drop_stale_caches(directory) -> list:

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kernels
 from common.errors import ConvergenceError, finite, nonnegative
 from .materials import Materials
 from .profiles import FlatPunch, Profile, TruncatedSphere, _bcast
@@ -43,10 +42,10 @@ def force_from_approach(profile: Profile, materials: Materials, d):
 def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
     """Approach d(F_N) (inverse of ``force_from_approach``), F_N >= 0.
 
-    Closed forms for the flat punch (d = F/(2E* b)) and the parabolic sphere;
-    otherwise a safeguarded Newton iteration on the contact radius a, using
-    dF/da = 2 E* a g'(a) (monotone for nondecreasing g); for the parabolic truncated
-    sphere compiled when numba is there (``mdr.kernels``, the same iteration, bit for bit).
+    Closed forms for the flat punch (d = F/(2E* b)), the parabolic sphere and the parabolic
+    truncated sphere (``_approach_truncated``: a cubic in sqrt(a^2 - b^2)); otherwise a
+    safeguarded Newton iteration on the contact radius a, using dF/da = 2 E* a g'(a)
+    (monotone for nondecreasing g).
     """
     F = np.asarray(nonnegative("F_N (normal force; no adhesion, so >= 0)", F), dtype=float)
     if F.ndim < len(profile.batch_shape):
@@ -58,8 +57,8 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
         R = _bcast(profile.R, F)
         a = (3.0 * F * R / (4.0 * Es)) ** (1.0 / 3.0)
         return a**2 / R
-    if isinstance(profile, TruncatedSphere) and not profile.exact and kernels.enabled():
-        return _approach_compiled(profile, Es, F, rtol)
+    if isinstance(profile, TruncatedSphere) and not profile.exact:
+        return _approach_truncated(profile, Es, F)
     Fp = np.maximum(F, 0.0)
     lo = np.zeros(Fp.shape)
     for k in profile.kinks:  # a kink below which g vanishes (a flat face) lies inside every contact
@@ -106,20 +105,31 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
     return np.where(F > 0, profile.g(a), 0.0)
 
 
-def _approach_compiled(profile, Es, F, rtol):
-    """``approach_from_force`` of a parabolic truncated sphere by the compiled loop of
-    ``mdr.kernels`` (the same iteration per element; equal to round-off)."""
+def _approach_truncated(profile: TruncatedSphere, Es, F):
+    """``approach_from_force`` of the parabolic truncated sphere in closed form. With t = sqrt(a^2 - b^2),
+    g(a) = a t / R and G(a) = t^3 / (3 R), so F = 2 E* (a g - G) = (2 E* / R) (b^2 t + 2 t^3 / 3): a cubic
+    in t, increasing and convex for t >= 0, solved by Newton's method from above (from
+    min(c / b^2, (3 c / 2)^(1/3)), c = F R / (2 E*), each an upper bound of t), which converges
+    monotonically; d = sqrt(t^2 + b^2) t / R. Well conditioned where the contact barely passes the face
+    (a - b down to 1e-16 b: a wide face at a light load), where a Newton iteration on a itself cannot
+    resolve a - b in floating point (its approach 1 % off at b = 0.6 mm, 5 mN)."""
     R, b = _bcast(profile.R, F), _bcast(profile.b, F)
-    shape = np.broadcast_shapes(F.shape, R.shape, b.shape)
-    flat = lambda x: np.array(np.broadcast_to(x, shape), dtype=float).ravel()  # noqa: E731
-    d = np.zeros(flat(F).size)
-    status = kernels.approach_truncated_sphere(flat(F), flat(R), flat(b), float(Es), float(rtol), d)
-    if status == 1:
-        raise ConvergenceError("could not bracket the contact radius for the requested normal force")
-    if status == 2:
-        raise ConvergenceError(f"approach_from_force: Newton on the contact radius did not converge "
-                               f"(max residual {float(np.max(np.abs(d))):.3g} N)")
-    return d.reshape(shape)
+    c = np.maximum(F, 0.0) * R / (2.0 * Es)
+    b2 = b * b
+    with np.errstate(divide="ignore"):
+        t = np.minimum(np.where(b2 > 0, c / np.where(b2 > 0, b2, 1.0), np.inf), np.cbrt(1.5 * c))
+    for _ in range(100):
+        with np.errstate(divide="ignore", invalid="ignore"):  # t = 0 at F = 0: no step
+            step = (b2 * t + (2.0 / 3.0) * t**3 - c) / (b2 + 2.0 * t * t)
+        step = np.where(np.isfinite(step), step, 0.0)
+        t_new = np.maximum(t - step, 0.0)
+        if np.all(np.abs(t_new - t) <= 4.0 * np.finfo(float).eps * np.abs(t_new)):
+            t = t_new
+            break
+        t = t_new
+    else:
+        raise ConvergenceError("approach_from_force: Newton on the truncated sphere's cubic did not converge")
+    return np.where(F > 0, np.sqrt(t * t + b2) * t / R, 0.0)
 
 
 def pressure(profile: Profile, materials: Materials, d, r):

@@ -262,7 +262,7 @@ def test_stale_compiled_loops_are_dropped(tmp_path):
     for f in SOURCES:
         (tmp_path / f).write_text("# code\n")
     old = [cache / f"{DEPENDENTS[0]}.run_law-10.py311.nbi", cache / f"{DEPENDENTS[0]}.run_law-10.py311.1.nbc"]
-    new = cache / f"{DEPENDENTS[1]}.approach-5.py311.nbi"
+    new = cache / f"{DEPENDENTS[0]}.apparatus-5.py311.nbi"
     other = cache / "law.something-1.py311.nbi"
     for f in (*old, new, other):
         f.write_text("cache")
