@@ -242,3 +242,22 @@ def test_a_face_reads_the_rough_row_of_its_own_b_against_its_own_smooth_face():
     assert c["verdict"] == "undetermined" and "roughness-faces" in c["source"]
     sphere_like = B.roughness_cell(B.Point(b=10e-6), _hertz_store(1e-6), 1e-6)
     assert sphere_like["verdict"] == "negligible" and "b = " not in sphere_like["note"]
+
+
+@pytest.mark.parametrize("odd", [None, float("nan"), -1.0, 1.0])
+def test_a_rough_row_of_odd_values_is_undetermined_not_a_crash(odd):
+    """A stored rough row whose curve holds a value no equivalent profile can be built from (None, NaN,
+    a negative or decreasing force) or whose period is not a length: the cell is undetermined and says
+    so, and the sticking transition of that row too; the budget does not stop."""
+    p = loop_point("fig4")
+    row = _hertz_row(1e-6)
+    bad = {k: [dict(c) for c in v] for k, v in row["curves_by_grid"].items()}
+    bad["256"][0] = {"d": bad["256"][0]["d"], "F": [odd] + bad["256"][0]["F"][1:]}
+    rows = [{**row, "curves_by_grid": bad}]
+    store = lambda name: {"roughness": rows} if name == "roughness" else None  # noqa: E731
+    c = B.roughness_cell(p, store, 1e-6)
+    assert c["verdict"] == "undetermined" and c["effect"] is None, c
+    assert all(t["kx"] is None for t in B.transitions(store)[1:])
+    if not (odd is not None and odd > 0):  # (1 m is a length)
+        rows[0] = {**row, "period": odd}
+        assert B.roughness_cell(p, store, 1e-6)["verdict"] == "undetermined"

@@ -43,7 +43,7 @@ def _tiny(name, **kw):
 def results():
     """Real results of the families the report renders differently: a force-driven partial-slip
     contact, a sticking flat punch (zero dissipation on every level), an apparatus scene, the
-    block/cap validity table, the curvature table and both kinds of the paper's points (tiny ladders: structure, not accuracy; no
+    block/cap validity table, the curvature table, both kinds of the paper's points and a rough face (tiny ladders: structure, not accuracy; no
     directory, so no figures: the report's text is under test, the figures in test_summary_figures_*)."""
     scenes = [_tiny("sphere-md"), _tiny("geom-flat"), _tiny("app-kx2", steps=40),
               _tiny("validity", fe_levels=(1 / 8,), variants=({"block": 5.0}, {"cap": 5.0})),
@@ -52,6 +52,13 @@ def results():
               _tiny("halfspace-points", steps=40, variants=(CATALOGUE["halfspace-points"].variants[-2],)),
               replace(CATALOGUE["direction-points"], fe_levels=(0.3, 0.2), steps=20, cycles=3,
                       variants=CATALOGUE["direction-points"].variants[:1])]
+    try:  # the roughness family (tamaas is optional): a rough face, two surfaces on two small grids
+        import tamaas  # noqa: F401
+        scenes.append(replace(CATALOGUE["roughness-faces"], steps=24,
+                              variants=({"b": 100e-6, "rms": 1e-6, "period": 4.0, "grids": (64, 96),
+                                         "seeds": (0, 1)},)))
+    except ImportError:
+        pass
     res = {}
     for s in scenes:
         r = runner.run_scene(s, None, fields=False)  # no directory: no figures (the report's text is under test)

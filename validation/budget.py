@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
@@ -293,7 +294,26 @@ def _rough_row(store, rms, plastic=False, b=0.0):
     levels = [by.get(str(n)) for n in row["grids"]]
     if any(not lv or len(lv) != len(row["seeds"]) or not all(lv) for lv in levels):
         return row, None
+
+    def numbers(x):
+        return isinstance(x, list) and len(x) >= 4 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in x)
+
+    if not all(isinstance(c, dict) and numbers(c.get("d")) and numbers(c.get("F")) for lv in levels for c in lv):
+        return row, None  # a curve of missing or non-finite numbers: no equivalent profile
+    period = row.get("period")
+    if not (isinstance(period, (int, float)) and math.isfinite(period) and period > 0
+            and all(isinstance(n, int) and n > 0 for n in row["grids"])):
+        return row, None  # no grid sizes: no grid error
     return row, levels
+
+
+def _equivalent_profiles(level) -> list:
+    """The equivalent profiles (``mdr.equivalent.EquivalentProfile``) of one grid's curves; raises
+    InputError on a curve that is not one (non-finite, decreasing)."""
+    from mdr.equivalent import EquivalentProfile
+
+    return [EquivalentProfile(c["d"], c["F"], Materials()) for c in level]
 
 
 def _ensemble_ladder(values_by_level, sizes):
@@ -318,8 +338,6 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool
     plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
     flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
     further and is undetermined."""
-    from mdr.equivalent import EquivalentProfile
-
     # the face reaches into the contact where it is wider than half the sphere's: its own rough row
     face = p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
     scene = "roughness" if face == 0 else ROUGH_FACES
@@ -338,8 +356,10 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool
     top = min(max(c["F"]) for lv in levels for c in lv)
     if p.F0 + p.dF > top:
         return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
-    mat = Materials()
-    si = [_slip_indices([EquivalentProfile(c["d"], c["F"], mat) for c in lv], [p] * len(lv)) for lv in levels]
+    try:
+        si = [_slip_indices(_equivalent_profiles(lv), [p] * len(lv)) for lv in levels]
+    except (InputError, ConvergenceError) as e:
+        return cell(None, None, "absolute", "roughness", f"{what}: no equivalent profile in the apparatus ({e})")
     mean, sem, grid = _ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
     if grid is None:
         return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
@@ -462,7 +482,6 @@ def transitions(store) -> list:
     scene's ladder): rows {rms, plastic, kx
     (the ensemble mean on the finest grid), sem, grid (the mean's grid error), error (their sum),
     members}."""
-    from mdr.equivalent import EquivalentProfile
     from mdr.profiles import TruncatedSphere
 
     rows = [{"rms": 0.0, "plastic": False, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0,
@@ -473,7 +492,10 @@ def transitions(store) -> list:
         out = {"rms": rms, "plastic": plastic, "kx": None, "sem": None, "grid": None, "error": None,
                "members": 0 if row is None else len(row["seeds"])}
         if levels is not None and len(row["seeds"]) > 1:
-            ks = [[sticking_transition(EquivalentProfile(c["d"], c["F"], Materials())) for c in lv] for lv in levels]
+            try:
+                ks = [[sticking_transition(prof) for prof in _equivalent_profiles(lv)] for lv in levels]
+            except (InputError, ConvergenceError):
+                ks = [[None]]  # a curve without an equivalent profile: the row's transition undetermined
             if all(k is not None for lv in ks for k in lv):
                 kx, sem, grid = _ensemble_ladder(ks, [row["period"] / n for n in row["grids"]])
                 out.update(kx=kx, sem=sem, grid=grid, error=None if grid is None else sem + grid)

@@ -225,8 +225,19 @@ def rms_text(rms) -> str:
 
 
 def indenter_text(b) -> str:
-    """The indenter of a rough row: the sphere, or the truncated sphere's face radius."""
+    """The indenter of a rough row: the sphere, or the truncated sphere's face radius ('-' where unknown)."""
+    if b is None or b != b:
+        return "-"
     return "sphere" if not b else f"b = {num(b, '.3g', 1e6)} um"
+
+
+def _ratio(x, y):
+    """x / y, or None where either is missing or the quotient is not finite."""
+    try:
+        q = float(x) / float(y)
+    except (TypeError, ZeroDivisionError):
+        return None
+    return q if np.isfinite(q) else None
 
 
 def table(res) -> list:
@@ -256,7 +267,7 @@ def table(res) -> list:
         plastic = (f", H = {num(r['hardness'], '.2g', 1e-9)} GPa, flattened at "
                    f"{num(r['preload'], '.2g')} N") if r.get("hardness") else ""
         lines.append(f"| {indenter_text(r.get('b', 0.0))} | {rms_text(r['rms'])}{' (measured)' if r.get('measured') else ''}{plastic} | {len(r['seeds'])} | {', '.join(map(str, r['grids']))} | "
-                     f"{num(r['period'] / a, '.0f')} | {lam(r)} | {num(r.get('contact_area_over_smooth'), '.2f')} | "
+                     f"{num(_ratio(r['period'], a), '.0f')} | {lam(r)} | {num(r.get('contact_area_over_smooth'), '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
     return lines
