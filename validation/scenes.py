@@ -633,7 +633,7 @@ def _catalogue() -> dict:
                           "paper's results: b = 50 and 100 um (Figs. 8-9), 0.6 mm (Figs. 6-7, Table 2) and 1 mm "
                           "(Fig. 8), at the sphere's rms 1 um (Hurst 0.8), 4 realisations per face on grids of "
                           "256, 384 and 512 pixels over 4 smooth contact radii, cut off at 8 pixels of the "
-                          "coarsest grid (b = 0.6 mm: 38 um) and rolled off at one contact radius. The faces "
+                          "coarsest grid (2 % of the period: 75 um on b = 0.6 mm) and rolled off at one contact radius. The faces "
                           "touch at a few asperity clusters: a grid of 128 pixels leaves single-pixel contacts "
                           "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
                           "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N. "
