@@ -244,6 +244,21 @@ def test_a_face_reads_the_rough_row_of_its_own_b_against_its_own_smooth_face():
     assert sphere_like["verdict"] == "negligible" and "b = " not in sphere_like["note"]
 
 
+def test_each_contact_reads_its_own_rms_and_names_the_one_not_run():
+    """The roughness columns read the sphere's 1 um and the paper's combined roughness of the contacting
+    pair: 3.2 um on the sphere's contact (sphere and block), 3.6 um on a face's (turned face and block);
+    a face's 3.6 um row is read at its b, and an rms not stored leaves its cell undetermined, naming it."""
+    p6 = loop_point("fig6")
+    assert B.roughness_rms(p6) == (1e-6, 3.6e-6) and B.roughness_rms(loop_point("fig4")) == (1e-6, 3.2e-6)
+    assert B.roughness_rms(B.Point(b=10e-6)) == (1e-6, 3.2e-6)  # the face inside the sphere's contact
+    rows = [_face_row(p6.b), _face_row(p6.b, rms=3.6e-6)]
+    store = lambda name: {"roughness": rows} if name == B.ROUGH_FACES else None  # noqa: E731
+    c = B.roughness_cell(p6, store, 3.6e-6)
+    assert c["verdict"] == "negligible" and "rms 3.6 um" in c["note"]
+    gap = B.roughness_cell(loop_point("fig4"), _hertz_store(1e-6), 3.2e-6)
+    assert gap["verdict"] == "undetermined" and "rms 3.2 um not in the stored scene" in gap["note"]
+
+
 @pytest.mark.parametrize("odd", [None, float("nan"), -1.0, 1.0])
 def test_a_rough_row_of_odd_values_is_undetermined_not_a_crash(odd):
     """A stored rough row whose curve holds a value no equivalent profile can be built from (None, NaN,

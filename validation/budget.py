@@ -265,10 +265,13 @@ def tilt_cell(p: Point, store) -> dict:
     return cell(None, None, "absolute", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
 
 
-#: the paper's roughness on the sphere's contact: the sphere's own rms (Section 2); combined with the
-#: block's 3 um (3.2 um) its contact touches single pixels on the scene's grids and is not run. The flat
-#: faces are measured at the same rms (their own 2 um, turned, is not resolved by the faces' grids)
-ROUGHNESS_RMS = (1e-6,)
+#: the rms heights (m) the roughness columns read, by the contact (``rough_face``): the sphere's own 1 um
+#: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (not run: its contact
+#: touches single pixels on the scene's grids; its cells say so); on a flat face the same 1 um and the
+#: turned face's 2 um with the block's 3 um, 3.6 um (scene roughness-faces: b = 100 um and 0.6 mm)
+ROUGHNESS_RMS = {"sphere": (1e-6, 3.2e-6), "face": (1e-6, 3.6e-6)}
+#: the rough rows of the sticking transition: the sphere's own rms
+TRANSITION_RMS = (1e-6,)
 #: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
 ROUGH_FACES = "roughness-faces"
 
@@ -326,7 +329,18 @@ def _ensemble_ladder(values_by_level, sizes):
     return means[-1], sem, ladder_error(sizes, means)["error"]
 
 
-def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool = False) -> dict:
+def rough_face(p: Point) -> float:
+    """The face radius whose rough row a point reads: its own b where the face is wider than half the
+    sphere's Hertz radius (it reaches into the contact), else 0, the sphere's contact."""
+    return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
+
+
+def roughness_rms(p: Point) -> tuple:
+    """The rms heights the roughness columns read at the point (``ROUGHNESS_RMS``)."""
+    return ROUGHNESS_RMS["face" if rough_face(p) else "sphere"]
+
+
+def roughness_cell(p: Point, store, rms: float = 1e-6, plastic: bool = False) -> dict:
     """The indenter's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
     stored rough surface's normal curve (the rough half-space's F_N(d) on every grid of its ladder,
     ``mdr.equivalent.EquivalentProfile``) against the smooth indenter, a change of the slip index. A
@@ -338,8 +352,7 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS[0], plastic: bool
     plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
     flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
     further and is undetermined."""
-    # the face reaches into the contact where it is wider than half the sphere's: its own rough row
-    face = p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
+    face = rough_face(p)
     scene = "roughness" if face == 0 else ROUGH_FACES
     if store(scene) is None:
         return missing(scene)
@@ -477,7 +490,7 @@ def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6
 
 
 def transitions(store) -> list:
-    """The sticking transition of the smooth sphere and of the rough spheres of ``ROUGHNESS_RMS``, elastic
+    """The sticking transition of the smooth sphere and of the rough spheres of ``TRANSITION_RMS``, elastic
     and with plastic asperities (MDR with each stored surface's equivalent profile, on every grid of the
     scene's ladder): rows {rms, plastic, kx
     (the ensemble mean on the finest grid), sem, grid (the mean's grid error), error (their sum),
@@ -487,7 +500,7 @@ def transitions(store) -> list:
     rows = [{"rms": 0.0, "plastic": False, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0,
              "grid": 0.0,
              "error": 0.0, "members": 1}]
-    for rms, plastic in [(rms, plastic) for rms in ROUGHNESS_RMS for plastic in (False, True)]:
+    for rms, plastic in [(rms, plastic) for rms in TRANSITION_RMS for plastic in (False, True)]:
         row, levels = _rough_row(store, rms, plastic)
         out = {"rms": rms, "plastic": plastic, "kx": None, "sem": None, "grid": None, "error": None,
                "members": 0 if row is None else len(row["seeds"])}
@@ -530,7 +543,7 @@ def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
                          ("tilt", tilt_cell)):
             cells[col] = combine([scaled(fun(p, store), x) for p, x in zip(r.points, si)], TITLES[col])
         for col, plastic in (("roughness", False), ("plastic", True)):
-            cells[col] = combine([roughness_cell(p, store, rms, plastic) for p in r.points for rms in ROUGHNESS_RMS],
+            cells[col] = combine([roughness_cell(p, store, rms, plastic) for p in r.points for rms in roughness_rms(p)],
                                  TITLES[col])
         cells["coupling"] = cell(0.0, 0.0, "exact", "Dundurs", "indenter and block of one steel: beta = 0")
         if mdr_cells:

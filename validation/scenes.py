@@ -109,6 +109,10 @@ ROUGH_PRELOAD = 0.75
 #: coarsest grid (where the apparatus slip index of every surface is converged within 0.02 from 256 on)
 ROUGH_FACES_B = (50e-6, 100e-6, B_TABLE1, 1e-3)
 ROUGH_FACES_B_PLASTIC = (100e-6, B_TABLE1)
+#: the paper's own roughness of a face's contact: the turned face's 2 um with the block's 3 um, combined
+#: sqrt(2^2 + 3^2) = 3.6 um (Willert 2023, Section 2), on the faces of Figs. 6-7 / Table 2 and of Figs. 8-9
+ROUGH_FACE_PAPER_RMS = 3.6e-6
+ROUGH_FACES_B_PAPER_RMS = (100e-6, B_TABLE1)
 ROUGH_FACE_PERIOD, ROUGH_FACE_GRIDS, ROUGH_FACE_SHORT = 4.0, (256, 384, 512), 8.0
 
 
@@ -628,7 +632,8 @@ def _catalogue() -> dict:
                     "equivalent MDR", "truncated", b=B_TABLE1, dF=0.0, amplitude=0.5 * 0.2 * 0.5, cycles=3, steps=40,
                     group="rough", family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
                     variants=tuple({"b": b, **face} for b in ROUGH_FACES_B)
-                    + tuple({"b": b, **face, **plastic} for b in ROUGH_FACES_B_PLASTIC),
+                    + tuple({"b": b, **face, **plastic} for b in ROUGH_FACES_B_PLASTIC)
+                    + tuple({"b": b, **face, "rms": ROUGH_FACE_PAPER_RMS} for b in ROUGH_FACES_B_PAPER_RMS),
                     notes="As scene roughness, on the truncated sphere (R = 6 mm) with the flat faces of the "
                           "paper's results: b = 50 and 100 um (Figs. 8-9), 0.6 mm (Figs. 6-7, Table 2) and 1 mm "
                           "(Fig. 8), at the sphere's rms 1 um (Hurst 0.8), 4 realisations per face on grids of "
@@ -636,7 +641,9 @@ def _catalogue() -> dict:
                           "coarsest grid (2 % of the period: 75 um on b = 0.6 mm) and rolled off at one contact radius. The faces "
                           "touch at a few asperity clusters: a grid of 128 pixels leaves single-pixel contacts "
                           "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
-                          "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N. "
+                          "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N, and at the "
+                          "paper's own roughness of a face's contact, the turned face's 2 um with the block's 3 um "
+                          "(3.6 um combined). "
                           "Needs tamaas (pip install -e '.[rough]')."))
     out = {}
     for s in sc:
