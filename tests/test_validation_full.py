@@ -337,20 +337,23 @@ def test_rough_surfaces_in_the_catalogue(full):
 
 def test_rough_flat_faces_in_the_catalogue(full):
     """docs/rough.md, *The flat faces*: every face of the budget's points is run with 4 surfaces, b = 100 um
-    and 0.6 mm plastic too; a rough face touches on less than 1 % of the smooth face's contact (asserted:
+    and 0.6 mm plastic and at the paper's 3.6 um too; a rough face touches on less than 1 % of the smooth face's contact (asserted:
     3 %), the smooth MDR is 8-56 times too stiff (asserted: more than 3 times) and misses the dissipation
     (the smooth face sticks: -100 %), while the equivalent profile has the stiffness within a few per cent
     (asserted: 10 %) and the dissipation within its spread."""
     _, _, sc = full
     rows = sc["roughness-faces"]["roughness"]
-    assert sorted((r["b"], bool(r.get("hardness"))) for r in rows) == sorted(
-        [(b, False) for b in (50e-6, 100e-6, 600e-6, 1e-3)] + [(b, True) for b in (100e-6, 600e-6)])
+    assert sorted((r["b"], r["rms"], bool(r.get("hardness"))) for r in rows) == sorted(
+        [(b, 1e-6, False) for b in (50e-6, 100e-6, 600e-6, 1e-3)] + [(b, 1e-6, True) for b in (100e-6, 600e-6)]
+        + [(b, 3.6e-6, False) for b in (100e-6, 600e-6)])
     for r in rows:
         v = r["verdicts"]
-        assert len(r["seeds"]) == 4 and not r["failed"] and r["contact_area_over_smooth"] < 0.03, r["b"]
-        assert v["mdr_smooth:stiffness"]["difference"] > 2.0 and v["mdr_smooth:dissipation"]["difference"] < -0.9
-        assert abs(v["mdr_equivalent:stiffness"]["difference"]) < 0.1, r["b"]
-        assert v["mdr_equivalent:dissipation"]["grade"] != "fails", r["b"]
+        assert len(r["seeds"]) == 4 and r["contact_area_over_smooth"] < 0.03, r["b"]
+        assert v["mdr_smooth:stiffness"]["difference"] > 2.0, r["b"]
+        if r["rms"] == 1e-6:  # the paper's 3.6 um: a member may stick entirely on one grid (undetermined)
+            assert not r["failed"] and v["mdr_smooth:dissipation"]["difference"] < -0.9
+            assert abs(v["mdr_equivalent:stiffness"]["difference"]) < 0.1, r["b"]
+            assert v["mdr_equivalent:dissipation"]["grade"] != "fails", r["b"]
 
 
 def test_the_budget_of_the_paper_from_the_catalogue(full):
@@ -391,6 +394,9 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
             f = cells[key][col]
             assert f["verdict"] == "matters" and "b = 600 um" in f["note"] and -0.9 < f["effect"] < -0.15, (key, col, f)
     assert "b = 100 um" in cells["fig8"]["roughness"]["note"] and cells["fig8"]["roughness"]["effect"] < -0.2
+    # the paper's own 3.6 um on the face of 100 um (docs: -0.81 +- 0.02, slip index 0.05 against 0.86)
+    f8 = cells["fig8"]["roughness"]
+    assert "rms 3.6 um" in f8["note"] and f8["effect"] < -0.4 and f8["verdict"] == "matters", f8
     # the statements of docs/budget.md, "What it shows" (2-3x margins)
     for key, c in cells.items():
         assert abs(c["size"]["effect"]) + c["size"]["error"] < 4e-3, key  # docs: < 2e-3

@@ -228,7 +228,9 @@ def indenter_text(b) -> str:
     """The indenter of a rough row: the sphere, or the truncated sphere's face radius ('-' where unknown)."""
     if b is None or b != b:
         return "-"
-    return "sphere" if not b else f"b = {num(b, '.3g', 1e6)} um"
+    if not b:
+        return "sphere"
+    return f"b = {num(b, '.3g', 1e3)} mm" if b >= 1e-3 else f"b = {num(b, '.3g', 1e6)} um"
 
 
 def _ratio(x, y):
@@ -260,7 +262,7 @@ def table(res) -> list:
     def lam(r):
         if r.get("measured"):
             return "measured"
-        return "-" if not r["rms"] else f"{num(r['lambda_short'], '.3g', 1e6)}, {num(r['lambda_long'], '.3g', 1e6)}"
+        return "-" if not r["rms"] else f"{num(r['lambda_short'], '.4g', 1e6)}, {num(r['lambda_long'], '.4g', 1e6)}"
 
     for r in res[KEY]:
         a = r.get("a_smooth", res["errors"]["a_ref"])
@@ -279,7 +281,7 @@ def figure(result: dict, out_dir) -> dict:
     from ..figures import plt, save
 
     rows = result[KEY]
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, axes = plt.subplots(1, 2, figsize=(max(10.0, 1.5 * len(rows)), 4.2))
     for ax, q in zip(axes, QUANTITIES):
         for k, (mdl, label, mk) in enumerate((("mdr_equivalent", "MDR, equivalent profile", "o"),
                                               ("mdr_smooth", "MDR, smooth indenter", "s"))):
@@ -297,8 +299,10 @@ def figure(result: dict, out_dir) -> dict:
             ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0)
         ax.axhline(0.0, color="0.5", lw=0.8)
         faces = any(r.get("b") for r in rows)
-        ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) + (f"\n{indenter_text(r.get('b', 0.0))}" if faces else "")
+        ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) + ("\n" + indenter_text(r.get('b', 0.0)).removeprefix('b = ') if faces else "")
                                          + ("\nplastic" if r.get("hardness") else "") for r in rows], fontsize=8)
+        if faces:
+            ax.set_xlabel("rms height, face radius b")
         ax.set_ylabel(f"{q}: MDR / rough half-space - 1 (%)")
         ax.set_title(f"{q} ({result['scene']['profile']}, F0 = {result['scene']['F0']:g} N, "
                      f"Q = {result['scene']['amplitude']:g} N)")
