@@ -54,7 +54,7 @@ from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
-from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, results
+from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, results, same
 from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
@@ -265,7 +265,7 @@ def tilt_cell(p: Point, store) -> dict:
     return cell(None, None, "absolute", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
 
 
-#: the rms heights (m) the roughness columns read, by the contact (``rough_face``): the sphere's own 1 um
+#: the rms heights (m) the roughness columns read, by the contact (``rough_row_b``): the sphere's own 1 um
 #: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (not run: its contact
 #: touches single pixels on the scene's grids; its cells say so); on a flat face the same 1 um and the
 #: turned face's 2 um with the block's 3 um, 3.6 um (scene roughness-faces: b = 100 um and 0.6 mm)
@@ -274,10 +274,6 @@ ROUGHNESS_RMS = {"sphere": (1e-6, 3.2e-6), "face": (1e-6, 3.6e-6)}
 TRANSITION_RMS = (1e-6,)
 #: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
 ROUGH_FACES = "roughness-faces"
-
-
-def _same_b(x, y) -> bool:
-    return abs(float(x) - float(y)) <= 1e-9 * max(abs(float(x)), abs(float(y)), 1e-30)
 
 
 def _rough_row(store, rms, plastic=False, b=0.0):
@@ -290,7 +286,7 @@ def _rough_row(store, rms, plastic=False, b=0.0):
         return None, None
     row = next((r for r in res["roughness"] if not r.get("measured") and r.get("rms") is not None
                 and abs(r["rms"] - rms) < 1e-12 and bool(r.get("hardness")) == plastic
-                and _same_b(r.get("b", 0.0), b)), None)
+                and same(r.get("b", 0.0), b)), None)
     if row is None or row.get("failed"):
         return row, None
     by = row.get("curves_by_grid") or {}
@@ -329,7 +325,7 @@ def _ensemble_ladder(values_by_level, sizes):
     return means[-1], sem, ladder_error(sizes, means)["error"]
 
 
-def rough_face(p: Point) -> float:
+def rough_row_b(p: Point) -> float:
     """The face radius whose rough row a point reads: its own b where the face is wider than half the
     sphere's Hertz radius (it reaches into the contact), else 0, the sphere's contact."""
     return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
@@ -337,10 +333,10 @@ def rough_face(p: Point) -> float:
 
 def roughness_rms(p: Point) -> tuple:
     """The rms heights the roughness columns read at the point (``ROUGHNESS_RMS``)."""
-    return ROUGHNESS_RMS["face" if rough_face(p) else "sphere"]
+    return ROUGHNESS_RMS["face" if rough_row_b(p) else "sphere"]
 
 
-def roughness_cell(p: Point, store, rms: float = 1e-6, plastic: bool = False) -> dict:
+def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], plastic: bool = False) -> dict:
     """The indenter's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
     stored rough surface's normal curve (the rough half-space's F_N(d) on every grid of its ladder,
     ``mdr.equivalent.EquivalentProfile``) against the smooth indenter, a change of the slip index. A
@@ -352,7 +348,7 @@ def roughness_cell(p: Point, store, rms: float = 1e-6, plastic: bool = False) ->
     plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
     flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
     further and is undetermined."""
-    face = rough_face(p)
+    face = rough_row_b(p)
     scene = "roughness" if face == 0 else ROUGH_FACES
     if store(scene) is None:
         return missing(scene)

@@ -25,6 +25,12 @@ RESOLUTION_ORIGIN = ("0.01 of the slip index, 1 % of its full scale (1: gross sl
 SCENE_FIELDS = {"b": "b", "F0": "F0", "dF": "dF", "ua": "amplitude", "mu1": "mu", "mu2": "mu2", "kx": "kx"}
 
 
+def same(x, y) -> bool:
+    """Two values of a point's field the same within 1e-9 relative (a scene's and a point's, a stored
+    row's and a point's)."""
+    return abs(float(x) - float(y)) <= 1e-9 * max(abs(float(x)), abs(float(y)), 1e-30)
+
+
 @dataclass(frozen=True)
 class Point:
     """One apparatus point of a result (SI): the indenter (``b`` = 0: the sphere, else the truncated
@@ -41,10 +47,7 @@ class Point:
 
     def matches(self, s) -> bool:
         """True where the scene ``s`` (``validation.scenes.Scene``) runs this point: the apparatus drive,
-        the same indenter, load, amplitude, friction and k_x (within 1e-9 relative)."""
-        def same(x, y):
-            return abs(float(x) - float(y)) <= 1e-9 * max(abs(float(x)), abs(float(y)), 1e-30)
-
+        the same indenter, load, amplitude, friction and k_x (within 1e-9 relative, ``same``)."""
         b = 0.0 if s.profile == "sphere" else s.b
         return (s.drive == "apparatus" and s.profile in ("sphere", "truncated") and same(b, self.b)
                 and all(same(getattr(s, f), getattr(self, k)) for k, f in SCENE_FIELDS.items() if k != "b"))
