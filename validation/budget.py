@@ -55,7 +55,7 @@ from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
 from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, results, same
-from .scenes import CATALOGUE, TILT_BOUND, code_version
+from .scenes import CATALOGUE, ROUGH_FACE_PAPER_RMS, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 
@@ -269,7 +269,7 @@ def tilt_cell(p: Point, store) -> dict:
 #: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (not run: its contact
 #: touches single pixels on the scene's grids; its cells say so); on a flat face the same 1 um and the
 #: turned face's 2 um with the block's 3 um, 3.6 um (scene roughness-faces: b = 100 um and 0.6 mm)
-ROUGHNESS_RMS = {"sphere": (1e-6, 3.2e-6), "face": (1e-6, 3.6e-6)}
+ROUGHNESS_RMS = {"sphere": (1e-6, 3.2e-6), "face": (1e-6, ROUGH_FACE_PAPER_RMS)}
 #: the rough rows of the sticking transition: the sphere's own rms
 TRANSITION_RMS = (1e-6,)
 #: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
