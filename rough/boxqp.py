@@ -5,6 +5,8 @@ total over a set per cell.
   pressure capped at the hardness, 0 <= p <= H shifted to a symmetric box): a projected conjugate
   gradient on the free cells (Polonsky & Keer 1999, Wear 231, 206, with a two-sided box) whose steps
   keep the total exactly (``shift_to_total``).
+- The same box without a prescribed total (``solve_box_free``; the displacement-controlled Coulomb of
+  ``rough.law``): the projected conjugate gradient on the free cells.
 - A disk |q| <= lim of a two-component q (``solve_disk``; Coulomb with the traction free to turn): an
   accelerated projected gradient whose projections keep the total (``project_disks_to_total``).
 """
@@ -97,6 +99,43 @@ def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
             curv = float(np.sum(d * Kd))
         tau = -float(np.sum(r * d)) / curv
         q = shift_to_total(np.clip(q + tau * d, -lim, lim), lim, free, Q, dA)
+        G_old, free_old = G, free
+    raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
+
+
+def solve_box_free(apply_K, b, lim, q, tol, what="contact"):
+    """The q minimising (1/2) q.Kq + q.b over |q| <= lim cell by cell, without a prescribed total
+    (``apply_K``: q -> K q, symmetric positive definite: the window's Cerruti kernel, which holds the
+    rigid mode; cells of lim = 0 carry nothing), from the start ``q`` (clipped), to ``tol`` of the range
+    of K q (at least ``SCALE_FLOOR`` of the range of K lim): the projected conjugate gradient of
+    ``solve_box`` without its total, the displacement control of ``rough.law`` (b = s - u, the slip
+    so far minus the imposed displacement). Its optimality conditions: K q + b = 0 inside the box, and
+    at a bound of the sign that keeps it there."""
+    inside = lim > 0
+    q = np.where(inside, np.clip(q, -lim, lim), 0.0)
+    d = np.zeros_like(q)
+    G_old, free_old = None, None
+    floor = SCALE_FLOOR * float(np.ptp(apply_K(lim)))
+    for it in range(MAX_ITER):
+        g = apply_K(q) + b
+        interior = inside & (np.abs(q) < lim * (1 - 1e-12))
+        free = interior | (inside & (q >= lim) & (g > 0)) | (inside & (q <= -lim) & (g < 0))
+        r = np.where(free, g, 0.0)
+        if np.max(np.abs(r), initial=0.0) <= tol * max(float(np.ptp(g - b)), floor, 1e-300):  # SCALE_FLOOR
+            return q
+        G = float(np.sum(r * r))
+        if G_old is None or free_old is None or not np.array_equal(free, free_old):
+            d = -r
+        else:
+            d = -r + (G / G_old) * d
+        d = np.where(free, d, 0.0)
+        Kd = apply_K(d)
+        curv = float(np.sum(d * Kd))
+        if curv <= 0:
+            d, Kd = -r, apply_K(-r)
+            curv = float(np.sum(d * Kd))
+        tau = -float(np.sum(r * d)) / curv
+        q = np.clip(q + tau * d, -lim, lim)
         G_old, free_old = G, free
     raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
 

@@ -44,6 +44,17 @@ MDR_STEP_FACTOR = 10
 HALFSPACE_STEPS = 8
 
 
+def flattened(profile, materials, grid: Grid, heights: HeightMap | None, hardness: float, preload: float) -> tuple:
+    """The heights after a first loading to ``preload`` (N) with perfectly plastic asperities of
+    ``hardness`` (Pa; ``rough.normal.normal_contact``'s capped solve): the surface lowered by each plastic
+    pixel's penetration, elastic from then on (elastic shakedown), and the plastic area of that loading
+    (m^2)."""
+    plastic = normal_contact(profile, materials, positive("preload", preload), grid, heights,
+                             hardness=positive("hardness", hardness))
+    h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
+    return HeightMap(h - plastic["flattening"], grid.pixel), plastic["plastic_area"]
+
+
 def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: HeightMap | None = None, *,
                       cycles: int = 3, steps: int = 40, hardness: float | None = None,
                       preload: float | None = None) -> dict:
@@ -68,9 +79,7 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
         if preload < F0:
             raise InputError(f"preload must be at least F0 = {F0:.4g} N (the largest load the surface saw), "
                              f"got {preload!r}")
-        plastic = normal_contact(profile, materials, preload, grid, heights, hardness=hardness)
-        h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
-        heights, plastic_area = HeightMap(h - plastic["flattening"], grid.pixel), plastic["plastic_area"]
+        heights, plastic_area = flattened(profile, materials, grid, heights, hardness, preload)
     elif preload is not None:
         raise InputError("preload needs a hardness (the load that flattened the asperities)")
     normal = normal_contact(profile, materials, F0, grid, heights)

@@ -54,7 +54,7 @@ from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
-from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, results, same
+from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, results, rough_row_b, same
 from .scenes import CATALOGUE, ROUGH_FACE_PAPER_RMS, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
@@ -109,13 +109,6 @@ def combine(cells: list, source: str) -> dict:
     gaps = sorted({c["note"] for c in cells if c["effect"] is None and c["note"]})
     out["note"] = "; ".join(([shown["note"]] if shown["note"] and shown["effect"] is not None else []) + gaps)
     return out
-
-
-def contact_radius(p: Point) -> float:
-    from fem.axisym.normal_run import reference_radius
-
-    kind = "sphere" if p.b == 0 else "truncated"
-    return reference_radius(kind, R_INDENTER, p.b or None, p.F0 + p.dF, Materials().E_star)
 
 
 # --------------------------------------------------------------- cells from stored scenes
@@ -325,12 +318,6 @@ def _ensemble_ladder(values_by_level, sizes):
     return means[-1], sem, ladder_error(sizes, means)["error"]
 
 
-def rough_row_b(p: Point) -> float:
-    """The face radius whose rough row a point reads: its own b where the face is wider than half the
-    sphere's Hertz radius (it reaches into the contact), else 0, the sphere's contact."""
-    return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
-
-
 def roughness_rms(p: Point) -> tuple:
     """The rms heights the roughness columns read at the point (``ROUGHNESS_RMS``)."""
     return ROUGHNESS_RMS["face" if rough_row_b(p) else "sphere"]
@@ -356,6 +343,8 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], pla
     what = (f"b = {face * 1e6:g} um, " if face else "") + f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
     if row is None:
         return cell(None, None, "absolute", "roughness", f"{what} not in the stored scene")
+    if row.get("apparatus_by_grid"):  # the rough half-space itself in the apparatus
+        return _apparatus_cell(p, row, what, face)
     v = row["verdicts"]["mdr_equivalent:dissipation"]
     if levels is None or v["difference"] is None or v["error"] is None or len(row["seeds"]) < 2:
         return cell(None, None, "absolute", "roughness", f"{what}: undetermined ensemble")
@@ -376,6 +365,54 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], pla
     err = sem + grid + (abs(v["difference"]) + v["error"]) * mean
     return cell(mean - smooth, err, "absolute", "roughness",
                 f"{what}: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
+
+
+def _apparatus_levels(row, p: Point):
+    """Per grid of the row (coarse to fine) the seeds' slip indices at the point ``p`` from the rough
+    half-space driven by the apparatus (``validation.families.roughness.in_apparatus``): (rough
+    half-space, equivalent MDR) lists, or None where a seed lacks the point, failed there or holds a
+    value that is not a finite number."""
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+    by = row.get("apparatus_by_grid") or {}
+    rough, eq = [], []
+    for n in row["grids"]:
+        seeds = by.get(str(n))
+        if not isinstance(seeds, list) or len(seeds) != len(row["seeds"]):
+            return None
+        here = []
+        for runs in seeds:
+            hit = next((r for r in (runs or []) if isinstance(r, dict) and isinstance(r.get("point"), dict)
+                        and set(r["point"]) == set(p.__dataclass_fields__)
+                        and all(same(r["point"][k], getattr(p, k)) for k in r["point"])), None)
+            if hit is None or not number(hit.get("rough_halfspace")):
+                return None
+            here.append(hit)
+        rough.append([h["rough_halfspace"] for h in here])
+        eq.append([h["mdr_equivalent"] if number(h.get("mdr_equivalent")) else None for h in here])
+    return rough, eq
+
+
+def _apparatus_cell(p: Point, row, what: str, face: float) -> dict:
+    """The roughness cell from the rough half-space driven by the apparatus: the ensemble's slip index at
+    the finest grid against the smooth indenter's, error the ensemble's standard error and the grid error
+    of its mean; the note says what MDR with the equivalent profile misses of it there."""
+    got = _apparatus_levels(row, p)
+    if got is None:
+        return cell(None, None, "absolute", "roughness", f"{what}: the point not run in the apparatus on every "
+                                                         "seed and grid (or failed)")
+    rough, eq = got
+    mean, sem, grid = _ensemble_ladder(rough, [row["period"] / n for n in row["grids"]])
+    if grid is None:
+        return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
+    smooth = point_slip_index(replace(p, b=face))
+    fine_eq = eq[-1]
+    miss = "" if any(x is None for x in fine_eq) else \
+        f"; MDR with the equivalent profile {float(np.mean(np.subtract(fine_eq, rough[-1]))):+.2g}"
+    return cell(mean - smooth, sem + grid, "absolute", "roughness",
+                f"{what}: slip index {mean:.2g} (rough half-space in the apparatus) against {smooth:.2g} smooth, "
+                f"{len(rough[-1])} surfaces{miss}")
 
 
 # ------------------------------------------------------------------ cells computed with MDR

@@ -9,9 +9,9 @@ does not vary it.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, TABLE2
+from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, TABLE2
 
 #: the resolution of a result read from the paper's figures, as a change of the slip index (the
 #: dissipation over 4 mu F0 u_A; 1 is gross slip): 1 % of its full scale, as a loop is read to 1 % of
@@ -60,6 +60,34 @@ class Result:
     key: str
     title: str
     points: tuple
+
+
+def contact_radius(p: Point) -> float:
+    """The smooth indenter's half-space contact radius (m) at the point's largest force F0 + dF (steel on
+    steel, R = 6 mm)."""
+    from fem.axisym.normal_run import reference_radius
+    from mdr.materials import Materials
+
+    kind = "sphere" if p.b == 0 else "truncated"
+    return reference_radius(kind, R_INDENTER, p.b or None, p.F0 + p.dF, Materials().E_star)
+
+
+def rough_row_b(p: Point) -> float:
+    """The face radius of the rough contact a point reads (the budget's roughness columns): its own b
+    where the face is wider than half the sphere's Hertz radius (it reaches into the contact), else 0,
+    the sphere's contact."""
+    return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
+
+
+def rough_points(b: float) -> tuple:
+    """The paper's points whose rough contact is the indenter of face radius ``b`` (0: the sphere;
+    ``rough_row_b``), each once, in the order of ``results``."""
+    out = []
+    for r in results():
+        for p in r.points:
+            if same(rough_row_b(p), b) and p not in out:
+                out.append(p)
+    return tuple(out)
 
 
 def loop_point(fig: str) -> Point:

@@ -337,6 +337,12 @@ class Scene:
                     raise bad("hurst", "in (0, 1)")
             if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
                 raise bad("grids", "at least 2 pixel counts, increasing, from 16")
+            if "apparatus" in v:
+                if not isinstance(v["apparatus"], bool):
+                    raise bad("apparatus", "true or false")
+                if v["apparatus"] and (self.R != R_INDENTER or any(getattr(self, k) != x for k, x in STEEL.items())):
+                    raise bad("apparatus", f"false on this indenter: the paper's points are the steel sphere of "
+                                           f"R = {R_INDENTER:g} m on steel")
             if "hardness" in v:
                 try:
                     ok = float(v["hardness"]) > 0 and math.isfinite(float(v["hardness"]))
@@ -613,9 +619,9 @@ def _catalogue() -> dict:
     sc.append(Scene("roughness", "Rough surfaces: the sphere on self-affine roughness, smooth and equivalent MDR",
                     "sphere", dF=0.0, amplitude=0.5 * 0.2 * 0.5, cycles=3, steps=40, group="rough",
                     family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
-                    variants=({"rms": 0.0}, {"rms": 30e-9}, {"rms": 100e-9}, {"rms": 1e-6, "period": 32.0},
+                    variants=({"rms": 0.0}, {"rms": 30e-9}, {"rms": 100e-9}, {"rms": 1e-6, "period": 32.0, "apparatus": True},
                               {"rms": 1e-6, "period": 32.0, "hardness": HARDNESS_X5CRNI18_10,
-                               "preload": ROUGH_PRELOAD}),
+                               "preload": ROUGH_PRELOAD, "apparatus": True}),
                     notes="Table 2's normal load (F0 = 0.5 N) held, force amplitude mu F0 / 2, mu = 0.2, steel on "
                           "steel, R = 6 mm; the combined roughness of both bodies as one self-affine surface "
                           "(Hurst 0.8, roll-off at a quarter period, cut off at 4 pixels of the coarsest grid), "
@@ -626,7 +632,8 @@ def _catalogue() -> dict:
                           "(2.1 GPa), flattened at 0.75 N (above the paper's largest load, 0.73 N in Fig. 5) and "
                           "elastic after. Needs tamaas (pip install -e '.[rough]')."))
     # the same on the flat faces of the paper's truncated spheres (the budget's points: b = 50 um - 1 mm)
-    face = {"rms": 1e-6, "period": ROUGH_FACE_PERIOD, "grids": ROUGH_FACE_GRIDS, "short": ROUGH_FACE_SHORT}
+    face = {"rms": 1e-6, "period": ROUGH_FACE_PERIOD, "grids": ROUGH_FACE_GRIDS, "short": ROUGH_FACE_SHORT,
+            "apparatus": True}
     plastic = {"hardness": HARDNESS_X5CRNI18_10, "preload": ROUGH_PRELOAD}
     sc.append(Scene("roughness-faces", "Rough flat faces: the truncated sphere on self-affine roughness, smooth and "
                     "equivalent MDR", "truncated", b=B_TABLE1, dF=0.0, amplitude=0.5 * 0.2 * 0.5, cycles=3, steps=40,

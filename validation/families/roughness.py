@@ -31,7 +31,10 @@ truncated where the grid can resolve it, a modelling choice the result depends o
 ``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period); ``hardness`` (Pa,
 optional): perfectly plastic asperities, the pressure capped there (``rough.normal.saturated_pressure``;
 the paper's steel: ``rough.normal.HARDNESS_X5CRNI18_10``), flattened by a first loading to ``preload``
-(N, at least the scene's F0, default F0; ``rough.equivalent.mdr_against_rough``), elastic after.
+(N, at least the scene's F0, default F0; ``rough.equivalent.mdr_against_rough``), elastic after;
+``apparatus`` (bool, default false; the paper's R = 6 mm steel indenter only): each member also drives
+the rough half-space by the paper's apparatus at the points whose rough contact is its indenter
+(``in_apparatus``), the slip index the error budget reads (``validation.budget.roughness_cell``).
 """
 from __future__ import annotations
 
@@ -40,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common.errors import ConvergenceError
+from common.errors import ConvergenceError, InputError
 from common.ladder import ladder_error
 
 from .. import metrics
@@ -120,10 +123,64 @@ def member(s: Scene, task: dict) -> dict:
                                 preload=v.get("preload"))
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
         return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
-    return {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
-            "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
-            "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"],
-            "runtime_s": time.perf_counter() - t0}
+    out = {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
+           "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
+           "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"]}
+    if v.get("apparatus"):
+        out["apparatus"] = in_apparatus(s, v, Grid(P, n), heights, res["curve"])
+    return {**out, "runtime_s": time.perf_counter() - t0}
+
+
+def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
+    """The rough half-space driven by the apparatus (``rough.law.RoughContact`` in
+    ``mdr.apparatus.run_apparatus``) at each of the paper's points whose rough contact is this indenter
+    (``validation.points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
+    at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough half-space's
+    slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point its fields
+    and each model's slip index (None where the curve ends below the point's largest force); a point
+    beyond a plastic surface's flattening load is left out (it would flatten the surface further)."""
+    from dataclasses import asdict
+
+    from mdr.apparatus import Apparatus, run_apparatus
+    from mdr.equivalent import EquivalentProfile
+    from mdr.loading import Loading
+    from mdr.profiles import make_profile
+    from rough.law import RoughContact
+    from studies.paper import RES, _slip_index
+
+    from ..points import rough_points
+    from ..sides import materials_of
+
+    b = rough_face(s, v)
+    profile = make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None)
+    mat = materials_of(s)
+    hardness = v.get("hardness")
+    preload = float(v.get("preload", s.F0)) if hardness else None
+    eq = EquivalentProfile(curve["d"], curve["F"], mat)
+    laws, out, done = {}, [], {}
+    for p in rough_points(b):
+        if hardness and p.F0 + p.dF > preload * (1 + 1e-9):
+            continue
+        t0 = time.perf_counter()
+        row = {"point": asdict(p)}
+        key = (p.F0, p.dF, p.ua, p.mu1, p.mu2, p.kx)  # the sphere's points of b = 1 and 10 um are one contact
+        if key in done:
+            out.append({**done[key], **row, "runtime_s": 0.0})
+            continue
+        try:
+            if p.mu1 not in laws:  # one law per friction: its normal solves serve every point of that friction
+                laws[p.mu1] = RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload)
+            loading = Loading.apparatus(p.F0, p.dF, 0.0, p.ua, cycles=RES["cycles"], steps=RES["steps"])
+            row["rough_halfspace"] = float(run_apparatus(laws[p.mu1], Apparatus(kx=p.kx, mu2=p.mu2),
+                                                         loading)["slip_index"])
+        except (ConvergenceError, InputError) as e:  # that point of the seed is undetermined
+            row["failed"] = str(e)
+        top = max(curve["F"])
+        row["mdr_equivalent"] = None if p.F0 + p.dF > top else float(np.ravel(_slip_index(
+            eq, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua)[0])[0])
+        done[key] = row
+        out.append({**row, "runtime_s": time.perf_counter() - t0})
+    return out
 
 
 def _period(s: Scene, v: dict) -> float:
@@ -195,6 +252,9 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                        if m["n"] == max(v["grids"]) and "curve" in m],
             "curves_by_grid": {str(n): [m.get("curve") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
                                for n in v["grids"]},
+            # the rough half-space in the apparatus (``in_apparatus``): per grid, per seed, its points
+            "apparatus_by_grid": {str(n): [m.get("apparatus") for m in sorted(mine, key=lambda m: m["seed"])
+                                           if m["n"] == n] for n in v["grids"]} if v.get("apparatus") else None,
             "failed": [{k: m[k] for k in ("seed", "n", "failed")} for m in mine if "failed" in m]}
 
 
