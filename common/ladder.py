@@ -92,6 +92,16 @@ def ladder_error(sizes, values, *, floor=0.0) -> dict:
     return out
 
 
+def ensemble_ladder(values_by_level, sizes) -> tuple:
+    """An ensemble on a refinement ladder (``values_by_level``: per level, coarse to fine, the members'
+    values; ``sizes`` as ``ladder_error``'s): (the members' mean at the finest level, its standard error
+    there, the grid error of the mean over the levels, ``ladder_error``'s: None where undetermined)."""
+    means = [float(np.mean(v)) for v in values_by_level]
+    fine = np.asarray(values_by_level[-1], dtype=float)
+    sem = float(fine.std(ddof=1) / np.sqrt(fine.size)) if fine.size > 1 else 0.0
+    return means[-1], sem, ladder_error(sizes, means)["error"]
+
+
 def _observed_order(ratio, r21, r10) -> float:
     """Order p of Q = Q* + C h^p from e10/e21 = r21^p (r10^p - 1)/(r21^p - 1) (Celik et al. 2008);
     NaN where no p in (0.01, 30) fits."""

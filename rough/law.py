@@ -29,7 +29,9 @@ smallest c).
 """
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -38,8 +40,7 @@ from mdr.law_types import StepResult
 from mdr.protocol import check_loads
 
 from .boxqp import solve_box_free
-from .normal import (ELASTIC_TOLERANCE, Grid, _pixel_kernel, _rigid_surface, elastic_pressure, normal_compliance,
-                     periodic_displacement)
+from .normal import Grid, _rigid_surface, contact_approach, dense_elastic_pressure, elastic_pressure
 from .surfaces import HeightMap
 from .tangential import TOLERANCE, cerruti_pixel_kernel
 
@@ -92,12 +93,32 @@ class RoughContact:
         self.surface = _rigid_surface(profile, grid, heights)
         self.dA = grid.pixel ** 2
         self._kernel = cerruti_pixel_kernel(grid.n, grid.pixel, materials, "xx")
-        self._normal = {}  # force key -> (flat indices of the contact, their pressures, approach)
-        self._cells = np.zeros(0, dtype=np.int64)  # the flat indices of the dense set
-        self._kn = self._apply_n = None  # the periodic normal kernel (``_dense_normal``)
-        self._K = np.zeros((0, 0))
+        # what does not depend on the friction, shared by ``with_friction``'s copies: the normal solves
+        # (force key -> (flat indices of the contact, their pressures, approach)), the dense set's cells
+        # (flat indices) and compliance, and the last slope computed ((stick set, dF/du): the next step's
+        # often shares it)
+        self._shared = SimpleNamespace(normal={}, cells=np.zeros(0, dtype=np.int64), K=np.zeros((0, 0)), slope=None)
         self.stats = {"normal_solves": 0, "grid_normal_solves": 0, "tangential_solves": 0}
-        self._gap0 = (self.surface.max() - self.surface).ravel()
+
+    def with_friction(self, mu) -> "RoughContact":
+        """The same contact with the friction ``mu``, sharing this one's normal solves and dense compliance
+        (they do not depend on it): the points of an apparatus study at several frictions solve each
+        force once."""
+        other = copy.copy(self)
+        other.mu = float(positive("mu", mu))
+        return other
+
+    @property
+    def _normal(self) -> dict:
+        return self._shared.normal
+
+    @property
+    def _cells(self) -> np.ndarray:
+        return self._shared.cells
+
+    @property
+    def _K(self) -> np.ndarray:
+        return self._shared.K
 
     # ------------------------------------------------------------------ protocol
     def describe(self) -> dict:
@@ -166,83 +187,18 @@ class RoughContact:
             start[idx] = p * (key / near)
             start = start.reshape(self.grid.n, self.grid.n)
         E_star = float(self.materials.E_star)
-        P = None if start is None else self._dense_normal(key, start)
+        P = None if start is None else dense_elastic_pressure(self.surface, key, self.grid, E_star, start,
+                                                              self._cells, DENSE_MAX)
         if P is None:  # the first force, or the dense solve found no answer: the grid's conjugate gradient
             P = elastic_pressure(self.surface, key, self.grid, E_star, start)
             self.stats["grid_normal_solves"] += 1
         flat = P.ravel()
         idx = np.flatnonzero(flat > 0)
-        d = self._approach(idx, flat[idx])
+        d = contact_approach(P, self.surface, self.grid.pixel, E_star)
         self._normal[key] = hit = (idx, flat[idx].copy(), d)
         self.stats["normal_solves"] += 1
         self._grow(idx)
         return hit
-
-    def _approach(self, idx, p) -> float:
-        """``rough.normal._approach`` over the contact's cells alone: the half-space displacement there
-        (Boussinesq's pixel kernel among them, no periodic image) plus the initial gap, weighted with the
-        pressure."""
-        n, h = self.grid.n, self.grid.pixel
-        i, j = np.divmod(idx, n)
-        Kb = _pixel_kernel((i[:, None] - i[None, :]) * h, (j[:, None] - j[None, :]) * h, h) \
-            / (np.pi * float(self.materials.E_star))
-        dd = Kb @ p + self._gap0[idx]
-        return float(np.sum(dd * p) / np.sum(p))
-
-    def _dense_normal(self, F: float, start: np.ndarray):
-        """The elastic contact at ``F`` solved on the cells near a solved force's contact: a primal active
-        set over the dense periodic compliance of those candidates (the pressures of a set from K p + g0 =
-        d there and their total, cells of negative pressure dropped, penetrating candidates added), then
-        checked on the whole grid with one transform (a penetrating cell outside the candidates joins
-        them and the solve repeats). The same optimality conditions as ``elastic_pressure``'s to
-        ``ELASTIC_TOLERANCE``; None where the active set cycles (the caller then solves on the grid)."""
-        n, dA = self.grid.n, self.dA
-        E_star = float(self.materials.E_star)
-        if self._kn is None:  # the periodic kernel in real space: the displacement under a unit pixel
-            self._kn = np.fft.irfft2(normal_compliance(self.grid, E_star), s=(n, n))
-            self._apply_n = periodic_displacement(self.grid, E_star)
-        cand = np.union1d(np.flatnonzero(start.ravel() > 0), self._cells)
-        g0 = self._gap0
-        for _ in range(20):  # candidate sets
-            i, j = np.divmod(cand, n)
-            K = self._kn[(i[:, None] - i[None, :]) % n, (j[:, None] - j[None, :]) % n]
-            act = start.ravel()[cand] > 0
-            p = None
-            for _ in range(4 * cand.size + 20):  # active sets
-                A = np.flatnonzero(act)
-                m = A.size
-                if m == 0:
-                    return None
-                M = np.zeros((m + 1, m + 1))
-                M[:m, :m] = K[np.ix_(A, A)]
-                M[:m, m], M[m, :m] = -1.0, 1.0
-                x = np.linalg.solve(M, np.concatenate([-g0[cand[A]], [F / dA]]))
-                pa, d = x[:m], x[m]
-                if np.any(pa < 0):
-                    act[A[pa < 0]] = False
-                    continue
-                p = np.zeros(cand.size)
-                p[A] = pa
-                g = K @ p + g0[cand] - d
-                scale = max(float(np.ptp(K @ p)), 1e-300)
-                worse = ~act & (g < -ELASTIC_TOLERANCE * scale)
-                if not worse.any():
-                    break
-                act[worse] = True
-                p = None
-            if p is None:
-                return None
-            P = np.zeros(n * n)
-            P[cand] = p
-            u = self._apply_n(P.reshape(n, n)).ravel()
-            g = u + g0 - d
-            out = np.setdiff1d(np.flatnonzero(g < -ELASTIC_TOLERANCE * max(float(np.ptp(u)), 1e-300)), cand)
-            if out.size == 0:
-                return P.reshape(n, n)
-            if cand.size + out.size > DENSE_MAX:
-                return None
-            cand = np.union1d(cand, out)
-        return None
 
     def _grow(self, idx) -> None:
         """Extend the dense set by the cells of ``idx`` not yet in it (the compliance among them)."""
@@ -254,8 +210,8 @@ class RoughContact:
                              f"{DENSE_MAX}: use a coarser grid (n = {self.grid.n} now)")
         n = self.grid.n
         i, j = np.divmod(cells, n)
-        self._K = self._kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]
-        self._cells = cells
+        self._shared.K = self._kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]
+        self._shared.cells, self._shared.slope = cells, None
 
     def _gather(self, field: np.ndarray) -> np.ndarray:
         return field.ravel()[self._cells]
@@ -284,13 +240,16 @@ class RoughTrial:
         law.stats["tangential_solves"] += 1
         F = float(q.sum()) * law.dA
         stick = (self.lim > 0) & (np.abs(q) < self.lim * (1 - 1e-9))
-        if stick.any():
+        if not stick.any():  # gross slip: the force is mu F_N whatever u
+            slope = 0.0
+        elif law._shared.slope is not None and np.array_equal(law._shared.slope[0], stick):  # the same stick set
+            slope = law._shared.slope[1]
+        else:
             import scipy.linalg as sla
 
             x = sla.solve(K[np.ix_(stick, stick)], np.ones(int(stick.sum())), assume_a="pos")
             slope = float(x.sum()) * law.dA
-        else:  # gross slip: the force is mu F_N whatever u
-            slope = 0.0
+            law._shared.slope = (stick, slope)
         self._last = (u, q, F, slope, stick)
         return self._last
 

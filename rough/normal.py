@@ -226,6 +226,72 @@ def elastic_pressure(surface, F, grid: Grid, E_star, start=None) -> np.ndarray:
                            "iterations")
 
 
+def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_cells: int = 8000):
+    """``elastic_pressure``'s contact solved on the cells near a known one: the candidates are the cells
+    of ``start`` (a nearby force's pressure, (n, n)) and ``cells`` (flat indices); a primal active set
+    over the dense periodic compliance among them (the pressures of a set from K p + g0 = d there and
+    their total F, cells of negative pressure dropped, penetrating candidates added), then checked on
+    the whole grid with one transform (penetrating cells outside the candidates join them and the solve
+    repeats). The same optimality conditions as ``elastic_pressure``'s to ``ELASTIC_TOLERANCE``; a few
+    dense solves of the contact's size instead of an FFT per iteration (a rough contact touches a few
+    hundred pixels). None where the active set cycles or the candidates exceed ``max_cells`` (the
+    caller then solves on the grid)."""
+    n, dA = grid.n, grid.pixel ** 2
+    kernel, apply = _periodic_kernel(grid, float(E_star))
+    s = np.asarray(surface, dtype=float)
+    g0 = (s.max() - s).ravel()
+    start = np.asarray(start, dtype=float).ravel()
+    cand = np.union1d(np.flatnonzero(start > 0), np.asarray(cells, dtype=np.int64))
+    for _ in range(20):  # candidate sets
+        if cand.size > max_cells:
+            return None
+        i, j = np.divmod(cand, n)
+        K = kernel[(i[:, None] - i[None, :]) % n, (j[:, None] - j[None, :]) % n]
+        act = start[cand] > 0
+        p = None
+        for _ in range(4 * cand.size + 20):  # active sets
+            A = np.flatnonzero(act)
+            m = A.size
+            if m == 0:
+                return None
+            M = np.zeros((m + 1, m + 1))
+            M[:m, :m] = K[np.ix_(A, A)]
+            M[:m, m], M[m, :m] = -1.0, 1.0
+            x = np.linalg.solve(M, np.concatenate([-g0[cand[A]], [float(F) / dA]]))
+            pa, d = x[:m], x[m]
+            if np.any(pa < 0):
+                act[A[pa < 0]] = False
+                continue
+            p = np.zeros(cand.size)
+            p[A] = pa
+            g = K @ p + g0[cand] - d
+            worse = ~act & (g < -ELASTIC_TOLERANCE * max(float(np.ptp(K @ p)), 1e-300))
+            if not worse.any():
+                break
+            act[worse] = True
+            p = None
+        if p is None:
+            return None
+        P = np.zeros(n * n)
+        P[cand] = p
+        u = apply(P.reshape(n, n)).ravel()
+        g = u + g0 - d
+        out = np.setdiff1d(np.flatnonzero(g < -ELASTIC_TOLERANCE * max(float(np.ptp(u)), 1e-300)), cand)
+        if out.size == 0:
+            return P.reshape(n, n)
+        cand = np.union1d(cand, out)
+    return None
+
+
+@functools.lru_cache(maxsize=4)
+def _periodic_kernel(grid: Grid, E_star: float):
+    """The periodic half-space's displacement under a unit pressure on pixel 0, in real space (n, n),
+    and ``periodic_displacement``'s operator (kept per grid)."""
+    kernel = np.fft.irfft2(normal_compliance(grid, E_star), s=(grid.n, grid.n))
+    kernel.flags.writeable = False
+    return kernel, periodic_displacement(grid, E_star)
+
+
 def _contact_result(p, s, F, grid, r, materials, hardness) -> dict:
     """``normal_contact``'s keys of the pressure ``p`` on the rigid surface ``s``."""
     dA = grid.pixel ** 2
@@ -325,6 +391,28 @@ class PixelConvolution:
         return (self.hat * shift[:, None] * shift[None, :self.hat.shape[1]]).real
 
 
+#: ``force_approach`` solves a load on its contact's cells (``dense_elastic_pressure``) up to this many
+#: candidates, and reads its approach there (``contact_approach``); beyond, on the grid
+DENSE_CURVE_MAX = 3000
+
+
+def contact_approach(p, surface, pixel, E_star) -> float:
+    """``_approach``'s d of an elastic contact: over the contact's cells alone where they are at most
+    ``DENSE_CURVE_MAX`` (Boussinesq's pixel kernel among them, no periodic image: the same sum as the
+    zero-padded FFT's, without the grid's transforms), else ``_approach``'s."""
+    p = np.asarray(p, dtype=float)
+    idx = np.flatnonzero(p.ravel() > 0)
+    if idx.size == 0 or idx.size > DENSE_CURVE_MAX:
+        return _approach(p, surface, pixel, E_star)[0]
+    n = p.shape[0]
+    i, j = np.divmod(idx, n)
+    Kb = _pixel_kernel((i[:, None] - i[None, :]) * pixel, (j[:, None] - j[None, :]) * pixel, pixel) / (np.pi * E_star)
+    pc = p.ravel()[idx]
+    sf = np.asarray(surface, dtype=float)
+    dd = Kb @ pc + sf.max() - sf.ravel()[idx]
+    return float(np.sum(dd * pc) / np.sum(pc))
+
+
 def _approach(p, surface, pixel, E_star, elastic=None) -> tuple:
     """The rigid approach d of the indenter since first contact (m) and its spread over the contact
     (relative): in contact the half-space's displacement u is d minus the initial gap max(s) - s, so
@@ -422,9 +510,12 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
         s = _rigid_surface(profile, grid, heights)
     for F in loads:
         try:
-            if hardness is None:  # elastic: each load warm-started from the last resolved one's contact
-                p = elastic_pressure(s, F, grid, materials.E_star, None if p is None else p * (F / kept[-1]))
-                d.append(_approach(p, s, grid.pixel, float(materials.E_star))[0])
+            if hardness is None:  # elastic: each load from the last resolved one's contact, on its cells first
+                start = None if p is None else p * (F / kept[-1])
+                dense = None if start is None else dense_elastic_pressure(s, F, grid, materials.E_star, start,
+                                                                          max_cells=DENSE_CURVE_MAX)
+                p = dense if dense is not None else elastic_pressure(s, F, grid, materials.E_star, start)
+                d.append(contact_approach(p, s, grid.pixel, float(materials.E_star)))
             else:
                 d.append(normal_contact(profile, materials, F, grid, heights, hardness=hardness)["approach"])
             kept.append(F)

@@ -44,6 +44,11 @@ TOLERANCE = 1e-10
 TOLERANCE_FREE = 1e-8
 
 
+#: a step along x is solved on the contact's cells with a dense compliance up to this many of them
+#: (``TangentialContact._dense_box``: DENSE_MAX^2 doubles, 72 MB), beyond on the grid with transforms
+DENSE_MAX = 3000
+
+
 #: the aliases k + 2 pi m / h summed per direction, |m| <= IMAGES (their terms fall as |m|^-3: the sum is
 #: complete to ~1e-4 of the pixel-scale coefficients, far below the grid's own error)
 IMAGES = 12
@@ -190,6 +195,7 @@ class TangentialContact:
             ops = {c: PixelConvolution(cerruti_pixel_kernel(grid.n, grid.pixel, materials, c)) for c in comps}
             symbols = {c: op.circulant_eigenvalues() for c, op in ops.items()} if traction == "free" else {}
         self._ops = ops
+        self._dense, self._real_kernel = {}, None  # the contact's dense compliance (``_dense_box``)
         if traction == "free":
             a, b, c = symbols["xx"], symbols["xy"], symbols["yy"]
             # the largest eigenvalue of the 2 x 2 symbol: bounds the operator (the window's restriction too)
@@ -216,6 +222,38 @@ class TangentialContact:
             hats = xx.hat, self._ops["xy"].hat, self._ops["yy"].hat
         return np.stack([back(hats[0] * f0 + hats[1] * f1), back(hats[1] * f0 + hats[2] * f1)])
 
+    def _dense_box(self, state: TangentialState, lim, Q):
+        """The traction along x of a step solved on the contact's cells alone (at most ``DENSE_MAX``): the
+        same problem as ``solve_box``'s on the grid, with the compliance among those cells a dense matrix
+        (the periodic kernel in real space, or the window's pixel kernel), so that each iteration is a
+        product of the contact's size, not two transforms of the grid (a rough contact touches a few
+        hundred pixels of 512^2). The same conditions to the same tolerance; None beyond ``DENSE_MAX``."""
+        cells = np.flatnonzero(lim.ravel() > 0)
+        if cells.size == 0 or cells.size > DENSE_MAX:
+            return None
+        key = cells.tobytes()
+        K = self._dense.get(key)
+        if K is None:
+            n = self.grid.n
+            i, j = np.divmod(cells, n)
+            if self.periodic:
+                if self._real_kernel is None:  # the displacement under a unit traction on pixel 0
+                    self._real_kernel = np.fft.irfft2(self.K["xx"], s=(n, n))
+                K = self._real_kernel[(i[:, None] - i[None, :]) % n, (j[:, None] - j[None, :]) % n]
+            else:
+                if self._real_kernel is None:
+                    self._real_kernel = cerruti_pixel_kernel(n, self.grid.pixel, self.materials, "xx")
+                K = self._real_kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]
+            if len(self._dense) >= 4:
+                self._dense.clear()
+            self._dense[key] = K
+        lc = lim.ravel()[cells]
+        qc = solve_box(K.__matmul__, state.s.ravel()[cells], lc, Q, np.clip(state.q.ravel()[cells], -lc, lc),
+                       self.dA, self.tol, "tangential contact")
+        q = np.zeros(lim.size)
+        q[cells] = qc
+        return q.reshape(lim.shape)
+
     def sticking(self, q, p) -> np.ndarray:
         """The cells in contact whose traction is below the limit mu p (a boolean (n, n))."""
         return sticking(q, self.mu * np.asarray(p, dtype=float))
@@ -231,8 +269,10 @@ class TangentialContact:
             raise InputError(f"|Q| = {abs(Q):.4g} N must stay below the friction limit mu F_N = {cap:.4g} N "
                              "(force control has no equilibrium in gross sliding)")
         if self.traction == "x":
-            q = solve_box(self.displacement, state.s, lim, Q, np.clip(state.q, -lim, lim), self.dA, self.tol,
-                          "tangential contact")
+            q = self._dense_box(state, lim, Q)
+            if q is None:
+                q = solve_box(self.displacement, state.s, lim, Q, np.clip(state.q, -lim, lim), self.dA, self.tol,
+                              "tangential contact")
         else:
             q = solve_disk(self.displacement, state.s, lim, (Q, 0.0), state.q, self.dA, self.tol, self.L,
                            "tangential contact")

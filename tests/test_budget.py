@@ -276,3 +276,46 @@ def test_a_rough_row_of_odd_values_is_undetermined_not_a_crash(odd):
     if not (odd is not None and odd > 0):  # (1 m is a length)
         rows[0] = {**row, "period": odd}
         assert B.roughness_cell(p, store, 1e-6)["verdict"] == "undetermined"
+
+
+def _apparatus_row(p, values, eq=None, grids=(128, 256)):
+    """A stored rough row whose members drove the rough half-space by the apparatus at the point ``p``:
+    ``values`` per grid, per seed (the rough half-space's slip index), ``eq`` the equivalent MDR's."""
+    row = _face_row(p.b) if p.b else _hertz_row(1e-6)
+    from dataclasses import asdict
+    from validation.families.roughness import apparatus_points
+
+    by = {str(n): [[{"point": asdict(p), "rough_halfspace": x,
+                     "mdr_equivalent": (eq if eq is not None else x)}] for x in vals]
+          for n, vals in zip(grids, values)}
+    v = {"grids": list(grids), "seeds": list(range(len(values[-1])))}
+    return {**row, **v, "apparatus_by_grid": by, "apparatus": apparatus_points(by, v, row["period"])}
+
+
+def test_the_roughness_cell_reads_the_rough_halfspace_in_the_apparatus_where_it_ran():
+    """Where the row holds the rough half-space driven by the apparatus at the point, the cell is its
+    ensemble against the smooth face (the equivalent profile's curves, here the smooth face's own, are
+    not read): the effect its mean's difference, the error its standard error plus the grid error of the
+    mean; the note says what the equivalent MDR misses there. A seed without the point, or a value that
+    is no number, leaves the cell undetermined."""
+    p = loop_point("fig6")
+    smooth = B.point_slip_index(p)
+    vals = [[smooth - 0.30, smooth - 0.32, smooth - 0.28], [smooth - 0.31, smooth - 0.33, smooth - 0.29]]
+    row = _apparatus_row(p, vals, eq=smooth - 0.25)
+    store = lambda name: {"roughness": [row]} if name == B.ROUGH_FACES else None  # noqa: E731
+    c = B.roughness_cell(p, store, 1e-6)
+    sem = float(np.std(vals[-1], ddof=1) / np.sqrt(3))
+    assert c["effect"] == pytest.approx(-0.31, abs=1e-9)
+    assert c["error"] >= sem and c["verdict"] == "matters"
+    assert "rough half-space in the apparatus" in c["note"] and "equivalent profile +0.06" in c["note"]
+    for odd in (None, float("nan"), "0.2"):
+        bad = _apparatus_row(p, [vals[0], [vals[1][0], odd, vals[1][2]]])
+        store = lambda name: {"roughness": [bad]} if name == B.ROUGH_FACES else None  # noqa: E731
+        assert B.roughness_cell(p, store, 1e-6)["verdict"] == "undetermined"
+    other = _apparatus_row(replace(p, kx=3e6), vals)  # another point only
+    store = lambda name: {"roughness": [other]} if name == B.ROUGH_FACES else None  # noqa: E731
+    c = B.roughness_cell(p, store, 1e-6)
+    assert c["verdict"] == "undetermined" and "not run in the apparatus" in c["note"]
+    ladder = _apparatus_row(p, [[0.2, 0.21, 0.19], [0.25, 0.26, 0.24], [0.26, 0.27, 0.25]], grids=(128, 192, 256))
+    rh = ladder["apparatus"][0]["rough_halfspace"]
+    assert rh["grid"] > 0 and rh["error"] == pytest.approx(rh["sem"] + rh["grid"])  # the grids' error counted

@@ -125,3 +125,18 @@ def test_bad_loads_get_one_line():
         law.prepare(law.rest_state(), F_N=0.0)
     with pytest.raises(InputError, match="normal force F_N, not the approach"):
         law.prepare(law.rest_state(), d=1e-7)
+
+
+def test_a_copy_at_another_friction_shares_the_normal_solves_and_nothing_else():
+    """``with_friction``: the same apparatus run as a fresh law of that friction (slip index within 1e-9),
+    without solving a force again; the original keeps its own friction."""
+    grid, h = _rough()
+    loading = Loading.apparatus(0.5, 0.1, 0.0, 150e-9, cycles=2, steps=40)
+    first = RoughContact(Sphere(R), MAT, 0.2, grid, h)
+    run_apparatus(first, Apparatus(), loading)
+    solves = first.stats["normal_solves"]
+    copy = first.with_friction(0.25)
+    shared = float(run_apparatus(copy, Apparatus(), loading)["slip_index"])
+    assert first.stats["normal_solves"] == solves and first.mu == 0.2 and copy.mu == 0.25
+    fresh = float(run_apparatus(RoughContact(Sphere(R), MAT, 0.25, grid, h), Apparatus(), loading)["slip_index"])
+    assert shared == pytest.approx(fresh, rel=1e-9, abs=0)

@@ -258,3 +258,28 @@ def test_a_contact_that_never_slipped_unloads_to_no_traction(traction):
         st = tc.step(st, p, Q)
     assert st.work == pytest.approx(0.0, abs=1e-20)  # it never slipped
     assert np.max(np.abs(st.q)) < 1e-6 * MU * p.max()
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+def test_the_steps_on_the_contacts_cells_are_the_grids(periodic, monkeypatch):
+    """A rough contact's cycles solved with the dense compliance among its cells (``_dense_box``) and on
+    the grid with transforms (``DENSE_MAX`` = 0): the same dissipation and loop within 1e-7 (both solves
+    stop at 1e-10 of the displacement's range), on the periodic grid and on the window."""
+    from rough.normal import normal_contact
+    from rough.surfaces import RoughnessParams, generate
+    from mdr.profiles import Sphere
+    import rough.tangential as T
+
+    P, n = 16 * A, 96
+    h = generate(RoughnessParams(rms=1e-6, hurst=0.8, lambda_short=4 * P / n, lambda_long=0.25 * P, size=P, n=n,
+                                 seed=1))
+    grid = Grid(P, n)
+    p = normal_contact(Sphere(R), MAT, F, grid, h)["pressure"]
+    runs = []
+    for dense_max in (T.DENSE_MAX, 0):
+        monkeypatch.setattr(T, "DENSE_MAX", dense_max)
+        runs.append(run_force_cycles(TangentialContact(grid, MAT, MU, periodic=periodic), p, 0.5 * MU * F, cycles=2,
+                                     steps=8))
+    (a, b) = runs
+    assert a["dissipation"] == pytest.approx(b["dissipation"], rel=1e-7, abs=0)
+    np.testing.assert_allclose(a["delta"], b["delta"], rtol=0, atol=1e-7 * np.ptp(b["delta"]))

@@ -37,7 +37,9 @@ Assumptions of the mapping (stated in the table's notes): an effect measured und
 Table 2's load is applied as the same relative change of the apparatus's dissipation, i.e. times the
 point's slip index (MDR in the apparatus, ``point_slip_index``), except the tilt's, measured as a change
 of the slip index itself (the aligned face hardly slips there), and the curvature's and the roughness's,
-changes of the slip index in the apparatus; a result spanning
+changes of the slip index in the apparatus (the roughness's: the rough half-space itself driven by the
+apparatus, ``rough.law``, where the scene ran it; else MDR with each surface's equivalent profile); a
+result spanning
 a range of b (Figs. 8, 9, Table 2's two points) is "negligible" only if every b of its range is
 covered, and "matters" as soon as one measured point of it does.
 """
@@ -51,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from common.errors import ConvergenceError, InputError
+from common.ladder import ensemble_ladder
 from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
@@ -308,30 +311,23 @@ def _equivalent_profiles(level) -> list:
     return [EquivalentProfile(c["d"], c["F"], Materials()) for c in level]
 
 
-def _ensemble_ladder(values_by_level, sizes):
-    """(mean at the finest level, standard error there, grid error of the mean over the levels)."""
-    from common.ladder import ladder_error
-
-    means = [float(np.mean(v)) for v in values_by_level]
-    fine = np.asarray(values_by_level[-1], dtype=float)
-    sem = float(fine.std(ddof=1) / np.sqrt(fine.size)) if fine.size > 1 else 0.0
-    return means[-1], sem, ladder_error(sizes, means)["error"]
-
-
 def roughness_rms(p: Point) -> tuple:
     """The rms heights the roughness columns read at the point (``ROUGHNESS_RMS``)."""
     return ROUGHNESS_RMS["face" if rough_row_b(p) else "sphere"]
 
 
 def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], plastic: bool = False) -> dict:
-    """The indenter's roughness of rms ``rms`` in the apparatus: MDR with the equivalent profile of each
+    """The indenter's roughness of rms ``rms`` in the apparatus: where the row ran the point in the
+    apparatus (the variant's ``apparatus``), the rough half-space itself driven by it
+    (``_apparatus_cell``); else MDR with the equivalent profile of each
     stored rough surface's normal curve (the rough half-space's F_N(d) on every grid of its ladder,
     ``mdr.equivalent.EquivalentProfile``) against the smooth indenter, a change of the slip index. A
     face within half the sphere's Hertz radius (b = 1, 10 um) is the sphere's contact (scene
     ``roughness``, against the smooth sphere); a wider face is read from the row of its own b in scene
-    ``ROUGH_FACES`` (against the smooth truncated sphere). Error: the ensemble's standard error, the grid error of the ensemble mean over the ladder,
-    and what the equivalent profile misses of the rough half-space's own dissipation in the scene
-    (|mean| + its error bar), as a share of the slip index. ``plastic``: the surfaces with perfectly
+    ``ROUGH_FACES`` (against the smooth truncated sphere). Error: the ensemble's standard error and the
+    grid error of the ensemble mean over the ladder; with the equivalent profile also what it misses of
+    the rough half-space's own dissipation in the scene (|mean| + its error bar), as a share of the slip
+    index. ``plastic``: the surfaces with perfectly
     plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
     flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
     further and is undetermined."""
@@ -343,14 +339,14 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], pla
     what = (f"b = {face * 1e6:g} um, " if face else "") + f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
     if row is None:
         return cell(None, None, "absolute", "roughness", f"{what} not in the stored scene")
-    if row.get("apparatus_by_grid"):  # the rough half-space itself in the apparatus
+    if plastic and (row.get("preload") is None or p.F0 + p.dF > row["preload"] * (1 + 1e-9)):
+        return cell(None, None, "absolute", "roughness",
+                    f"F0 + dF = {p.F0 + p.dF:g} N beyond the flattening load {row.get('preload')} N")
+    if row.get("apparatus") is not None:  # the rough half-space itself in the apparatus
         return _apparatus_cell(p, row, what, face)
     v = row["verdicts"]["mdr_equivalent:dissipation"]
     if levels is None or v["difference"] is None or v["error"] is None or len(row["seeds"]) < 2:
         return cell(None, None, "absolute", "roughness", f"{what}: undetermined ensemble")
-    if plastic and (row.get("preload") is None or p.F0 + p.dF > row["preload"] * (1 + 1e-9)):
-        return cell(None, None, "absolute", "roughness",
-                    f"F0 + dF = {p.F0 + p.dF:g} N beyond the flattening load {row.get('preload')} N")
     top = min(max(c["F"]) for lv in levels for c in lv)
     if p.F0 + p.dF > top:
         return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
@@ -358,7 +354,7 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], pla
         si = [_slip_indices(_equivalent_profiles(lv), [p] * len(lv)) for lv in levels]
     except (InputError, ConvergenceError) as e:
         return cell(None, None, "absolute", "roughness", f"{what}: no equivalent profile in the apparatus ({e})")
-    mean, sem, grid = _ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
+    mean, sem, grid = ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
     if grid is None:
         return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
     smooth = point_slip_index(replace(p, b=face))
@@ -367,52 +363,25 @@ def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], pla
                 f"{what}: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
 
 
-def _apparatus_levels(row, p: Point):
-    """Per grid of the row (coarse to fine) the seeds' slip indices at the point ``p`` from the rough
-    half-space driven by the apparatus (``validation.families.roughness.in_apparatus``): (rough
-    half-space, equivalent MDR) lists, or None where a seed lacks the point, failed there or holds a
-    value that is not a finite number."""
-    def number(x):
-        return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
-
-    by = row.get("apparatus_by_grid") or {}
-    rough, eq = [], []
-    for n in row["grids"]:
-        seeds = by.get(str(n))
-        if not isinstance(seeds, list) or len(seeds) != len(row["seeds"]):
-            return None
-        here = []
-        for runs in seeds:
-            hit = next((r for r in (runs or []) if isinstance(r, dict) and isinstance(r.get("point"), dict)
-                        and set(r["point"]) == set(p.__dataclass_fields__)
-                        and all(same(r["point"][k], getattr(p, k)) for k in r["point"])), None)
-            if hit is None or not number(hit.get("rough_halfspace")):
-                return None
-            here.append(hit)
-        rough.append([h["rough_halfspace"] for h in here])
-        eq.append([h["mdr_equivalent"] if number(h.get("mdr_equivalent")) else None for h in here])
-    return rough, eq
-
-
 def _apparatus_cell(p: Point, row, what: str, face: float) -> dict:
-    """The roughness cell from the rough half-space driven by the apparatus: the ensemble's slip index at
-    the finest grid against the smooth indenter's, error the ensemble's standard error and the grid error
-    of its mean; the note says what MDR with the equivalent profile misses of it there."""
-    got = _apparatus_levels(row, p)
-    if got is None:
-        return cell(None, None, "absolute", "roughness", f"{what}: the point not run in the apparatus on every "
-                                                         "seed and grid (or failed)")
-    rough, eq = got
-    mean, sem, grid = _ensemble_ladder(rough, [row["period"] / n for n in row["grids"]])
-    if grid is None:
-        return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
+    """The roughness cell from the rough half-space driven by the apparatus (the row's ``apparatus``,
+    ``validation.families.roughness.apparatus_points``): the ensemble's slip index at the point against
+    the smooth indenter's, error the ensemble's standard error plus the grid error of its mean; the note
+    says what MDR with the equivalent profile misses of it there."""
+    hit = next((x for x in row.get("apparatus") or [] if isinstance(x, dict) and isinstance(x.get("point"), dict)
+                and set(x["point"]) == set(p.__dataclass_fields__)
+                and all(same(x["point"][k], getattr(p, k)) for k in x["point"])), None)
+    if hit is None:
+        return cell(None, None, "absolute", "roughness", f"{what}: the point not run in the apparatus")
+    rh = hit.get("rough_halfspace") or {}
+    if rh.get("mean") is None or rh.get("error") is None:
+        return cell(None, None, "absolute", "roughness", f"{what}: in the apparatus {rh.get('status', 'undetermined')}")
     smooth = point_slip_index(replace(p, b=face))
-    fine_eq = eq[-1]
-    miss = "" if any(x is None for x in fine_eq) else \
-        f"; MDR with the equivalent profile {float(np.mean(np.subtract(fine_eq, rough[-1]))):+.2g}"
-    return cell(mean - smooth, sem + grid, "absolute", "roughness",
-                f"{what}: slip index {mean:.2g} (rough half-space in the apparatus) against {smooth:.2g} smooth, "
-                f"{len(rough[-1])} surfaces{miss}")
+    eq = hit.get("equivalent_minus_rough") or {}
+    miss = "" if eq.get("mean") is None else f"; MDR with the equivalent profile {eq['mean']:+.2g}"
+    return cell(rh["mean"] - smooth, rh["error"], "absolute", "roughness",
+                f"{what}: slip index {rh['mean']:.2g} (rough half-space in the apparatus) against {smooth:.2g} smooth, "
+                f"{hit.get('surfaces')} surfaces{miss}")
 
 
 # ------------------------------------------------------------------ cells computed with MDR
@@ -543,7 +512,7 @@ def transitions(store) -> list:
             except (InputError, ConvergenceError):
                 ks = [[None]]  # a curve without an equivalent profile: the row's transition undetermined
             if all(k is not None for lv in ks for k in lv):
-                kx, sem, grid = _ensemble_ladder(ks, [row["period"] / n for n in row["grids"]])
+                kx, sem, grid = ensemble_ladder(ks, [row["period"] / n for n in row["grids"]])
                 out.update(kx=kx, sem=sem, grid=grid, error=None if grid is None else sem + grid)
         rows.append(out)
     return rows

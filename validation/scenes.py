@@ -630,7 +630,9 @@ def _catalogue() -> dict:
                           "over several; the 3.2 um of sphere and block combined touches single pixels on these "
                           "grids and is not run). rms 1 um again with perfectly plastic asperities at the steel's hardness "
                           "(2.1 GPa), flattened at 0.75 N (above the paper's largest load, 0.73 N in Fig. 5) and "
-                          "elastic after. Needs tamaas (pip install -e '.[rough]')."))
+                          "elastic after. The rms 1 um surfaces are also driven by the paper's apparatus at its points "
+                          "on the sphere's contact (rough.law; the error budget reads them). "
+                          "Needs tamaas (pip install -e '.[rough]')."))
     # the same on the flat faces of the paper's truncated spheres (the budget's points: b = 50 um - 1 mm)
     face = {"rms": 1e-6, "period": ROUGH_FACE_PERIOD, "grids": ROUGH_FACE_GRIDS, "short": ROUGH_FACE_SHORT,
             "apparatus": True}
@@ -650,7 +652,8 @@ def _catalogue() -> dict:
                           "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
                           "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N, and at the "
                           "paper's own roughness of a face's contact, the turned face's 2 um with the block's 3 um "
-                          "(3.6 um combined). "
+                          "(3.6 um combined). Every surface is also driven by the paper's apparatus at the points "
+                          "of its face (rough.law; the error budget reads them). "
                           "Needs tamaas (pip install -e '.[rough]')."))
     out = {}
     for s in sc:

@@ -168,16 +168,18 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
             out.append({**done[key], **row, "runtime_s": 0.0})
             continue
         try:
-            if p.mu1 not in laws:  # one law per friction: its normal solves serve every point of that friction
-                laws[p.mu1] = RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload)
+            if p.mu1 not in laws:  # one law per friction, all sharing the normal solves of the first
+                laws[p.mu1] = next(iter(laws.values())).with_friction(p.mu1) if laws else \
+                    RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload)
             loading = Loading.apparatus(p.F0, p.dF, 0.0, p.ua, cycles=RES["cycles"], steps=RES["steps"])
             row["rough_halfspace"] = float(run_apparatus(laws[p.mu1], Apparatus(kx=p.kx, mu2=p.mu2),
                                                          loading)["slip_index"])
         except (ConvergenceError, InputError) as e:  # that point of the seed is undetermined
             row["failed"] = str(e)
         top = max(curve["F"])
-        row["mdr_equivalent"] = None if p.F0 + p.dF > top else float(np.ravel(_slip_index(
-            eq, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua)[0])[0])
+        kw = dict(mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua)
+        row["mdr_equivalent"] = None if p.F0 + p.dF > top else float(np.ravel(_slip_index(eq, p.kx, **kw)[0])[0])
+        row["mdr_smooth"] = float(np.ravel(_slip_index(profile, p.kx, **kw)[0])[0])
         done[key] = row
         out.append({**row, "runtime_s": time.perf_counter() - t0})
     return out
@@ -233,6 +235,8 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                                       "grade": g, "bounded": bounded,
                                       "members": values.tolist(),
                                       "grid_status": sorted({x["status"] for x in lads})}
+    by_grid = {str(n): [m.get("apparatus") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
+               for n in v["grids"]} if v.get("apparatus") else None
     areas = [r["contact_area"] for r in per_seed if r is not None]
     smooth_area = np.pi * a ** 2  # the smooth indenter's contact (Hertz's on the sphere)
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
@@ -252,10 +256,59 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                        if m["n"] == max(v["grids"]) and "curve" in m],
             "curves_by_grid": {str(n): [m.get("curve") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
                                for n in v["grids"]},
-            # the rough half-space in the apparatus (``in_apparatus``): per grid, per seed, its points
-            "apparatus_by_grid": {str(n): [m.get("apparatus") for m in sorted(mine, key=lambda m: m["seed"])
-                                           if m["n"] == n] for n in v["grids"]} if v.get("apparatus") else None,
+            # the rough half-space in the apparatus (``in_apparatus``): per grid, per seed, its points, and
+            # per point the ensemble on the ladder (``apparatus_points``)
+            "apparatus_by_grid": by_grid, "apparatus": None if by_grid is None else apparatus_points(by_grid, v, P),
             "failed": [{k: m[k] for k in ("seed", "n", "failed")} for m in mine if "failed" in m]}
+
+
+def apparatus_points(by_grid: dict, v: dict, period: float) -> list:
+    """Per point run in the apparatus (``in_apparatus``; ``by_grid``: per grid, per seed, the member's
+    points) the ensemble on the grid ladder: the rough half-space's slip index (``rough_halfspace``: the
+    mean at the finest grid, its standard error, the grid error of the mean, ``error`` their sum; None
+    with a ``status`` where a seed lacks the point on a grid, failed there, or holds no finite number)
+    and what MDR with the equivalent profile misses of it at the finest grid (``equivalent_minus_rough``:
+    mean and standard error; None where the curve did not reach the point's force)."""
+    from common.ladder import ensemble_ladder
+
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
+
+    seeds, grids = list(v["seeds"]), list(v["grids"])
+    points = []
+    for runs in by_grid.get(str(grids[-1])) or []:
+        for r in runs or []:
+            if isinstance(r, dict) and isinstance(r.get("point"), dict) and r["point"] not in points:
+                points.append(r["point"])
+    out = []
+    for pt in points:
+        rough, eq, status = [], [], None
+        for n in grids:
+            level = by_grid.get(str(n))
+            if not isinstance(level, list) or len(level) != len(seeds):
+                status = "a seed missing"
+                break
+            hits = [next((r for r in (runs or []) if isinstance(r, dict) and r.get("point") == pt), None)
+                    for runs in level]
+            if any(h is None or "failed" in h or not number(h.get("rough_halfspace")) for h in hits):
+                status = "failed or not run on a seed"
+                break
+            rough.append([float(h["rough_halfspace"]) for h in hits])
+            eq.append([float(h["mdr_equivalent"]) if number(h.get("mdr_equivalent")) else None for h in hits])
+        rh, em = {"mean": None, "sem": None, "grid": None, "error": None, "status": status}, None
+        if status is None:
+            mean, sem, grid = ensemble_ladder(rough, [period / n for n in grids])
+            rh = {"mean": mean, "sem": sem, "grid": grid, "error": None if grid is None else sem + grid,
+                  "status": "measured" if grid is not None else "no grid error"}
+            if all(x is not None for x in eq[-1]):
+                diff = np.subtract(eq[-1], rough[-1])
+                em = {"mean": float(diff.mean()),
+                      "sem": float(diff.std(ddof=1) / np.sqrt(diff.size)) if diff.size > 1 else 0.0}
+        smooth = next((h.get("mdr_smooth") for runs in by_grid.get(str(grids[-1])) or [] for h in runs or []
+                       if isinstance(h, dict) and h.get("point") == pt and number(h.get("mdr_smooth"))), None)
+        out.append({"point": pt, "surfaces": len(seeds), "rough_halfspace": rh, "equivalent_minus_rough": em,
+                    "mdr_smooth": smooth})
+    return out
 
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list | None = None) -> dict:
@@ -332,7 +385,41 @@ def table(res) -> list:
                      f"{num(_ratio(r['period'], a), '.0f')} | {lam(r)} | {num(r.get('contact_area_over_smooth'), '.2f')} | "
                      f"{cell(r, 'mdr_equivalent:dissipation')} | {cell(r, 'mdr_equivalent:stiffness')} | "
                      f"{cell(r, 'mdr_smooth:dissipation')} | {cell(r, 'mdr_smooth:stiffness')} | {grade_text(r)} |")
-    return lines
+    return lines + apparatus_table(res[KEY])
+
+
+def apparatus_table(rows: list) -> list:
+    """The rough half-space driven by the apparatus at the paper's points (the rows' ``apparatus``): per
+    indenter, surface and load, its slip index (ensemble mean +- standard error + grid error), the smooth
+    indenter's (MDR) and what MDR with the equivalent profile misses of the rough one. Points of one load
+    and k_x on the sphere's contact (b = 0, 1 and 10 um read the sphere) are one line. Empty without such
+    rows."""
+    lines = []
+    for r in rows:
+        seen = {}
+        for x in r.get("apparatus") or []:
+            pt = x.get("point") or {}
+            key = tuple(pt.get(k) for k in ("F0", "dF", "ua", "mu1", "mu2", "kx"))
+            if key in seen:
+                continue
+            seen[key] = True
+            rh, em = x.get("rough_halfspace") or {}, x.get("equivalent_minus_rough")
+            rough = "undetermined" if rh.get("mean") is None or rh.get("error") is None else \
+                f"{num(rh['mean'], '.3f')} +- {num(rh['error'], '.3f')}"
+            eq = "-" if not em else f"{num(em['mean'], '+.3f')} +- {num(em['sem'], '.3f')}"
+            plastic = ", plastic" if r.get("hardness") else ""
+            lines.append(f"| {indenter_text(r.get('b', 0.0))} | {rms_text(r['rms'])}{plastic} | "
+                         f"{num(pt.get('F0'), '.3g')} | {num(pt.get('kx'), '.3g', 1e-6)} | {rough} | "
+                         f"{num(x.get('mdr_smooth'), '.3f')} | {eq} |")
+    if not lines:
+        return []
+    return ["", "In the apparatus (rough.law): the rough half-space driven by the paper's apparatus at the "
+            "points whose contact each row's indenter is (validation.points.rough_points; 3 cycles of 120 "
+            "steps, F_N = F0 (1 + 0.2 sin)), its slip index as the ensemble's mean +- (standard error + the "
+            "grid error of the mean); the smooth indenter's (MDR, the paper's model) and what MDR with each "
+            "surface's equivalent profile misses of the rough half-space (mean +- standard error).", "",
+            "| indenter | rms | F0 (N) | k_x (N/um) | slip index: rough half-space | smooth MDR | "
+            "equivalent MDR - rough |", "|---|---|---|---|---|---|---|"] + lines
 
 
 def figure(result: dict, out_dir) -> dict:
