@@ -64,6 +64,27 @@ def shift_to_total(q, lim, free, Q, dA):
     return np.clip(np.where(free, q + c, q), -lim, lim)
 
 
+def _cg_step(apply_K, r, free, d, G_old, free_old, *, zero_mean: bool):
+    """One step of the box solves' projected conjugate gradient from the residual ``r`` on the ``free``
+    cells: the direction (conjugate to the last one ``d`` while the free set stays, steepest descent where
+    it changed; zero off the free cells, and of zero mean on them where the total is prescribed) and the
+    exact minimiser tau of the quadratic along it (steepest descent where the direction has no positive
+    curvature). Returns (direction, tau, r.r)."""
+    G = float(np.sum(r * r))
+    if G_old is None or free_old is None or not np.array_equal(free, free_old):
+        d = -r
+    else:
+        d = -r + (G / G_old) * d
+    d = np.where(free, d, 0.0)
+    if zero_mean:
+        d[free] -= np.mean(d[free])
+    curv = float(np.sum(d * apply_K(d)))
+    if curv <= 0:
+        d = -r
+        curv = float(np.sum(d * apply_K(d)))
+    return d, -float(np.sum(r * d)) / curv, G
+
+
 def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
     """The q minimising (1/2) q.Kq + q.s over |q| <= lim cell by cell with sum(q) dA = Q (``apply_K``: q ->
     K q, a symmetric positive semi-definite convolution whose mean mode is 0; cells of lim = 0 carry
@@ -85,19 +106,7 @@ def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
         r = np.where(free, g - np.mean(g[free]), 0.0)
         if np.max(np.abs(r)) <= tol * max(float(np.ptp(u)), floor, 1e-300):  # SCALE_FLOOR
             return q
-        G = float(np.sum(r * r))
-        if G_old is None or free_old is None or not np.array_equal(free, free_old):
-            d = -r
-        else:
-            d = -r + (G / G_old) * d
-        d = np.where(free, d, 0.0)
-        d[free] -= np.mean(d[free])
-        Kd = apply_K(d)
-        curv = float(np.sum(d * Kd))
-        if curv <= 0:
-            d, Kd = -r, apply_K(-r)
-            curv = float(np.sum(d * Kd))
-        tau = -float(np.sum(r * d)) / curv
+        d, tau, G = _cg_step(apply_K, r, free, d, G_old, free_old, zero_mean=True)
         q = shift_to_total(np.clip(q + tau * d, -lim, lim), lim, free, Q, dA)
         G_old, free_old = G, free
     raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
@@ -123,18 +132,7 @@ def solve_box_free(apply_K, b, lim, q, tol, what="contact"):
         r = np.where(free, g, 0.0)
         if np.max(np.abs(r), initial=0.0) <= tol * max(float(np.ptp(g - b)), floor, 1e-300):  # SCALE_FLOOR
             return q
-        G = float(np.sum(r * r))
-        if G_old is None or free_old is None or not np.array_equal(free, free_old):
-            d = -r
-        else:
-            d = -r + (G / G_old) * d
-        d = np.where(free, d, 0.0)
-        Kd = apply_K(d)
-        curv = float(np.sum(d * Kd))
-        if curv <= 0:
-            d, Kd = -r, apply_K(-r)
-            curv = float(np.sum(d * Kd))
-        tau = -float(np.sum(r * d)) / curv
+        d, tau, G = _cg_step(apply_K, r, free, d, G_old, free_old, zero_mean=False)
         q = np.clip(q + tau * d, -lim, lim)
         G_old, free_old = G, free
     raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
