@@ -58,7 +58,7 @@ from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
 from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, results, rough_row_b, same
-from .scenes import CATALOGUE, ROUGH_FACE_PAPER_RMS, TILT_BOUND, code_version
+from .scenes import CATALOGUE, ROUGH_FACE_PAPER_RMS, ROUGH_SPHERE_PAPER_RMS, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 
@@ -262,10 +262,11 @@ def tilt_cell(p: Point, store) -> dict:
 
 
 #: the rms heights (m) the roughness columns read, by the contact (``rough_row_b``): the sphere's own 1 um
-#: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (not run: its contact
-#: touches single pixels on the scene's grids; its cells say so); on a flat face the same 1 um and the
-#: turned face's 2 um with the block's 3 um, 3.6 um (scene roughness-faces: b = 100 um and 0.6 mm)
-ROUGHNESS_RMS = {"sphere": (1e-6, 3.2e-6), "face": (1e-6, ROUGH_FACE_PAPER_RMS)}
+#: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (scene roughness, on
+#: finer grids); on a flat face the same 1 um and the turned face's 2 um with the block's 3 um, 3.6 um
+#: (scene roughness-faces: b = 100 um and 0.6 mm); an rms a scene does not hold leaves its cell undetermined,
+#: naming it
+ROUGHNESS_RMS = {"sphere": (1e-6, ROUGH_SPHERE_PAPER_RMS), "face": (1e-6, ROUGH_FACE_PAPER_RMS)}
 #: the rough rows of the sticking transition: the sphere's own rms
 TRANSITION_RMS = (1e-6,)
 #: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)

@@ -112,6 +112,13 @@ ROUGH_FACES_B_PLASTIC = (100e-6, B_TABLE1)
 #: the paper's own roughness of a face's contact: the turned face's 2 um with the block's 3 um, combined
 #: sqrt(2^2 + 3^2) = 3.6 um (Willert 2023, Section 2), on the faces of Figs. 6-7 / Table 2 and of Figs. 8-9
 ROUGH_FACE_PAPER_RMS = 3.6e-6
+#: the paper's combined roughness of the sphere's contact: the sphere's 1 um with the block's 3 um,
+#: sqrt(1^2 + 3^2) = 3.2 um (Willert 2023, Section 2); its contact touches few pixels: grids of 384-768
+#: pixels over the same 32 Hertz radii, the same band of wavelengths as rms 1 um (cut off at 12 pixels of
+#: the coarsest grid = 4 of 128: 27 um), where the apparatus slip index of a surface changes by 0.001 from
+#: 512 to 768 pixels (and by 0.03 from 256 to 512)
+ROUGH_SPHERE_PAPER_RMS = 3.2e-6
+ROUGH_SPHERE_PAPER_GRIDS, ROUGH_SPHERE_PAPER_SHORT = (384, 512, 768), 12.0
 ROUGH_FACES_B_PAPER_RMS = (100e-6, B_TABLE1)
 ROUGH_FACE_PERIOD, ROUGH_FACE_GRIDS, ROUGH_FACE_SHORT = 4.0, (256, 384, 512), 8.0
 
@@ -621,16 +628,19 @@ def _catalogue() -> dict:
                     family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
                     variants=({"rms": 0.0}, {"rms": 30e-9}, {"rms": 100e-9}, {"rms": 1e-6, "period": 32.0, "apparatus": True},
                               {"rms": 1e-6, "period": 32.0, "hardness": HARDNESS_X5CRNI18_10,
-                               "preload": ROUGH_PRELOAD, "apparatus": True}),
+                               "preload": ROUGH_PRELOAD, "apparatus": True},
+                              {"rms": ROUGH_SPHERE_PAPER_RMS, "period": 32.0, "grids": ROUGH_SPHERE_PAPER_GRIDS,
+                               "short": ROUGH_SPHERE_PAPER_SHORT, "apparatus": True}),
                     notes="Table 2's normal load (F0 = 0.5 N) held, force amplitude mu F0 / 2, mu = 0.2, steel on "
                           "steel, R = 6 mm; the combined roughness of both bodies as one self-affine surface "
                           "(Hurst 0.8, roll-off at a quarter period, cut off at 4 pixels of the coarsest grid), "
                           "4 realisations per rms on grids of 128, 192 and 256 pixels (the smooth sphere: one); "
                           "period 16 Hertz radii (32 at the paper's rms 1 um, its sphere's, whose contact spreads "
-                          "over several; the 3.2 um of sphere and block combined touches single pixels on these "
-                          "grids and is not run). rms 1 um again with perfectly plastic asperities at the steel's hardness "
+                          "over several). The paper's combined roughness of sphere and block, 3.2 um, touches few "
+                          "pixels: on grids of 384, 512 and 768 pixels over the same 32 radii, the same wavelengths "
+                          "(cut off at 27 um). rms 1 um again with perfectly plastic asperities at the steel's hardness "
                           "(2.1 GPa), flattened at 0.75 N (above the paper's largest load, 0.73 N in Fig. 5) and "
-                          "elastic after. The rms 1 um surfaces are also driven by the paper's apparatus at its points "
+                          "elastic after. The rms 1 um and 3.2 um surfaces are also driven by the paper's apparatus at its points "
                           "on the sphere's contact (rough.law; the error budget reads them). "
                           "Needs tamaas (pip install -e '.[rough]')."))
     # the same on the flat faces of the paper's truncated spheres (the budget's points: b = 50 um - 1 mm)
