@@ -339,16 +339,16 @@ def test_rough_surfaces_in_the_catalogue(full):
 
 
 def test_rough_flat_faces_in_the_catalogue(full):
-    """docs/rough.md, *The flat faces*: every face of the budget's points is run with 4 surfaces, b = 100 um
-    and 0.6 mm plastic and at the paper's 3.6 um too; a rough face touches on less than 1 % of the smooth face's contact (asserted:
+    """docs/rough.md, *The flat faces*: every face of the budget's points is run with 4 surfaces at rms 1 um and
+    at the paper's 3.6 um, b = 100 um and 0.6 mm plastic too; a rough face touches on less than 1 % of the smooth face's contact (asserted:
     3 %), the smooth MDR is 8-56 times too stiff (asserted: more than 3 times) and misses the dissipation
     (the smooth face sticks: -100 %), while the equivalent profile has the stiffness within a few per cent
     (asserted: 10 %) and the dissipation within its spread."""
     _, _, sc = full
     rows = sc["roughness-faces"]["roughness"]
     assert sorted((r["b"], r["rms"], bool(r.get("hardness"))) for r in rows) == sorted(
-        [(b, 1e-6, False) for b in (50e-6, 100e-6, 600e-6, 1e-3)] + [(b, 1e-6, True) for b in (100e-6, 600e-6)]
-        + [(b, 3.6e-6, False) for b in (100e-6, 600e-6)])
+        [(b, rms, False) for b in (50e-6, 100e-6, 600e-6, 1e-3) for rms in (1e-6, 3.6e-6)]
+        + [(b, rms, True) for b in (100e-6, 600e-6) for rms in (1e-6, 3.6e-6)])
     for r in rows:
         v = r["verdicts"]
         assert len(r["seeds"]) == 4 and r["contact_area_over_smooth"] < 0.03, r["b"]

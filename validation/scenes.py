@@ -110,7 +110,7 @@ ROUGH_PRELOAD = 0.75
 ROUGH_FACES_B = (50e-6, 100e-6, B_TABLE1, 1e-3)
 ROUGH_FACES_B_PLASTIC = (100e-6, B_TABLE1)
 #: the paper's own roughness of a face's contact: the turned face's 2 um with the block's 3 um, combined
-#: sqrt(2^2 + 3^2) = 3.6 um (Willert 2023, Section 2), on the faces of Figs. 6-7 / Table 2 and of Figs. 8-9
+#: sqrt(2^2 + 3^2) = 3.6 um (Willert 2023, Section 2), on every face, and plastic on those run plastic
 ROUGH_FACE_PAPER_RMS = 3.6e-6
 #: the paper's combined roughness of the sphere's contact: the sphere's 1 um with the block's 3 um,
 #: sqrt(1^2 + 3^2) = 3.2 um (Willert 2023, Section 2); its contact touches few pixels: grids of 384-768
@@ -119,7 +119,6 @@ ROUGH_FACE_PAPER_RMS = 3.6e-6
 #: 512 to 768 pixels (and by 0.03 from 256 to 512)
 ROUGH_SPHERE_PAPER_RMS = 3.2e-6
 ROUGH_SPHERE_PAPER_GRIDS, ROUGH_SPHERE_PAPER_SHORT = (384, 512, 768), 12.0
-ROUGH_FACES_B_PAPER_RMS = (100e-6, B_TABLE1)
 ROUGH_FACE_PERIOD, ROUGH_FACE_GRIDS, ROUGH_FACE_SHORT = 4.0, (256, 384, 512), 8.0
 
 
@@ -630,7 +629,10 @@ def _catalogue() -> dict:
                               {"rms": 1e-6, "period": 32.0, "hardness": HARDNESS_X5CRNI18_10,
                                "preload": ROUGH_PRELOAD, "apparatus": True},
                               {"rms": ROUGH_SPHERE_PAPER_RMS, "period": 32.0, "grids": ROUGH_SPHERE_PAPER_GRIDS,
-                               "short": ROUGH_SPHERE_PAPER_SHORT, "apparatus": True}),
+                               "short": ROUGH_SPHERE_PAPER_SHORT, "apparatus": True},
+                              {"rms": ROUGH_SPHERE_PAPER_RMS, "period": 32.0, "grids": ROUGH_SPHERE_PAPER_GRIDS,
+                               "short": ROUGH_SPHERE_PAPER_SHORT, "hardness": HARDNESS_X5CRNI18_10,
+                               "preload": ROUGH_PRELOAD, "apparatus": True}),
                     notes="Table 2's normal load (F0 = 0.5 N) held, force amplitude mu F0 / 2, mu = 0.2, steel on "
                           "steel, R = 6 mm; the combined roughness of both bodies as one self-affine surface "
                           "(Hurst 0.8, roll-off at a quarter period, cut off at 4 pixels of the coarsest grid), "
@@ -640,7 +642,7 @@ def _catalogue() -> dict:
                           "pixels: on grids of 384, 512 and 768 pixels over the same 32 radii, the same wavelengths "
                           "(cut off at 27 um). rms 1 um again with perfectly plastic asperities at the steel's hardness "
                           "(2.1 GPa), flattened at 0.75 N (above the paper's largest load, 0.73 N in Fig. 5) and "
-                          "elastic after. The rms 1 um and 3.2 um surfaces are also driven by the paper's apparatus at its points "
+                          "elastic after; 3.2 um too. The rms 1 um and 3.2 um surfaces are also driven by the paper's apparatus at its points "
                           "on the sphere's contact (rough.law; the error budget reads them). "
                           "Needs tamaas (pip install -e '.[rough]')."))
     # the same on the flat faces of the paper's truncated spheres (the budget's points: b = 50 um - 1 mm)
@@ -652,7 +654,8 @@ def _catalogue() -> dict:
                     group="rough", family="roughness", fe_levels=(1 / 8,), mdr_cells=(400,),
                     variants=tuple({"b": b, **face} for b in ROUGH_FACES_B)
                     + tuple({"b": b, **face, **plastic} for b in ROUGH_FACES_B_PLASTIC)
-                    + tuple({"b": b, **face, "rms": ROUGH_FACE_PAPER_RMS} for b in ROUGH_FACES_B_PAPER_RMS),
+                    + tuple({"b": b, **face, "rms": ROUGH_FACE_PAPER_RMS} for b in ROUGH_FACES_B)
+                    + tuple({"b": b, **face, **plastic, "rms": ROUGH_FACE_PAPER_RMS} for b in ROUGH_FACES_B_PLASTIC),
                     notes="As scene roughness, on the truncated sphere (R = 6 mm) with the flat faces of the "
                           "paper's results: b = 50 and 100 um (Figs. 8-9), 0.6 mm (Figs. 6-7, Table 2) and 1 mm "
                           "(Fig. 8), at the sphere's rms 1 um (Hurst 0.8), 4 realisations per face on grids of "
@@ -662,7 +665,7 @@ def _catalogue() -> dict:
                           "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
                           "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N, and at the "
                           "paper's own roughness of a face's contact, the turned face's 2 um with the block's 3 um "
-                          "(3.6 um combined). Every surface is also driven by the paper's apparatus at the points "
+                          "(3.6 um combined) on every face, plastic on b = 100 um and 0.6 mm. Every surface is also driven by the paper's apparatus at the points "
                           "of its face (rough.law; the error budget reads them). "
                           "Needs tamaas (pip install -e '.[rough]')."))
     out = {}
