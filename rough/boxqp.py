@@ -115,8 +115,8 @@ def solve_box(apply_K, s, lim, Q, q, dA, tol, what="contact"):
 def solve_box_free(apply_K, b, lim, q, tol, what="contact"):
     """The q minimising (1/2) q.Kq + q.b over |q| <= lim cell by cell, without a prescribed total
     (``apply_K``: q -> K q, symmetric positive definite: the window's Cerruti kernel, which holds the
-    rigid mode; cells of lim = 0 carry nothing), from the start ``q`` (clipped), to ``tol`` of the range
-    of K q (at least ``SCALE_FLOOR`` of the range of K lim): the projected conjugate gradient of
+    rigid mode; cells of lim = 0 carry nothing), from the start ``q`` (clipped), to ``tol`` of the largest
+    |K q| (at least ``SCALE_FLOOR`` of the largest |K lim|): the projected conjugate gradient of
     ``solve_box`` without its total, the displacement control of ``rough.law`` (b = s - u, the slip
     so far minus the imposed displacement). Its optimality conditions: K q + b = 0 inside the box, and
     at a bound of the sign that keeps it there."""
@@ -124,13 +124,16 @@ def solve_box_free(apply_K, b, lim, q, tol, what="contact"):
     q = np.where(inside, np.clip(q, -lim, lim), 0.0)
     d = np.zeros_like(q)
     G_old, free_old = None, None
-    floor = SCALE_FLOOR * float(np.ptp(apply_K(lim)))
+    # K is definite (no rigid mode to leave undetermined): the scales are magnitudes, not ranges (the range
+    # of K q over a contact of one cell is 0, a criterion round-off never meets)
+    floor = SCALE_FLOOR * float(np.max(np.abs(apply_K(lim)), initial=0.0))
     for it in range(MAX_ITER):
-        g = apply_K(q) + b
+        u = apply_K(q)
+        g = u + b
         interior = inside & (np.abs(q) < lim * (1 - 1e-12))
         free = interior | (inside & (q >= lim) & (g > 0)) | (inside & (q <= -lim) & (g < 0))
         r = np.where(free, g, 0.0)
-        if np.max(np.abs(r), initial=0.0) <= tol * max(float(np.ptp(g - b)), floor, 1e-300):  # SCALE_FLOOR
+        if np.max(np.abs(r), initial=0.0) <= tol * max(float(np.max(np.abs(u), initial=0.0)), floor, 1e-300):
             return q
         d, tau, G = _cg_step(apply_K, r, free, d, G_old, free_old, zero_mean=False)
         q = np.clip(q + tau * d, -lim, lim)

@@ -140,3 +140,16 @@ def test_a_copy_at_another_friction_shares_the_normal_solves_and_nothing_else():
     assert first.stats["normal_solves"] == solves and first.mu == 0.2 and copy.mu == 0.25
     fresh = float(run_apparatus(RoughContact(Sphere(R), MAT, 0.25, grid, h), Apparatus(), loading)["slip_index"])
     assert shared == pytest.approx(fresh, rel=1e-9, abs=0)
+
+
+def test_a_contact_of_one_cell_is_solved():
+    """The displacement-controlled box solve on a contact of a single cell (a rough face at 3.6 um touches
+    at one pixel at some forces): q = clip((u - s) / K, -lim, lim), sticking or slipping, where a
+    criterion relative to the range of K q (0 for one cell) was never met."""
+    from rough.boxqp import solve_box_free
+
+    K = np.array([[2.0e-12]])
+    lim = np.array([4.3e8])
+    for b in (-1.4e-8, -1.0e-4, 3.0e-4):
+        q = solve_box_free(K.__matmul__, np.array([b]), lim, np.zeros(1), 1e-10)
+        assert q[0] == pytest.approx(np.clip(-b / K[0, 0], -lim[0], lim[0]), rel=1e-9)
