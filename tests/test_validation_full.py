@@ -410,6 +410,10 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
     plastic = cells["figs4-5"]["plastic"]
     assert plastic["verdict"] == "matters" and rough["effect"] < plastic["effect"] < -0.05, (plastic, rough)
     assert kx[0.0, False] < kx[1e-6, True] < kx[1e-6, False] and 1.1e6 < kx[1e-6, True] < 2.0e6
+    # the paper's combined 3.2 um (docs: 3.7 +- 0.7 N/um elastic, beyond the paper's 1-2; 1.40 plastic, inside)
+    assert kx[3.2e-6, False] > 2.0e6 and 1.1e6 < kx[3.2e-6, True] < 2.0e6
+    f45 = cells["figs4-5"]["roughness"]  # docs: -0.35 +- 0.01 at 3.2 um (Fig. 5)
+    assert "rms 3.2 um" in f45["note"] and -0.6 < f45["effect"] < -0.2, f45
     # the flat faces (docs: their slip index falls by 0.3-0.6, Figs. 6-7 by 0.39 +- 0.07, elastic or plastic;
     # every result matters under roughness)
     for key, c in cells.items():

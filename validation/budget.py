@@ -267,8 +267,8 @@ def tilt_cell(p: Point, store) -> dict:
 #: (scene roughness-faces: b = 100 um and 0.6 mm); an rms a scene does not hold leaves its cell undetermined,
 #: naming it
 ROUGHNESS_RMS = {"sphere": (1e-6, ROUGH_SPHERE_PAPER_RMS), "face": (1e-6, ROUGH_FACE_PAPER_RMS)}
-#: the rough rows of the sticking transition: the sphere's own rms
-TRANSITION_RMS = (1e-6,)
+#: the rough rows of the sticking transition: the sphere's own rms and the pair's combined one
+TRANSITION_RMS = (1e-6, ROUGH_SPHERE_PAPER_RMS)
 #: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
 ROUGH_FACES = "roughness-faces"
 
