@@ -17,7 +17,7 @@ assumptions: the traction along x, no normal-tangential coupling), the traction 
 with s each cell's slip so far and K the x-x Cerruti kernel of the two half-spaces without periodic
 images (``rough.tangential.cerruti_pixel_kernel``): it holds the rigid mode, so u is the same
 displacement as MDR's and the apparatus's. K is a dense matrix over the cells that are ever in contact
-(a rough contact touches a few hundred pixels; at most ``DENSE_MAX``): each solve is a small dense
+(a rough contact touches a few hundred pixels; at most ``MAX_CELLS``): each solve is a small dense
 problem, not an FFT over the grid. The force's slope dF/du, which the apparatus's Newton iteration
 takes, is that of the step's stick set: dA 1.K_ss^-1 1 over the sticking cells s (exact on the
 piecewise linear branch the solution lies on).
@@ -44,8 +44,9 @@ from .normal import Grid, _rigid_surface, contact_approach, dense_elastic_pressu
 from .surfaces import HeightMap
 from .tangential import TOLERANCE, cerruti_pixel_kernel
 
-#: the largest number of cells of the dense compliance (DENSE_MAX^2 doubles: 8000 cells are 512 MB)
-DENSE_MAX = 8000
+#: the largest number of cells the law holds (its compliance is dense, no grid path to fall back on: MAX_CELLS^2
+#: doubles, 8000 cells are 512 MB)
+MAX_CELLS = 8000
 #: forces (N) closer than this relative amount share their normal solve (a cycle's F_N(t) recurs in the
 #: next to round-off)
 FORCE_KEY_DIGITS = 12
@@ -188,7 +189,7 @@ class RoughContact:
             start = start.reshape(self.grid.n, self.grid.n)
         E_star = float(self.materials.E_star)
         P = None if start is None else dense_elastic_pressure(self.surface, key, self.grid, E_star, start,
-                                                              self._cells, DENSE_MAX)
+                                                              self._cells, MAX_CELLS)
         if P is None:  # the first force, or the dense solve found no answer: the grid's conjugate gradient
             P = elastic_pressure(self.surface, key, self.grid, E_star, start)
             self.stats["grid_normal_solves"] += 1
@@ -205,9 +206,9 @@ class RoughContact:
         cells = np.union1d(self._cells, idx)
         if cells.size == self._cells.size:
             return
-        if cells.size > DENSE_MAX:
+        if cells.size > MAX_CELLS:
             raise InputError(f"the rough contact touches {cells.size} cells, more than the dense solve's "
-                             f"{DENSE_MAX}: use a coarser grid (n = {self.grid.n} now)")
+                             f"{MAX_CELLS}: use a coarser grid (n = {self.grid.n} now)")
         n = self.grid.n
         i, j = np.divmod(cells, n)
         self._shared.K = self._kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]

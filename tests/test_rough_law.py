@@ -153,3 +153,15 @@ def test_a_contact_of_one_cell_is_solved():
     for b in (-1.4e-8, -1.0e-4, 3.0e-4):
         q = solve_box_free(K.__matmul__, np.array([b]), lim, np.zeros(1), 1e-10)
         assert q[0] == pytest.approx(np.clip(-b / K[0, 0], -lim[0], lim[0]), rel=1e-9)
+
+
+def test_a_contact_too_large_for_the_dense_compliance_is_one_line(monkeypatch):
+    """The law holds its compliance densely (no grid path to fall back on): a contact of more cells than
+    ``MAX_CELLS`` is an InputError naming the grid, not a memory blow-up."""
+    import rough.law as RL
+
+    monkeypatch.setattr(RL, "MAX_CELLS", 5)
+    law = RoughContact(Sphere(R), MAT, MU, Grid(8 * A, 32))
+    with pytest.raises(InputError, match="coarser grid") as e:
+        law.prepare(law.rest_state(), F_N=0.5)
+    assert "\n" not in str(e.value)
