@@ -40,7 +40,7 @@ from mdr.law_types import StepResult
 from mdr.protocol import check_loads
 
 from .boxqp import solve_box_free
-from .normal import Grid, _rigid_surface, contact_approach, dense_elastic_pressure, elastic_pressure
+from .normal import Grid, _rigid_surface, among_cells, contact_approach, dense_elastic_pressure, elastic_pressure
 from .surfaces import HeightMap
 from .tangential import TOLERANCE, cerruti_pixel_kernel
 
@@ -209,9 +209,7 @@ class RoughContact:
         if cells.size > MAX_CELLS:
             raise InputError(f"the rough contact touches {cells.size} cells, more than the dense solve's "
                              f"{MAX_CELLS}: use a coarser grid (n = {self.grid.n} now)")
-        n = self.grid.n
-        i, j = np.divmod(cells, n)
-        self._shared.K = self._kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]
+        self._shared.K = among_cells(self._kernel, cells, self.grid.n, periodic=False)
         self._shared.cells, self._shared.slope = cells, None
 
     def _gather(self, field: np.ndarray) -> np.ndarray:

@@ -226,6 +226,15 @@ def elastic_pressure(surface, F, grid: Grid, E_star, start=None) -> np.ndarray:
                            "iterations")
 
 
+def among_cells(kernel, cells, n: int, periodic: bool) -> np.ndarray:
+    """The dense matrix of a convolution kernel among the pixels ``cells`` (flat indices of an (n, n)
+    grid): entry (a, b) the kernel at the offset of pixel a from pixel b, ``kernel`` (n, n) of the periodic
+    grid (offsets modulo n) or (2n - 1, 2n - 1) of the window (offsets -(n - 1) .. n - 1)."""
+    i, j = np.divmod(np.asarray(cells, dtype=np.int64), n)
+    di, dj = i[:, None] - i[None, :], j[:, None] - j[None, :]
+    return kernel[di % n, dj % n] if periodic else kernel[di + n - 1, dj + n - 1]
+
+
 def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_cells: int = 8000):
     """``elastic_pressure``'s contact solved on the cells near a known one: the candidates are the cells
     of ``start`` (a nearby force's pressure, (n, n)) and ``cells`` (flat indices); a primal active set
@@ -245,8 +254,7 @@ def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_
     for _ in range(20):  # candidate sets
         if cand.size > max_cells:
             return None
-        i, j = np.divmod(cand, n)
-        K = kernel[(i[:, None] - i[None, :]) % n, (j[:, None] - j[None, :]) % n]
+        K = among_cells(kernel, cand, n, periodic=True)
         act = start[cand] > 0
         p = None
         for _ in range(4 * cand.size + 20):  # active sets

@@ -34,7 +34,7 @@ from common.assumptions import check_traction
 from common.errors import InputError, nonnegative, positive
 
 from .boxqp import solve_box, solve_disk
-from .normal import Grid, PixelConvolution
+from .normal import Grid, PixelConvolution, among_cells
 
 #: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
 #: relative to the range of the elastic displacement K q
@@ -235,15 +235,10 @@ class TangentialContact:
         K = self._dense.get(key)
         if K is None:
             n = self.grid.n
-            i, j = np.divmod(cells, n)
-            if self.periodic:
-                if self._real_kernel is None:  # the displacement under a unit traction on pixel 0
-                    self._real_kernel = np.fft.irfft2(self.K["xx"], s=(n, n))
-                K = self._real_kernel[(i[:, None] - i[None, :]) % n, (j[:, None] - j[None, :]) % n]
-            else:
-                if self._real_kernel is None:
-                    self._real_kernel = cerruti_pixel_kernel(n, self.grid.pixel, self.materials, "xx")
-                K = self._real_kernel[(i[:, None] - i[None, :]) + n - 1, (j[:, None] - j[None, :]) + n - 1]
+            if self._real_kernel is None:  # the displacement under a unit traction on pixel 0
+                self._real_kernel = np.fft.irfft2(self.K["xx"], s=(n, n)) if self.periodic else \
+                    cerruti_pixel_kernel(n, self.grid.pixel, self.materials, "xx")
+            K = among_cells(self._real_kernel, cells, n, self.periodic)
             if len(self._dense) >= 4:
                 self._dense.clear()
             self._dense[key] = K

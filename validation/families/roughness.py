@@ -99,8 +99,6 @@ def member(s: Scene, task: dict) -> dict:
     from rough.normal import Grid
     from rough.surfaces import RoughnessParams, generate, resample
 
-    from mdr.profiles import make_profile
-
     from ..sides import materials_of
 
     t0 = time.perf_counter()
@@ -117,7 +115,7 @@ def member(s: Scene, task: dict) -> dict:
         heights = resample(coarse, n)
     try:
         b = rough_face(s, v)
-        res = mdr_against_rough(make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None),
+        res = mdr_against_rough(indenter(s, b),
                                 materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
                                 cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"),
                                 preload=v.get("preload"))
@@ -144,7 +142,6 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.equivalent import EquivalentProfile
     from mdr.loading import Loading
-    from mdr.profiles import make_profile
     from rough.law import RoughContact
     from studies.paper import RES, _slip_index
 
@@ -152,7 +149,7 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
     from ..sides import materials_of
 
     b = rough_face(s, v)
-    profile = make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None)
+    profile = indenter(s, b)
     mat = materials_of(s)
     hardness = v.get("hardness")
     preload = float(v.get("preload", s.F0)) if hardness else None
@@ -183,6 +180,13 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
         done[key] = row
         out.append({**row, "runtime_s": time.perf_counter() - t0})
     return out
+
+
+def indenter(s: Scene, b: float):
+    """The scene's indenter with the face radius ``b`` (m; 0: the sphere), a ``mdr.profiles`` profile."""
+    from mdr.profiles import make_profile
+
+    return make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None)
 
 
 def _period(s: Scene, v: dict) -> float:
