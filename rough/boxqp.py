@@ -12,9 +12,20 @@ total over a set per cell.
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from common.errors import ConvergenceError
+
+try:  # optional dependency (pip install .[fast]): the dense box solve compiled
+    import numba
+except ImportError:  # pragma: no cover - the fallback is tested through COMPILED
+    numba = None
+
+#: solve the dense box problems compiled (``solve_box_free_dense``; False: numpy, the same iterates up to
+#: round-off); off without numba or with the environment variable ROUGH_PURE_PYTHON=1
+COMPILED = numba is not None and os.environ.get("ROUGH_PURE_PYTHON", "").strip() in ("", "0")
 
 #: the projected CG's largest number of iterations
 MAX_ITER = 5000
@@ -139,6 +150,83 @@ def solve_box_free(apply_K, b, lim, q, tol, what="contact"):
         q = np.clip(q + tau * d, -lim, lim)
         G_old, free_old = G, free
     raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
+
+
+def solve_box_free_dense(K: np.ndarray, b, lim, q, tol, what="contact"):
+    """``solve_box_free`` with K a dense matrix (m, m) (float64; the rough law's compliance among a
+    contact's cells): the same projected conjugate gradient, compiled where numba is installed
+    (``COMPILED``; a small problem, so the cost of numpy's calls, not of the products, would dominate),
+    else ``solve_box_free`` with K's product. The same iterates up to round-off (the sums' order)."""
+    if not COMPILED:
+        return solve_box_free(K.__matmul__, b, lim, q, tol, what)
+    K = np.ascontiguousarray(K, dtype=float)
+    lim = np.ascontiguousarray(lim, dtype=float)
+    floor = SCALE_FLOOR * float(np.max(np.abs(K @ lim), initial=0.0))
+    out, ok = _box_free_kernel(K, np.ascontiguousarray(b, dtype=float), lim,
+                               np.ascontiguousarray(q, dtype=float), float(tol), floor, MAX_ITER)
+    if not ok:
+        raise ConvergenceError(f"the {what} solve did not converge in {MAX_ITER} iterations")
+    return out
+
+
+def _box_free_loop(K, b, lim, q0, tol, floor, max_iter):
+    """``solve_box_free``'s iteration written out cell by cell (compiled by numba as ``_box_free_kernel``):
+    returns (q, converged)."""
+    m = b.size
+    q = np.zeros(m)
+    for i in range(m):
+        if lim[i] > 0:
+            q[i] = min(max(q0[i], -lim[i]), lim[i])
+    d, r = np.zeros(m), np.zeros(m)
+    free, free_old = np.zeros(m, dtype=np.bool_), np.zeros(m, dtype=np.bool_)
+    G_old, first = 0.0, True
+    for _ in range(max_iter):
+        u = K @ q
+        rmax, umax = 0.0, 0.0
+        for i in range(m):
+            g, li, qi = u[i] + b[i], lim[i], q[i]
+            inside = li > 0
+            f = inside and (abs(qi) < li * (1 - 1e-12) or (qi >= li and g > 0) or (qi <= -li and g < 0))
+            free[i] = f
+            r[i] = g if f else 0.0
+            rmax, umax = max(rmax, abs(r[i])), max(umax, abs(u[i]))
+        if rmax <= tol * max(umax, floor, 1e-300):
+            return q, True
+        G = 0.0
+        for i in range(m):
+            G += r[i] * r[i]
+        same = not first
+        if same:
+            for i in range(m):
+                if free[i] != free_old[i]:
+                    same = False
+                    break
+        beta = G / G_old if same else 0.0
+        for i in range(m):
+            d[i] = (-r[i] + beta * d[i]) if free[i] else 0.0
+        Kd = K @ d
+        curv = 0.0
+        for i in range(m):
+            curv += d[i] * Kd[i]
+        if curv <= 0:
+            for i in range(m):
+                d[i] = -r[i]
+            Kd = K @ d
+            curv = 0.0
+            for i in range(m):
+                curv += d[i] * Kd[i]
+        rd = 0.0
+        for i in range(m):
+            rd += r[i] * d[i]
+        tau = -rd / curv
+        for i in range(m):
+            q[i] = min(max(q[i] + tau * d[i], -lim[i]), lim[i])
+        G_old, first = G, False
+        free_old[:] = free
+    return q, False
+
+
+_box_free_kernel = numba.njit(cache=True, error_model="numpy")(_box_free_loop) if numba is not None else _box_free_loop
 
 
 #: the disk solve's largest number of iterations (an accelerated projected gradient converges linearly,

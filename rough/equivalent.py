@@ -18,6 +18,8 @@ no axisymmetric body does.
 """
 from __future__ import annotations
 
+import hashlib
+
 import numpy as np
 
 from common.errors import InputError, positive
@@ -44,15 +46,33 @@ MDR_STEP_FACTOR = 10
 HALFSPACE_STEPS = 8
 
 
+#: ``flattened``'s last answers (key -> (heights, plastic area)): a rough member's models and its
+#: apparatus runs flatten the same surface once (the capped solve on the grid is the costliest step)
+_FLATTENED: dict = {}
+
+
 def flattened(profile, materials, grid: Grid, heights: HeightMap | None, hardness: float, preload: float) -> tuple:
     """The heights after a first loading to ``preload`` (N) with perfectly plastic asperities of
     ``hardness`` (Pa; ``rough.normal.normal_contact``'s capped solve): the surface lowered by each plastic
     pixel's penetration, elastic from then on (elastic shakedown), and the plastic area of that loading
-    (m^2)."""
-    plastic = normal_contact(profile, materials, positive("preload", preload), grid, heights,
-                             hardness=positive("hardness", hardness))
+    (m^2). The last few answers are kept, keyed by every input (the heights by a digest of their
+    bytes); a kept map is read-only."""
+    preload, hardness = positive("preload", preload), positive("hardness", hardness)
+    digest = None if heights is None else hashlib.blake2b(np.ascontiguousarray(heights.h).tobytes(),
+                                                          digest_size=16).hexdigest()
+    key = (repr(profile.describe()), repr(materials), grid, digest, None if heights is None else heights.pixel,
+           float(hardness), float(preload))
+    hit = _FLATTENED.get(key)
+    if hit is not None:
+        return hit
+    plastic = normal_contact(profile, materials, preload, grid, heights, hardness=hardness)
     h = np.zeros((grid.n, grid.n)) if heights is None else heights.h
-    return HeightMap(h - plastic["flattening"], grid.pixel), plastic["plastic_area"]
+    flat = h - plastic["flattening"]
+    flat.flags.writeable = False
+    if len(_FLATTENED) >= 2:
+        _FLATTENED.clear()
+    _FLATTENED[key] = out = (HeightMap(flat, grid.pixel), plastic["plastic_area"])
+    return out
 
 
 def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: HeightMap | None = None, *,
@@ -62,7 +82,8 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     fa (N, below mu F0) on ``grid``: per model ``dissipation`` (J, the last cycle's) and
     ``stiffness`` (N/m); ``equivalent`` the MDR profile's description; ``relative``: each MDR model's
     dissipation and stiffness over the rough half-space's, minus 1 (None where the rough half-space's is 0); ``curve``: the rough half-space's
-    normal force-approach samples (``d``, ``F``) the equivalent profile was built from. ``hardness``
+    normal force-approach samples (``d``, ``F``) the equivalent profile was built from; ``pressure``:
+    its pressure at F0 ((n, n), Pa; a warm start for other solves on this surface). ``hardness``
     (Pa): the asperities perfectly plastic there (``rough.normal.saturated_pressure``), flattened by a
     first loading to ``preload`` (N, at least F0; default F0): the largest normal force the surface
     has seen. Everything after is elastic on the surface that loading left (``normal_contact``'s
@@ -90,13 +111,13 @@ def mdr_against_rough(profile, materials, mu, F0, fa, grid: Grid, heights: Heigh
     u = halfspace_tangential_displacement(first.q, grid.pixel, materials)
     stick = normal["pressure"] > 0
     k_hs = Q1 / float(np.sum(u[stick] * normal["pressure"][stick]) / np.sum(normal["pressure"][stick]))
-    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights)
+    d, F = force_approach(profile, materials, F0 * CURVE_FRACTIONS, grid, heights, start=(F0, normal["pressure"]))
     eq = EquivalentProfile(d, F, materials)
     loading = Loading.of(F0, fa=fa, cycles=cycles, steps=MDR_STEP_FACTOR * steps)
     out = {"rough_halfspace": {"dissipation": hs["dissipation"], "stiffness": float(k_hs),
                                "contact_area": normal["contact_area"], "approach": normal["approach"],
                                "plastic_area": plastic_area},
-           "equivalent": eq.describe(), "curve": {"d": d.tolist(), "F": F.tolist()}}
+           "equivalent": eq.describe(), "curve": {"d": d.tolist(), "F": F.tolist()}, "pressure": normal["pressure"]}
     for name, prof in (("mdr_equivalent", eq), ("mdr_smooth", profile)):
         res = run_mdr_contact(prof, materials, mu, loading)
         out[name] = {"dissipation": res["dissipation"], "stiffness": 2.0 * materials.G_star * res["contact_radius"],

@@ -39,7 +39,7 @@ from common.errors import InputError, positive
 from mdr.law_types import StepResult
 from mdr.protocol import check_loads
 
-from .boxqp import solve_box_free
+from .boxqp import solve_box_free_dense
 from .normal import Grid, _rigid_surface, among_cells, contact_approach, dense_elastic_pressure, elastic_pressure
 from .surfaces import HeightMap
 from .tangential import TOLERANCE, cerruti_pixel_kernel
@@ -54,11 +54,12 @@ FORCE_KEY_DIGITS = 12
 
 @dataclass(frozen=True)
 class RoughState:
-    """The memory of the contact on the grid (n, n): each cell's slip ``s`` (m) and traction ``q`` (Pa,
-    along x), the relative displacement ``u`` (m) and the friction work (J); ``tracked``: the flat
-    indices of the cells whose slip the state holds (the law's dense set when it was made; a cell
-    outside it has never touched: its slip is its relative position, u minus the elastic
-    displacement there)."""
+    """The memory of the contact: ``tracked``, the flat indices (increasing) of the grid's cells whose
+    memory the state holds (the law's dense set when it was made), and on them each cell's slip ``s``
+    (m) and traction ``q`` (Pa, along x); the relative displacement ``u`` (m) and the friction work (J).
+    A cell outside ``tracked`` has never touched: its slip is its relative position, u minus the
+    elastic displacement there. (Only the few hundred cells a rough contact ever touches are held, not
+    the grid: a step copies the state.)"""
 
     s: np.ndarray
     q: np.ndarray
@@ -66,18 +67,27 @@ class RoughState:
     work: float = 0.0
     tracked: np.ndarray = None
 
+    def on_grid(self, n: int) -> tuple:
+        """(s, q) on the whole (n, n) grid, zero off the tracked cells."""
+        out = np.zeros((2, n * n))
+        out[0, self.tracked], out[1, self.tracked] = self.s, self.q
+        return out[0].reshape(n, n), out[1].reshape(n, n)
+
 
 class RoughContact:
     """The indenter ``profile`` plus ``heights`` (``rough.surfaces.HeightMap`` on ``grid``; None: the smooth
     indenter) on the half-space of ``materials`` with friction ``mu`` (module docstring); ``hardness``
-    (Pa) and ``preload`` (N): perfectly plastic asperities flattened once at ``preload``."""
+    (Pa) and ``preload`` (N): perfectly plastic asperities flattened once at ``preload``. ``start``: (F,
+    pressure (n, n)) of a contact of this surface already solved (on the flattened surface where
+    plastic), where the first normal solve starts (else on the grid from a uniform pressure)."""
 
     batch = ()
     #: Cattaneo-Mindlin's slack falls as sqrt towards a smooth stick edge (unused: no per-node slack)
     stick_onset = 0.5
 
     def __init__(self, profile, materials, mu, grid: Grid, heights: HeightMap | None = None, *,
-                 hardness: float | None = None, preload: float | None = None, tol: float = TOLERANCE):
+                 hardness: float | None = None, preload: float | None = None, tol: float = TOLERANCE,
+                 start: tuple | None = None):
         if not isinstance(grid, Grid):
             raise InputError(f"grid must be a rough.normal.Grid, got {grid!r}")
         self.profile, self.materials, self.grid = profile, materials, grid
@@ -100,6 +110,12 @@ class RoughContact:
         # often shares it)
         self._shared = SimpleNamespace(normal={}, cells=np.zeros(0, dtype=np.int64), K=np.zeros((0, 0)), slope=None)
         self.stats = {"normal_solves": 0, "grid_normal_solves": 0, "tangential_solves": 0}
+        self._start = None
+        if start is not None:
+            F0, p0 = float(positive("start force", start[0])), np.asarray(start[1], dtype=float)
+            if p0.shape != (grid.n, grid.n):
+                raise InputError(f"the start pressure must lie on the grid, ({grid.n}, {grid.n}), got {p0.shape}")
+            self._start = (F0, p0)
 
     def with_friction(self, mu) -> "RoughContact":
         """The same contact with the friction ``mu``, sharing this one's normal solves and dense compliance
@@ -131,8 +147,7 @@ class RoughContact:
         return np.zeros(0)
 
     def rest_state(self) -> RoughState:
-        n = self.grid.n
-        return RoughState(s=np.zeros((n, n)), q=np.zeros((n, n)), tracked=np.zeros(0, dtype=np.int64))
+        return RoughState(s=np.zeros(0), q=np.zeros(0), tracked=np.zeros(0, dtype=np.int64))
 
     def normal_load(self, F_N) -> dict:
         """``{"F_N": F_N}``; every force of the history solved now (once each), so the dense set holds
@@ -187,6 +202,8 @@ class RoughContact:
             start = np.zeros(self.grid.n ** 2)
             start[idx] = p * (key / near)
             start = start.reshape(self.grid.n, self.grid.n)
+        elif self._start is not None:  # the contact given, scaled
+            start = self._start[1] * (key / self._start[0])
         E_star = float(self.materials.E_star)
         P = None if start is None else dense_elastic_pressure(self.surface, key, self.grid, E_star, start,
                                                               self._cells, MAX_CELLS)
@@ -212,9 +229,6 @@ class RoughContact:
         self._shared.K = among_cells(self._kernel, cells, self.grid.n, periodic=False)
         self._shared.cells, self._shared.slope = cells, None
 
-    def _gather(self, field: np.ndarray) -> np.ndarray:
-        return field.ravel()[self._cells]
-
 
 class RoughTrial:
     """One step's normal part done (``mdr.protocol.ContactTrial``): ``force(u)`` solves the tangential
@@ -222,20 +236,24 @@ class RoughTrial:
 
     def __init__(self, law: RoughContact, state: RoughState, F_N: float, d: float, lim: np.ndarray):
         self.law, self.state, self.F_N, self.d, self.lim = law, state, F_N, d, lim
-        self.s = law._gather(state.s)
-        self.q0 = law._gather(state.q)
-        new = ~np.isin(law._cells, state.tracked)
-        if new.any() and state.tracked.size:  # cells the set gained since the state: at their relative position
-            self.s[new] = state.u - law._K[np.ix_(new, ~new)] @ self.q0[~new]
+        # the dense set now (it only grows: the state's cells are among them)
+        self.cells, self.K = law._cells, law._K
+        m = self.cells.size
+        self.s, self.q0, new = np.zeros(m), np.zeros(m), np.ones(m, dtype=bool)
+        if state.tracked.size:
+            at = np.searchsorted(self.cells, state.tracked)
+            self.s[at], self.q0[at], new[at] = state.s, state.q, False
+            if new.any():  # cells the set gained since the state: at their relative position
+                self.s[new] = state.u - self.K[np.ix_(new, ~new)] @ self.q0[~new]
         self._last = None  # (u, q, F, slope): a commit after a force at the same u reuses it
 
     def _solve(self, u: float):
         if self._last is not None and self._last[0] == u:
             return self._last
         law = self.law
-        K = law._K
+        K = self.K
         start = self.q0 if self._last is None else self._last[1]
-        q = solve_box_free(K.__matmul__, self.s - u, self.lim, start, law.tol, "rough tangential contact")
+        q = solve_box_free_dense(K, self.s - u, self.lim, start, law.tol, "rough tangential contact")
         law.stats["tangential_solves"] += 1
         F = float(q.sum()) * law.dA
         stick = (self.lim > 0) & (np.abs(q) < self.lim * (1 - 1e-9))
@@ -260,16 +278,11 @@ class RoughTrial:
         u = float(u)
         law = self.law
         _, q, F, _, stick = self._solve(u)
-        g = law._K @ q + self.s
+        g = self.K @ q + self.s
         inside = self.lim > 0
         ds = np.where(stick, 0.0, u - g)  # 0 sticking; the slip increment slipping; re-entry sticking outside
         work = float(np.sum(q * np.where(inside, ds, 0.0))) * law.dA
-        n = law.grid.n
-        s, qq = self.state.s.copy().ravel(), np.zeros(n * n)
-        s[law._cells] = self.s + ds
-        qq[law._cells] = q
-        new = RoughState(s=s.reshape(n, n), q=qq.reshape(n, n), u=u, work=self.state.work + work,
-                         tracked=law._cells)
+        new = RoughState(s=self.s + ds, q=q, u=u, work=self.state.work + work, tracked=self.cells)
         area = np.sqrt(np.count_nonzero(inside) * law.dA / np.pi)
         c = np.sqrt(np.count_nonzero(stick) * law.dA / np.pi)
         res = StepResult(Fx=np.asarray(F), FN=np.asarray(self.F_N), d=np.asarray(self.d), a=np.asarray(area),

@@ -26,6 +26,7 @@ dissipation (exact for the implicit step: the slipping traction is the one at th
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,7 +34,7 @@ import numpy as np
 from common.assumptions import check_traction
 from common.errors import InputError, nonnegative, positive
 
-from .boxqp import solve_box, solve_disk
+from .boxqp import COMPILED, numba, solve_box, solve_disk
 from .normal import Grid, PixelConvolution, among_cells
 
 #: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
@@ -77,14 +78,24 @@ def compliance(grid: Grid, materials, component: str = "xx", images: int = IMAGE
 @functools.lru_cache(maxsize=16)
 def _compliance(grid: Grid, materials, component: str, images: int) -> np.ndarray:
     """``compliance``, kept per (grid, materials, component, images): the members of an ensemble on one
-    grid share it (read-only)."""
+    grid share it (read-only). Compiled where numba is installed (``_image_sum``: the same terms in the
+    same order, the sincs of each direction tabulated once), else numpy over the grid per alias."""
     h, n = grid.pixel, grid.n
     kx = 2.0 * np.pi * np.fft.fftfreq(n, d=h)
     ky = 2.0 * np.pi * np.fft.rfftfreq(n, d=h)
-    KX0, KY0 = np.meshgrid(kx, ky, indexing="ij")
     mods = [(nu, E / (2.0 * (1.0 + nu))) for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2))]
     inv_G, nu_over_G = sum(1.0 / G for _, G in mods), sum(nu / G for nu, G in mods)
     diag = 1.0 if component != "xy" else 0.0
+    if _image_sum is not None:
+        shifts = np.arange(-images, images + 1) * (2.0 * np.pi / h)
+        KXs, KYs = kx[None, :] + shifts[:, None], ky[None, :] + shifts[:, None]
+        # numpy's sinc(x) = sin(pi x) / (pi x)
+        out = _image_sum(KXs, KYs, np.sinc(KXs * h / (2.0 * np.pi)), np.sinc(KYs * h / (2.0 * np.pi)),
+                         "xy".index(component[0]), "xy".index(component[1]), diag * inv_G, nu_over_G)
+        out[0, 0] = 0.0
+        out.flags.writeable = False
+        return out
+    KX0, KY0 = np.meshgrid(kx, ky, indexing="ij")
     out = np.zeros_like(KX0)
     shift = 2.0 * np.pi / h
     KYs = [KY0 + my * shift for my in range(-images, images + 1)]
@@ -105,17 +116,51 @@ def _compliance(grid: Grid, materials, component: str, images: int) -> np.ndarra
     return out
 
 
+def _image_sum_loop(KXs, KYs, SX, SY, ci, cj, diag_inv_G, nu_over_G):
+    """``_compliance``'s sum over the aliases written out per coefficient (compiled by numba as
+    ``_image_sum``): KXs (2m + 1, n) and KYs (2m + 1, n // 2 + 1) the aliased wavenumbers of each
+    direction, SX and SY their sincs, (ci, cj) the component's axes (0: x, 1: y); the terms summed in
+    the numpy path's order (x's aliases outer, y's inner)."""
+    nx, ny, na = KXs.shape[1], KYs.shape[1], KXs.shape[0]
+    out = np.zeros((nx, ny))
+    cx, cy = 1.0 if ci == 0 else 0.0, 1.0 if cj == 0 else 0.0
+    for a in range(na):
+        for b in range(na):
+            ky, sy = KYs[b], SY[b]
+            for i in range(nx):
+                KX, sx = KXs[a, i], SX[a, i]
+                row = out[i]
+                for j in range(ny):
+                    KY = ky[j]
+                    k2 = KX * KX + KY * KY
+                    if k2 > 0.0:
+                        k = np.sqrt(k2)
+                        ki = cx * KX + (1.0 - cx) * KY
+                        kj = cy * KX + (1.0 - cy) * KY
+                        row[j] += (diag_inv_G - nu_over_G * (ki / k) * (kj / k)) / k * (sx * sy[j])
+    return out
+
+
+_image_sum = numba.njit(cache=True)(_image_sum_loop) if numba is not None and COMPILED else None
+
+
 def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx") -> np.ndarray:
     """The tangential displacement (m) at the pixel centres offset by -(n - 1) .. n - 1 pixels from a
     pixel of side ``pixel`` carrying a uniform unit traction (Pa), both bodies, on half-spaces without
-    periodic images, for ``component`` "xx", "xy" or "yy" ((2n - 1, 2n - 1)): Cerruti's point solution
+    periodic images, for ``component`` "xx", "xy" or "yy" ((2n - 1, 2n - 1); read-only, kept per grid,
+    materials and component: a rough member's engines share it): Cerruti's point solution
     (u_i = Q_j / (2 pi G) [(1 - nu) delta_ij / r + nu x_i x_j / r^3], Johnson 1985, *Contact
     Mechanics*, Sec. 3.2) integrated over the pixel in closed form: the corners of
     x ln(y + r) + y ln(x + r) for 1 / r, of y ln(x + r) for x^2 / r^3, of x ln(y + r) for y^2 / r^3 and
     of -r for x y / r^3."""
+    _check_component(component)
+    return _cerruti_pixel_kernel(int(n), float(pixel), materials, component)
+
+
+@functools.lru_cache(maxsize=8)
+def _cerruti_pixel_kernel(n: int, pixel: float, materials, component: str) -> np.ndarray:
     from .normal import _pixel_kernel
 
-    _check_component(component)
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
     a = 0.5 * pixel
@@ -138,6 +183,7 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
     for E, nu in ((materials.E1, materials.nu1), (materials.E2, materials.nu2)):
         G = E / (2.0 * (1.0 + nu))
         K += (diag * (1.0 - nu) * inv_r + nu * second) / (2.0 * np.pi * G)
+    K.flags.writeable = False
     return K
 
 

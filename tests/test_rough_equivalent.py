@@ -13,7 +13,7 @@ from mdr.materials import Materials  # noqa: E402
 from mdr.profiles import Sphere  # noqa: E402
 from rough.equivalent import mdr_against_rough  # noqa: E402
 from rough.normal import Grid, normal_contact  # noqa: E402
-from rough.surfaces import RoughnessParams, generate  # noqa: E402
+from rough.surfaces import HeightMap, RoughnessParams, generate  # noqa: E402
 from rough.tangential import halfspace_tangential_displacement  # noqa: E402
 
 MAT = Materials()
@@ -155,6 +155,16 @@ def test_plastic_asperities_dissipate_less_and_mdr_follows_their_unloading():
     for key in ("plastic_area", "contact_area"):
         assert heavier["rough_halfspace"][key] > 1.1 * plastic["rough_halfspace"][key], key
     assert heavier["mdr_equivalent"]["contact_radius"] > plastic["mdr_equivalent"]["contact_radius"]
+    # the flattened surface is kept per input (the member's apparatus runs read it again): the same answer,
+    # and another surface or load is flattened anew
+    from rough.equivalent import _FLATTENED, flattened
+
+    _FLATTENED.clear()
+    first = flattened(Sphere(R), MAT, grid, h, HARDNESS_X5CRNI18_10, F0)
+    assert flattened(Sphere(R), MAT, grid, h, HARDNESS_X5CRNI18_10, F0) is first
+    other = flattened(Sphere(R), MAT, grid, HeightMap(1.1 * h.h, h.pixel), HARDNESS_X5CRNI18_10, F0)
+    assert other is not first and np.max(np.abs(other[0].h - first[0].h)) > 0
+    assert flattened(Sphere(R), MAT, grid, h, HARDNESS_X5CRNI18_10, 1.5 * F0)[1] > first[1]
     with pytest.raises(InputError, match="preload"):
         mdr_against_rough(Sphere(R), MAT, MU, F0, 0.5 * MU * F0, grid, h, hardness=HARDNESS_X5CRNI18_10,
                           preload=0.5 * F0)

@@ -165,3 +165,45 @@ def test_a_contact_too_large_for_the_dense_compliance_is_one_line(monkeypatch):
     with pytest.raises(InputError, match="coarser grid") as e:
         law.prepare(law.rest_state(), F_N=0.5)
     assert "\n" not in str(e.value)
+
+
+def test_the_compiled_box_solve_is_numpy_s_and_keeps_coulomb():
+    """The dense displacement-controlled box solve compiled (numba) and with numpy's products: the same
+    tractions within 1e-9 of the largest limit on a rough contact's own compliance and problem (measured
+    1e-16), and both obey Coulomb's law there (K q + s - u = 0 where |q| < mu p, a bound only where the
+    slip pushes against it)."""
+    import rough.boxqp as bq
+
+    grid, h = _rough()
+    law = RoughContact(Sphere(R), MAT, MU, grid, h)
+    tr = law.prepare(law.rest_state(), F_N=0.5)
+    b = tr.s - 60e-9
+    q_c = bq.solve_box_free_dense(tr.K, b, tr.lim, np.zeros_like(b), 1e-10)
+    q_n = bq.solve_box_free(tr.K.__matmul__, b, tr.lim, np.zeros_like(b), 1e-10)
+    assert np.max(np.abs(q_c - q_n)) <= 1e-9 * tr.lim.max()
+    for q in (q_c, q_n):
+        g = tr.K @ q + b
+        stick = np.abs(q) < tr.lim * (1 - 1e-9)
+        assert stick.any() and (~stick & (tr.lim > 0)).any()  # partial slip: both branches checked
+        assert np.max(np.abs(g[stick])) <= 1e-8 * np.max(np.abs(tr.K @ q))
+        at = ~stick & (tr.lim > 0)
+        assert np.all(np.sign(q[at]) * g[at] <= 1e-8 * np.max(np.abs(tr.K @ q)))
+
+
+def test_started_from_a_known_contact_the_law_solves_nothing_on_the_grid():
+    """Given a contact of the surface already solved (``start``), the law's first normal solve runs on
+    its cells too: no grid solve, the same pressures within 1e-8 of the peak as a law solving on the
+    grid first."""
+    grid, h = _rough()
+    cold = RoughContact(Sphere(R), MAT, MU, grid, h)
+    cold.normal_load(np.array([0.6, 0.5]))
+    P = elastic_pressure(cold.surface, 0.5, grid, MAT.E_star)
+    warm = RoughContact(Sphere(R), MAT, MU, grid, h, start=(0.5, P))
+    warm.normal_load(np.array([0.6, 0.5]))
+    assert cold.stats["grid_normal_solves"] == 1 and warm.stats["grid_normal_solves"] == 0
+    for F in (0.6, 0.5):
+        (ia, pa, da), (ib, pb, db) = cold._normal_at(F), warm._normal_at(F)
+        assert np.array_equal(ia, ib) and np.max(np.abs(pa - pb)) <= 1e-8 * pa.max()
+        assert db == pytest.approx(da, rel=1e-9)
+    with pytest.raises(InputError, match="start pressure must lie on the grid"):
+        RoughContact(Sphere(R), MAT, MU, grid, h, start=(0.5, P[:-1]))

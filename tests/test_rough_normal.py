@@ -129,7 +129,7 @@ def test_a_hardness_caps_the_pressure_and_spreads_the_contact():
     the fully plastic limit carries F on the area F / H (Tabor)."""
     a = float(HZ["a"])
     grid = Grid(16 * a, 128)
-    elastic = normal_contact(SPHERE, MAT, F, grid)
+    elastic = normal_contact(SPHERE, MAT, F, grid, solver="tamaas")
     high = normal_contact(SPHERE, MAT, F, grid, hardness=1e12)
     assert np.max(np.abs(high["pressure"] - elastic["pressure"])) < 1e-7 * elastic["p_max"]  # measured 1.4e-9
     assert high["plastic_area"] == 0.0 and high["approach"] == pytest.approx(elastic["approach"], rel=1e-7)
@@ -192,7 +192,7 @@ def test_the_warm_started_elastic_solve_is_tamaas_s_contact():
     prev = None
     for k, load in enumerate(loads):
         try:
-            ref = normal_contact(SPHERE, MAT, load, grid, h)
+            ref = normal_contact(SPHERE, MAT, load, grid, h, solver="tamaas")
         except ConvergenceError:  # tamaas's error measure undefined (a contact of one pixel): no reference
             prev = elastic_pressure(s, load, grid, MAT.E_star)
             continue
@@ -203,9 +203,19 @@ def test_the_warm_started_elastic_solve_is_tamaas_s_contact():
         prev = p
     d, kept = force_approach(SPHERE, MAT, loads, grid, h)
     assert np.array_equal(kept, loads)  # every load resolved, one pixel or more
+    # the default solver is this project's: tamaas's contact within the same bounds
+    top = normal_contact(SPHERE, MAT, loads[-1], grid, h)
+    ref = normal_contact(SPHERE, MAT, loads[-1], grid, h, solver="tamaas")
+    assert np.max(np.abs(top["pressure"] - ref["pressure"])) < 1e-8 * ref["p_max"]
+    assert top["approach"] == pytest.approx(ref["approach"], rel=1e-9)
+    # started from that contact, the curve's first loads run on its cells: the same approaches
+    d_start, kept_start = force_approach(SPHERE, MAT, loads, grid, h, start=(loads[-1], top["pressure"]))
+    assert np.array_equal(kept_start, loads) and np.allclose(d_start, d, rtol=1e-9, atol=0)
+    with pytest.raises(InputError, match="solver must be one of"):
+        normal_contact(SPHERE, MAT, F, grid, h, solver="fft")
     for x, dx in zip(kept, d):
         try:
-            assert dx == pytest.approx(normal_contact(SPHERE, MAT, x, grid, h)["approach"], rel=1e-9)
+            assert dx == pytest.approx(normal_contact(SPHERE, MAT, x, grid, h, solver="tamaas")["approach"], rel=1e-9)
         except ConvergenceError:
             pass
 

@@ -283,3 +283,21 @@ def test_the_steps_on_the_contacts_cells_are_the_grids(periodic, monkeypatch):
     (a, b) = runs
     assert a["dissipation"] == pytest.approx(b["dissipation"], rel=1e-7, abs=0)
     np.testing.assert_allclose(a["delta"], b["delta"], rtol=0, atol=1e-7 * np.ptp(b["delta"]))
+
+
+@pytest.mark.parametrize("component", ["xx", "xy", "yy"])
+def test_the_compiled_image_sum_is_numpy_s(component, monkeypatch):
+    """The periodic compliance's sum over the aliases, compiled (numba, the sincs tabulated per
+    direction) and in numpy over the grid per alias: the same coefficients within 1e-13 of the largest
+    (measured 3e-16), on an odd and an even grid."""
+    import rough.tangential as rt
+
+    if rt._image_sum is None:
+        pytest.skip("numba not installed: only the numpy path exists")
+    for n in (31, 48):
+        grid = Grid(8 * A, n)
+        a = rt._compliance.__wrapped__(grid, MAT, component, 12)
+        monkeypatch.setattr(rt, "_image_sum", None)
+        b = rt._compliance.__wrapped__(grid, MAT, component, 12)
+        monkeypatch.undo()
+        assert np.max(np.abs(a - b)) <= 1e-13 * np.max(np.abs(b))

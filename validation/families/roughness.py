@@ -125,18 +125,20 @@ def member(s: Scene, task: dict) -> dict:
            "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
            "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"]}
     if v.get("apparatus"):
-        out["apparatus"] = in_apparatus(s, v, Grid(P, n), heights, res["curve"])
+        out["apparatus"] = in_apparatus(s, v, Grid(P, n), heights, res["curve"], start=(s.F0, res["pressure"]))
     return {**out, "runtime_s": time.perf_counter() - t0}
 
 
-def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
+def in_apparatus(s: Scene, v: dict, grid, heights, curve, start=None) -> list:
     """The rough half-space driven by the apparatus (``rough.law.RoughContact`` in
     ``mdr.apparatus.run_apparatus``) at each of the paper's points whose rough contact is this indenter
     (``validation.points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
     at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough half-space's
     slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point its fields
     and each model's slip index (None where the curve ends below the point's largest force); a point
-    beyond a plastic surface's flattening load is left out (it would flatten the surface further)."""
+    beyond a plastic surface's flattening load is left out (it would flatten the surface further).
+    ``start``: (F, pressure) of a contact of this surface (the member's at F0), where its normal solves
+    start."""
     from dataclasses import asdict
 
     from mdr.apparatus import Apparatus, run_apparatus
@@ -167,7 +169,7 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve) -> list:
         try:
             if p.mu1 not in laws:  # one law per friction, all sharing the normal solves of the first
                 laws[p.mu1] = next(iter(laws.values())).with_friction(p.mu1) if laws else \
-                    RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload)
+                    RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload, start=start)
             loading = Loading.apparatus(p.F0, p.dF, 0.0, p.ua, cycles=RES["cycles"], steps=RES["steps"])
             row["rough_halfspace"] = float(run_apparatus(laws[p.mu1], Apparatus(kx=p.kx, mu2=p.mu2),
                                                          loading)["slip_index"])
