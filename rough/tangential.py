@@ -26,7 +26,6 @@ dissipation (exact for the implicit step: the slipping traction is the one at th
 from __future__ import annotations
 
 import functools
-import math
 from dataclasses import dataclass
 
 import numpy as np
