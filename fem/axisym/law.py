@@ -147,9 +147,11 @@ class FEContact:
         self.amesh = cached_mesh(params, cache_dir)
         t1 = time.perf_counter()
         self.model = build_model(self.amesh, self.materials, profile, backend=backend)
-        # mode 1 of both bodies condensed to the pairs, their flexibility Ct and the bulk probes
-        self.mode1, self.Ct, self.bulk = condensed_mode1(self.model, self.amesh, self.materials, self.bulk_probe_depth,
-                                                         backend)
+        # mode 1 of both bodies condensed to the pairs, their flexibility Ct and the bulk probes (from the
+        # disk cache beside the meshes; the bodies' factorisations, for the field output, on demand)
+        self._mode1, self._backend = None, backend
+        self.Ct, self.bulk, self._mode1_ndofs, self.condensed_cache = cached_mode1(
+            self.model, self.amesh, self.materials, self.bulk_probe_depth, backend, cache_dir)
         self.Ct_plate = self.Ct.copy()
         iface = self.model.interface
         self.k = penalty_stiffness(self.penalty, self.materials.E_star, iface)
@@ -169,9 +171,19 @@ class FEContact:
 
     # ----------------------------------------------------------------- model
     @property
+    def mode1(self) -> dict:
+        """Mode 1 of both bodies, {name: (K, basis, dofs, Condensation)} (``condensed_mode1``): built on
+        first use (the field output recovers the bodies' displacements through their factorisations);
+        the same flexibility as the cached one the law runs on, up to the solver's round-off."""
+        if self._mode1 is None:
+            self._mode1 = condensed_mode1(self.model, self.amesh, self.materials, self.bulk_probe_depth,
+                                          self._backend)[0]
+        return self._mode1
+
+    @property
     def dofs(self) -> int:
         """Total DOFs of the mode-0 and mode-1 models of both bodies."""
-        return int(self.model.dofs + sum(v[1].N for v in self.mode1.values()))
+        return int(self.model.dofs + sum(self._mode1_ndofs.values()))
 
     @property
     def n_pairs(self) -> int:
@@ -326,21 +338,54 @@ class FEContact:
             return step_history(self, self.n_pairs, u=u, F_N=F_N, d=d, Fx=Fx, state=state, record_from=record_from)
 
 
-def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
-    """Mode 1 (``fem.axisym.mode1``) of both bodies condensed to the contact pairs: the bodies'
-    {name: (K, basis, dofs, Condensation)}, the symmetric tangential flexibility Ct of the pairs
-    (indenter plus block through the interface map N) and the tangential bulk probes of
-    ``fem.bulk`` at depth ``bulk_probe_depth`` a_ref on the axis of each body."""
-    iface = model.interface
+def cached_mode1(model, amesh, materials, bulk_probe_depth, backend, cache_dir=None) -> tuple:
+    """``condensed_mode1``'s flexibility Ct and bulk probes, each body's mode-1 DOF count and what the
+    cache did (hit, miss, rebuilt, unsaved), from the disk cache beside the meshes
+    (``fem.axisym.condensed``: keyed by the mesh, the materials, the probe's depth and the solver;
+    verified on read), condensed and stored on a miss."""
+    from fem.axisym.condensed import CondensedMode1, CondensedMode1Params, cached_condensed_mode1
+    from fem.solvers import resolve_backend
+
+    L = _probe_depth(amesh, bulk_probe_depth)
     m = materials
-    bodies = model.bodies
-    # tangential bulk correction (fem.bulk): axis probes at depth L in each body
+    params = CondensedMode1Params(mesh_key=amesh.key, E1=float(m.E1), nu1=float(m.nu1), E2=float(m.E2),
+                                  nu2=float(m.nu2), probe_depth=float(L), backend=resolve_backend(backend))
+
+    def build():
+        out, rows = _condense_bodies(model, amesh, materials, L, params.backend)
+        return CondensedMode1(params=params, C={b: out[b][3].C for b in out}, rows=rows,
+                              ndofs={b: int(out[b][1].N) for b in out})
+
+    c = cached_condensed_mode1(params, build, cache_dir)
+    return _flexibility(model.interface, c.C["indenter"], c.C["block"]), \
+        bulk_probe(model.interface, materials, c.rows, L), dict(c.ndofs), c.info["cache"]
+
+
+def _probe_depth(amesh, bulk_probe_depth) -> float:
+    """The bulk probes' depth (m), ``bulk_probe_depth`` a_ref, checked: beyond the contact segment,
+    inside both bodies."""
     p = amesh.params
-    L = bulk_probe_depth * p.a_ref
     lo, hi = p.r_contact / p.a_ref, 0.8 * min(p.block_height, p.indenter_height) / p.a_ref
     if not lo < bulk_probe_depth < hi:
         raise InputError(f"bulk_probe_depth must be in ({lo:.4g}, {hi:.4g}) (probe depth / a_ref: beyond the "
                          f"contact segment, inside both bodies), got {bulk_probe_depth!r}")
+    return bulk_probe_depth * p.a_ref
+
+
+def _flexibility(iface, C_indenter, C_block) -> np.ndarray:
+    """The pairs' symmetric tangential flexibility: the indenter's plus the block's through the
+    interface map N."""
+    N = iface.N
+    Ct = C_indenter + N @ (N @ C_block).T
+    return 0.5 * (Ct + Ct.T)
+
+
+def _condense_bodies(model, amesh, materials, L, backend) -> tuple:
+    """Each body's mode 1 condensed to its contact nodes, {name: (K, basis, dofs, Condensation)}, and
+    its axis probe's row at depth L (m)."""
+    iface = model.interface
+    m = materials
+    bodies = model.bodies
     out, rows = {}, {}
     for name, E, nu, z in (("indenter", m.E1, m.nu1, L), ("block", m.E2, m.nu2, -L)):
         mesh = bodies[name].mesh
@@ -353,8 +398,15 @@ def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
                             probe_dofs=dofs[0, pnodes], backend=backend)
         rows[name] = wts @ cond.P
         out[name] = (K, basis, dofs, cond)
-    N = iface.N
-    C2 = out["block"][3].C
-    Ct = out["indenter"][3].C + N @ (N @ C2).T
-    Ct = 0.5 * (Ct + Ct.T)
-    return out, Ct, bulk_probe(iface, m, rows, L)
+    return out, rows
+
+
+def condensed_mode1(model, amesh, materials, bulk_probe_depth, backend):
+    """Mode 1 (``fem.axisym.mode1``) of both bodies condensed to the contact pairs: the bodies'
+    {name: (K, basis, dofs, Condensation)}, the symmetric tangential flexibility Ct of the pairs
+    (indenter plus block through the interface map N) and the tangential bulk probes of
+    ``fem.bulk`` at depth ``bulk_probe_depth`` a_ref on the axis of each body."""
+    L = _probe_depth(amesh, bulk_probe_depth)
+    out, rows = _condense_bodies(model, amesh, materials, L, backend)
+    return out, _flexibility(model.interface, out["indenter"][3].C, out["block"][3].C), \
+        bulk_probe(model.interface, materials, rows, L)
