@@ -442,16 +442,20 @@ def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
     if not np.any(g > 0):
         return 0.0
     yi, D, cd, dz_dv = _reduced(Dt, on_plane)
-    m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])
     c = cd[:n]
     cy = np.zeros(n)
     cy[yi] = cd[n:]
     z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
     Cvec = np.concatenate([c, cy[yi]])
-    Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, Cvec * ex)
-    dv = sla.solve(np.eye(m) - Pdz, Pdu, check_finite=False)
-    return float(A @ dv[:n])
+    # a vertex out of contact has P' = 0: its rows are the identity's with nothing on the right, its dv 0;
+    # the system is solved on the unknowns of the vertices in contact alone (the same solution, a
+    # fraction of the cost: the contact is part of the meshed interface)
+    inside = g > 0
+    kv = np.flatnonzero(np.concatenate([inside, inside[yi]]))
+    Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, Cvec * ex, rows=kv)
+    dv = sla.solve(np.eye(kv.size) - Pdz[:, kv], Pdu, check_finite=False)
+    return float(A[kv[kv < n]] @ dv[kv < n])
 
 
 def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
