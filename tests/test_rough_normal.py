@@ -236,3 +236,27 @@ def test_the_curve_on_the_contacts_cells_is_the_grids(monkeypatch):
     monkeypatch.setattr(RN, "dense_elastic_pressure", lambda *a, **k: None)
     d_grid, _ = RN.force_approach(Sphere(R), mat, loads, RN.Grid(P, n), h)
     np.testing.assert_allclose(d_dense, d_grid, rtol=1e-9, atol=0)
+
+
+@pytest.mark.parametrize("screen_max", [4000, 0])
+def test_a_contact_grown_from_a_smaller_one_is_the_grids(screen_max, monkeypatch):
+    """``dense_elastic_pressure`` started from a smaller load's contact must find the cells the larger
+    load brings into contact outside its candidates: through the single-precision screen (the cells it
+    cannot clear checked in double precision) or, beyond ``SCREEN_MAX`` of them, the grid's transforms in
+    double precision. Either way the grid's conjugate-gradient pressure within 1e-8 of the peak, the
+    contact grown by the cells found (without the check it would stay on the smaller contact's cells)."""
+    import rough.normal as RN
+    from rough.normal import _rigid_surface, dense_elastic_pressure, elastic_pressure
+
+    monkeypatch.setattr(RN, "SCREEN_MAX", screen_max)
+    a = HZ["a"]
+    grid = Grid(16 * a, 128)
+    h = generate(RoughnessParams(rms=1e-6, hurst=0.8, lambda_short=4 * grid.pixel, lambda_long=0.25 * grid.period,
+                                 size=grid.period, n=grid.n, seed=3))
+    s = _rigid_surface(SPHERE, grid, h)
+    small = elastic_pressure(s, 0.2 * F, grid, MAT.E_star)
+    ref = elastic_pressure(s, F, grid, MAT.E_star)
+    assert np.count_nonzero(ref > 0) > np.count_nonzero(small > 0)
+    dense = dense_elastic_pressure(s, F, grid, MAT.E_star, small * 5.0)
+    assert dense is not None and np.max(np.abs(dense - ref)) <= 1e-8 * ref.max()
+    assert np.array_equal(dense > 0, ref > 0)
