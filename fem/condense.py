@@ -21,10 +21,11 @@ class Condensation:
     Attributes: ``C`` (m, m) flexibility (m/N), ``P`` (k, m) probe rows,
     ``factor`` (the sparse factorisation of K_ff, kept for field recovery),
     ``backend`` name. ``displacement(f_interface)`` returns the full DOF vector
-    for forces on the interface DOFs.
+    for forces on the interface DOFs. ``flexibility=False``: the factorisation alone
+    (``C`` and ``P`` None), for field recovery where the flexibility is known already.
     """
 
-    def __init__(self, K, fixed_dofs, interface_dofs, probe_dofs=(), backend=None):
+    def __init__(self, K, fixed_dofs, interface_dofs, probe_dofs=(), backend=None, flexibility: bool = True):
         n = K.shape[0]
         self.n = n
         fixed = np.zeros(n, dtype=bool)
@@ -40,12 +41,15 @@ class Condensation:
         ploc = loc[self.probe_dofs]
         Kff = K[self.free][:, self.free].tocsc()
         m = self.interface_dofs.size
-        rhs = np.zeros((self.free.size, m))
-        rhs[self._iloc, np.arange(m)] = 1.0
         with blas_threads(1):  # SuperLU's triangular solves fight numpy's BLAS pool otherwise
             self.factor = factorize(Kff, backend)
+            self.backend = self.factor.backend
+            if not flexibility:
+                self.C = self.P = None
+                return
+            rhs = np.zeros((self.free.size, m))
+            rhs[self._iloc, np.arange(m)] = 1.0
             X = self.factor.solve(rhs)
-        self.backend = self.factor.backend
         C = X[self._iloc]
         self.C = 0.5 * (C + C.T)
         # a fixed probe DOF reads zero

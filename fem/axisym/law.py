@@ -172,12 +172,13 @@ class FEContact:
     # ----------------------------------------------------------------- model
     @property
     def mode1(self) -> dict:
-        """Mode 1 of both bodies, {name: (K, basis, dofs, Condensation)} (``condensed_mode1``): built on
-        first use (the field output recovers the bodies' displacements through their factorisations);
-        the same flexibility as the cached one the law runs on, up to the solver's round-off."""
+        """Mode 1 of both bodies, {name: (K, basis, dofs, Condensation)}, for the field output (which
+        recovers the bodies' displacements through their factorisations): built on first use, the
+        factorisations alone (the law runs on the cached flexibility; ``condensed_mode1`` condenses)."""
         if self._mode1 is None:
-            self._mode1 = condensed_mode1(self.model, self.amesh, self.materials, self.bulk_probe_depth,
-                                          self._backend)[0]
+            L = _probe_depth(self.amesh, self.bulk_probe_depth)
+            self._mode1 = _condense_bodies(self.model, self.amesh, self.materials, L, self._backend,
+                                           flexibility=False)[0]
         return self._mode1
 
     @property
@@ -380,9 +381,9 @@ def _flexibility(iface, C_indenter, C_block) -> np.ndarray:
     return 0.5 * (Ct + Ct.T)
 
 
-def _condense_bodies(model, amesh, materials, L, backend) -> tuple:
+def _condense_bodies(model, amesh, materials, L, backend, flexibility: bool = True) -> tuple:
     """Each body's mode 1 condensed to its contact nodes, {name: (K, basis, dofs, Condensation)}, and
-    its axis probe's row at depth L (m)."""
+    its axis probe's row at depth L (m); ``flexibility=False``: the factorisations alone (no rows)."""
     iface = model.interface
     m = materials
     bodies = model.bodies
@@ -394,9 +395,10 @@ def _condense_bodies(model, amesh, materials, L, backend) -> tuple:
         fixed = fixed_dofs_mode1(mesh, basis, "top" if name == "indenter" else "bottom")
         nodes = iface.ind_nodes if name == "indenter" else iface.blk_nodes
         pnodes, wts = axis_point(mesh, z)
-        cond = Condensation(K, fixed, dofs[0, nodes],
-                            probe_dofs=dofs[0, pnodes], backend=backend)
-        rows[name] = wts @ cond.P
+        cond = Condensation(K, fixed, dofs[0, nodes], probe_dofs=dofs[0, pnodes], backend=backend,
+                            flexibility=flexibility)
+        if flexibility:
+            rows[name] = wts @ cond.P
         out[name] = (K, basis, dofs, cond)
     return out, rows
 
