@@ -400,9 +400,18 @@ def _boussinesq_kernel(n: int, pixel: float, E_star: float) -> np.ndarray:
     """The half-space's normal displacement (m) at the pixel centres offset by -(n - 1) .. n - 1 pixels
     under a unit pressure (Pa) on one pixel, without periodic images ((2n - 1, 2n - 1), read-only; kept
     per grid: ``contact_approach`` gathers its contacts' matrices from it)."""
+    out = inverse_r_kernel(n, pixel) / (np.pi * E_star)
+    out.flags.writeable = False
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def inverse_r_kernel(n: int, pixel: float) -> np.ndarray:
+    """int of 1 / r over a pixel of side ``pixel`` at the offsets -(n - 1) .. n - 1 pixels
+    ((2n - 1, 2n - 1), read-only; kept per grid: Boussinesq's and Cerruti's pixel kernels share it)."""
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
-    out = _pixel_kernel(X, Y, pixel) / (np.pi * E_star)
+    out = _pixel_kernel(X, Y, pixel)
     out.flags.writeable = False
     return out
 

@@ -158,7 +158,7 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
 
 @functools.lru_cache(maxsize=8)
 def _cerruti_pixel_kernel(n: int, pixel: float, materials, component: str) -> np.ndarray:
-    from .normal import _pixel_kernel
+    from .normal import inverse_r_kernel
 
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")
@@ -173,9 +173,9 @@ def _cerruti_pixel_kernel(n: int, pixel: float, materials, component: str) -> np
             return np.nan_to_num(v * np.log(u + r))
 
     if component == "xx":
-        inv_r, second, diag = _pixel_kernel(X, Y, pixel), corners(log_term), 1.0
+        inv_r, second, diag = inverse_r_kernel(n, pixel), corners(log_term), 1.0
     elif component == "yy":
-        inv_r, second, diag = _pixel_kernel(X, Y, pixel), corners(lambda x, y: log_term(y, x)), 1.0
+        inv_r, second, diag = inverse_r_kernel(n, pixel), corners(lambda x, y: log_term(y, x)), 1.0
     else:
         inv_r, second, diag = 0.0, corners(lambda x, y: -np.hypot(x, y)), 0.0
     K = np.zeros_like(X)
