@@ -73,6 +73,14 @@ def _digest(arrs: dict) -> str:
     return h.hexdigest()
 
 
+def params_key(params, fmt: int, kind: str) -> str:
+    """The cache key of an artifact of ``kind`` (hex SHA-256) from its resolved parameters (a dataclass
+    with ``as_dict``) and its format version ``fmt``: the condensed interfaces' key."""
+    blob = json.dumps({"params": params.as_dict(), "format": fmt, "kind": kind}, sort_keys=True,
+                      separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
 def write_verified(path, header: dict, arrs: dict) -> Path:
     """Write ``arrs`` and a JSON ``header`` (to which the arrays' digest is added) atomically to
     ``path`` (.npz): the one format of every cached artifact, read back by :func:`read_verified`."""

@@ -13,13 +13,11 @@ stored: the law rebuilds them on demand.
 """
 from __future__ import annotations
 
-import hashlib
-import json
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from meshes.cache import cached_artifact, read_verified, write_verified
+from meshes.cache import cached_artifact, params_key, read_verified, write_verified
 
 #: bump when the condensation or the stored format changes (part of the key)
 CONDENSED_FORMAT_VERSION = 1
@@ -60,9 +58,7 @@ class CondensedMode1:
 
 
 def condensed_key(p: CondensedMode1Params) -> str:
-    blob = json.dumps({"params": p.as_dict(), "format": CONDENSED_FORMAT_VERSION, "kind": "condensed-axisym"},
-                      sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(blob.encode()).hexdigest()
+    return params_key(p, CONDENSED_FORMAT_VERSION, "condensed-axisym")
 
 
 def _save(obj: CondensedMode1, path):

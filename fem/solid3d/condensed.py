@@ -13,14 +13,12 @@ replaced when it fails, never used (``meshes.cache.cached_artifact``, the meshes
 """
 from __future__ import annotations
 
-import hashlib
-import json
 import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from meshes.cache import cached_artifact, read_verified, write_verified
+from meshes.cache import cached_artifact, params_key, read_verified, write_verified
 
 #: bump when the condensation or the stored format changes (part of the key)
 CONDENSED_FORMAT_VERSION = 1
@@ -56,9 +54,7 @@ class CondensedBody:
 
 
 def condensed_key(p: CondensedParams) -> str:
-    blob = json.dumps({"params": p.as_dict(), "format": CONDENSED_FORMAT_VERSION, "kind": "condensed3d"},
-                      sort_keys=True, separators=(",", ":"))
-    return hashlib.sha256(blob.encode()).hexdigest()
+    return params_key(p, CONDENSED_FORMAT_VERSION, "condensed3d")
 
 
 def _save(body: CondensedBody, path):
