@@ -1,6 +1,6 @@
 """The family ``roughness``: the sphere or the truncated sphere on self-affine rough surfaces (the
 combined roughness of both bodies) through three models side by side (``rough.equivalent.mdr_against_rough``): the rough
-half-space (FFT boundary elements, tamaas, then Coulomb friction cell by cell with memory), MDR with
+half-space (FFT boundary elements, then Coulomb friction cell by cell with memory), MDR with
 the equivalent profile of each surface's own normal force-approach curve, and MDR with the smooth
 profile, the paper's model.
 
