@@ -67,12 +67,6 @@ class RoughState:
     work: float = 0.0
     tracked: np.ndarray = None
 
-    def on_grid(self, n: int) -> tuple:
-        """(s, q) on the whole (n, n) grid, zero off the tracked cells."""
-        out = np.zeros((2, n * n))
-        out[0, self.tracked], out[1, self.tracked] = self.s, self.q
-        return out[0].reshape(n, n), out[1].reshape(n, n)
-
 
 class RoughContact:
     """The indenter ``profile`` plus ``heights`` (``rough.surfaces.HeightMap`` on ``grid``; None: the smooth

@@ -244,8 +244,7 @@ def among_cells(kernel, cells, n: int, periodic: bool, at=None) -> np.ndarray:
     grid): entry (a, b) the kernel at the offset of pixel a from pixel b, ``kernel`` (n, n) of the periodic
     grid (offsets modulo n) or (2n - 1, 2n - 1) of the window (offsets -(n - 1) .. n - 1). ``at``: the
     rows' pixels instead (flat indices; the field at those pixels of sources on ``cells``)."""
-    j_cells = np.asarray(cells, dtype=np.int64)
-    i, j = np.divmod(j_cells, n)
+    i, j = np.divmod(np.asarray(cells, dtype=np.int64), n)
     ia, ja = (i, j) if at is None else np.divmod(np.asarray(at, dtype=np.int64), n)
     di, dj = ia[:, None] - i[None, :], ja[:, None] - j[None, :]
     return kernel[di % n, dj % n] if periodic else kernel[di + n - 1, dj + n - 1]
@@ -305,6 +304,7 @@ def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_
         near = np.setdiff1d(np.flatnonzero(u + (g0 - d) < SCREEN_MARGIN * scale), cand)
         if near.size > SCREEN_MAX:  # too many to check one by one: the double-precision transforms
             u = periodic_displacement(grid, E_star)(P.reshape(n, n)).ravel()
+            scale = max(float(np.ptp(u)), 1e-300)
             out = np.setdiff1d(np.flatnonzero(u + g0 - d < -ELASTIC_TOLERANCE * scale), cand)
         else:
             g = among_cells(kernel, cand, n, periodic=True, at=near) @ p + g0[near] - d
