@@ -293,7 +293,8 @@ def test_the_compiled_image_sum_is_numpy_s(component, monkeypatch):
     import rough.tangential as rt
 
     if rt._image_sum is None:
-        pytest.skip("the compiled image sum is off (numba not installed, or ROUGH_PURE_PYTHON=1): only the numpy path runs")
+        pytest.skip("the compiled image sum is off (numba not installed, or ROUGH_PURE_PYTHON=1): "
+                    "only the numpy path runs")
     for n in (31, 48):
         grid = Grid(8 * A, n)
         a = rt._compliance.__wrapped__(grid, MAT, component, 12)

@@ -334,7 +334,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the scenes on the workers of a running Dask scheduler (e.g. tcp://host:8786; "
                         "needs the dist extra; excludes --jobs)")
-    p.add_argument("--out", default="results", metavar="DIR", help="output directory, created with its parents if missing (default ./results)")
+    p.add_argument("--out", default="results", metavar="DIR",
+                   help="output directory, created with its parents if missing (default ./results)")
     p.add_argument("--json", metavar="PATH", help="also write results.json to PATH ('-' = stdout)")
     p.add_argument("--force", action="store_true",
                    help="rerun scenes and hard cases even if their stored results are current")
