@@ -279,7 +279,6 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     if use_bed:
         Wmax = app.m1 * G_ACC + loading.F_max
         bed = (bed_law_factory or _mdr_bedding)(app, Wmax, batch)
-        bed_state = bed.rest_state()
     st = law.rest_state()
     normal = law.normal_load(np.broadcast_to(FN, batch + t.shape))
     iters = 0
@@ -296,6 +295,9 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     if fast is not None:
         out, window, iters = fast
         out["ub"], out["tilt"] = out["u2"].copy(), np.zeros_like(out["u2"])
+    elif use_bed:  # the bedding stepped compiled where it is the MDR spheres of ``_mdr_bedding``, else by its step API
+        bed = _kernels.CompiledBedding(bed, batch) if (_kernels.enabled() and type(bed) is MDRContact
+                                                       and _kernels.parabolic_spheres(bed, batch)) else StepBedding(bed)
     # Newton predictor: the previous solution moved by the piezo's step over the slope of the equilibrium
     # there, exact while the laws stay on their linear pieces (the slope is >= 1: the contact takes a
     # part of the stroke; a step of the full stroke is right in gross slip only)
@@ -306,7 +308,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
             N_b = np.stack(np.broadcast_arrays(N1, N2), axis=-1)  # batch + (2,)
             if np.any(N_b <= 0):
                 raise InputError("the block lifts off a bedding sphere: tangential moment too large for the bedding geometry")
-            d_bed = bed.approach(N_b)
+            bed.normal(N_b)
         load = {key: v[..., k] for key, v in normal.items()}
         span = (np.asarray(mu) * FN[..., k] + (app.mu2 * (app.m1 * G_ACC + FN[..., k]) if use_bed else 0.0)) \
             * (cp + cx + (2.0 * ct * (h + zbar) ** 2 if tilting else 0.0)) + 1e-12
@@ -314,7 +316,6 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
         hi = np.broadcast_to(u3[k] + span, batch).astype(float)
 
         tr = law.prepare(st, **load)
-        trb = bed.prepare(bed_state, d=d_bed) if use_bed else None
 
         def fun(du):
             # -r(du) and its slope: increasing in du
@@ -331,8 +332,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
                 th = dth = 0.0
                 ub, dub = u2, du2
             if use_bed:
-                Fb2, kb2 = trb.force(np.stack([ub, ub], axis=-1))
-                Fb, kb = Fb2[..., 0] + 2.0 * Fb2[..., 1], kb2[..., 0] + 2.0 * kb2[..., 1]
+                Fb, kb = bed.force(ub)
             else:
                 Fb, kb = 0.0, 0.0
             sl = dub + zbar * dth + cp * (kF + kb * dub)
@@ -346,17 +346,12 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
         u2 = du + cx * res.Fx
         th = ct * (S1 * (u3[k] - u2) - res.Fx * h) / den if tilting else np.zeros_like(u2)
         ub = u2 - th * app.h
-        if use_bed:
-            rb, bst = trb.commit(np.stack([ub, ub], axis=-1))
-            Fbed = rb.Fx[..., 0] + 2.0 * rb.Fx[..., 1]
-        else:
-            bst, Fbed = None, np.zeros_like(u2)
+        Fbed = bed.commit(ub) if use_bed else np.zeros_like(u2)
         du_prev = du
         st = st_new
         if state_at is not None and k == int(state_at):
             out["state_at"] = st
         if use_bed:
-            bed_state = bst
             # moment about the bedding plane for the next step's sphere loads (A4):
             # sum_j F_j z_j - F_x h = zbar (F_x + F_bed) - J theta - F_x h
             M = -res.Fx * app.h + (res.Fx + Fbed) * zbar - pt["J"] * th
@@ -386,6 +381,33 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     out["dissipation"] = cyc.dissipation[..., -1]
     out["evaluations_per_step"] = iters / t.size
     return out
+
+
+class StepBedding:
+    """The bedding laws of ``run_apparatus`` (batch + (2,): the front sphere and one rear sphere; the
+    second rear sphere is the first's twin) stepped through the step API of ``mdr.protocol``
+    (``approach``, ``prepare``, the trial's ``force`` and ``commit``): any bedding law. The state is held
+    here, updated by ``commit``; ``mdr.kernels.CompiledBedding`` is the same for the MDR spheres of
+    ``_mdr_bedding``, compiled."""
+
+    def __init__(self, law):
+        self.law = law
+        self.state = law.rest_state()
+        self.trial = None
+
+    def normal(self, N_b):
+        """The normal update at the sphere loads ``N_b`` (batch + (2,), > 0)."""
+        self.trial = self.law.prepare(self.state, d=self.law.approach(N_b))
+
+    def force(self, ub):
+        """(F_bed, dF_bed/du_b) of the prepared step at the bedding-plane displacement ``ub`` (batch)."""
+        F, k = self.trial.force(np.stack([ub, ub], axis=-1))
+        return F[..., 0] + 2.0 * F[..., 1], k[..., 0] + 2.0 * k[..., 1]
+
+    def commit(self, ub):
+        """Commit the prepared step at ``ub``: the bedding's tangential force F_bed (batch)."""
+        res, self.state = self.trial.commit(np.stack([ub, ub], axis=-1))
+        return res.Fx[..., 0] + 2.0 * res.Fx[..., 1]
 
 
 def _mdr_bedding(app: Apparatus, Wmax, batch=()):

@@ -13,6 +13,8 @@ whole history and for every scene of a batch (scene by scene):
 - ``apparatus_loop``: the step loop of ``mdr.apparatus.run_apparatus`` with the MDR
   law and its MDR bedding spheres (one front, two equal rear ones) (Hertz approach, sphere normal phase and the
   moment coupling of the bedding loads in the loop), the same Newton iteration per step.
+- ``CompiledBedding``: those bedding spheres alone, stepped compiled within the step loop of
+  ``run_apparatus`` around any other contact law (the FE models, the rough half-space).
 
 What stays in numpy, vectorised over all steps: the contact radius of each step and
 the integral of g over its one partly covered cell (``normal_inputs``; any profile),
@@ -38,13 +40,14 @@ import os
 import numpy as np
 
 from common.errors import ConvergenceError, InputError
-from .kernels_loops import run_apparatus_loop, run_law
+from .kernels_loops import bedding_commit, bedding_force, bedding_normal, run_apparatus_loop, run_law
 from .kernels_step import BEYOND_FRICTION, BEYOND_GRID, LIFT_OFF, NO_CONVERGENCE, OK, full_cells, numba
 from .profiles import TruncatedSphere
 from .solve import MAX_ITER
 from .stick import AT_LIMIT
 
-__all__ = ["BEYOND_FRICTION", "BEYOND_GRID", "ENABLED", "LIFT_OFF", "NO_CONVERGENCE", "OK", "apparatus_loop",
+__all__ = ["BEYOND_FRICTION", "BEYOND_GRID", "CompiledBedding", "ENABLED", "LIFT_OFF", "NO_CONVERGENCE", "OK",
+           "apparatus_loop", "parabolic_spheres",
            "enabled", "full_cells", "law_history", "normal_inputs", "run_apparatus_loop",
            "run_law"]
 
@@ -145,11 +148,62 @@ def _raise_force_control(law, target, FN, bad, status, info):
                                f"{float(np.max(info[sel, 2])):.3e})")
 
 
-def _plain_sphere_bedding(law, bed, batch):
-    """True if the bedding law is an MDR law of parabolic spheres (b = 0), shape batch + (2,)."""
+def parabolic_spheres(bed, batch) -> bool:
+    """True if the bedding law's profile is the parabolic sphere (b = 0) and its batch is batch + (2,)
+    (the front sphere and one rear sphere of each scene): the bedding the compiled code steps."""
     prof = getattr(bed, "profile", None)
-    return (type(bed) is type(law) and isinstance(prof, TruncatedSphere) and not prof.exact
-            and not np.any(np.asarray(prof.b) > 0) and tuple(bed.batch) == tuple(batch) + (2,))
+    return (isinstance(prof, TruncatedSphere) and not prof.exact and not np.any(np.asarray(prof.b) > 0)
+            and tuple(getattr(bed, "batch", ())) == tuple(batch) + (2,))
+
+
+def _plain_sphere_bedding(law, bed, batch):
+    """True if the bedding law is an MDR law (the law's type) of parabolic spheres (``parabolic_spheres``)."""
+    return type(bed) is type(law) and parabolic_spheres(bed, batch)
+
+
+class CompiledBedding:
+    """The MDR bedding of ``mdr.apparatus`` (an ``MDRContact`` of parabolic spheres, batch + (2,): the
+    front sphere and one rear sphere; the second rear sphere is the first's twin) stepped by the
+    compiled ``bedding_normal``/``bedding_force``/``bedding_commit``, for the step loop of
+    ``run_apparatus`` around a contact law that has no compiled loop (the FE models, the rough
+    half-space). The interface of ``mdr.apparatus.StepBedding``, which steps any bedding law through
+    the step API: the same arithmetic as that API and as the bedding of ``run_apparatus_loop`` (sums
+    in another order: a round-off; tests/test_mdr_kernels.py). The state is held here, updated by
+    ``commit``. Assumes ``parabolic_spheres(bed, batch)`` and a law of the ``MDRContact`` step API."""
+
+    def __init__(self, bed, batch):
+        self.batch = tuple(batch)
+        S = int(np.prod(self.batch, dtype=int))
+        nb = bed.grid.n
+        cells = lambda x: _flat(x, self.batch, (2, nb))  # noqa: E731
+        sph = lambda x: _flat(x, self.batch, (2,))  # noqa: E731
+        self.cells = (sph(bed.profile.R), float(bed.E_star), float(bed.G_star), sph(bed.mu), sph(bed.grid.x_max),
+                      cells(bed.grid.lo), cells(bed.grid.width), cells(bed.grid.int_g))
+        self.Gb2 = 2.0 * float(bed.G_star)
+        self.ell, self.v, self.ub = np.zeros((S, 2, nb)), np.zeros((S, 2, nb)), np.zeros((S, 2))
+        self.step = tuple(np.empty((S, 2, nb)) for _ in range(5))  # ellN, N, vmax, carried, v1
+        self.F, self.k, self.tmp = np.empty(S), np.empty(S), np.empty(nb)
+
+    def _x(self, ub):
+        return _flat(ub, self.batch)
+
+    def normal(self, N_b):
+        """The normal update at the sphere loads ``N_b`` (batch + (2,), > 0: the caller checks lift-off)."""
+        N_b = np.asarray(N_b, dtype=float)
+        if not bedding_normal(self._x(N_b[..., 0]), self._x(N_b[..., 1]), *self.cells, self.ell, self.v, *self.step):
+            raise InputError("the contact radius exceeds the spring grid: build the law with a larger F_max (or a_max)")
+
+    def force(self, ub):
+        """(F_bed, dF_bed/du_b) of the prepared step at the bedding-plane displacement ``ub`` (batch)."""
+        ellN, _, vmax, _, v1 = self.step
+        bedding_force(v1, vmax, ellN, self.Gb2, self._x(ub), self.ub, self.F, self.k)
+        return self.F.reshape(self.batch).copy(), self.k.reshape(self.batch).copy()
+
+    def commit(self, ub):
+        """Commit the prepared step at ``ub``: the bedding's tangential force F_bed (batch)."""
+        ellN, _, vmax, _, v1 = self.step
+        bedding_commit(v1, vmax, ellN, self.Gb2, self._x(ub), self.ub, self.ell, self.v, self.F, self.tmp)
+        return self.F.reshape(self.batch).copy()
 
 
 def apparatus_loop(law, bed, app, mu, FN, d, u3, cx, cp, first, state_at, g_acc, xtol):

@@ -7,6 +7,9 @@ by scene and step by step.
 - ``run_apparatus_loop``: the step loop of ``mdr.apparatus.run_apparatus`` with the MDR law and
   its MDR bedding spheres (one front, two equal rear ones); ``_sphere_phase`` is the normal
   update of a parabolic bedding sphere.
+- ``bedding_normal``, ``bedding_force``, ``bedding_commit``: one step of those bedding spheres
+  alone, for the step loop of ``run_apparatus`` around any other contact law (``mdr.kernels.
+  CompiledBedding``): the same arithmetic as the bedding of ``run_apparatus_loop``.
 
 Built from the one-step functions of ``mdr.kernels_step`` and called through ``mdr.kernels``,
 which prepares the inputs with numpy (contact radii, partly covered cells) and turns the status
@@ -285,3 +288,54 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                     sa_v[s, j] = v[j]
                     sa_ell[s, j] = ell[j]
                 sa_u[s] = u_old
+
+
+# ------------------------------------------------------------------ the bedding alone, step by step
+@_jit
+def bedding_normal(N1, N2, R, Eb, Gb, mu, xmax, lo, width, int_g, ell, v, ellN, N, vmax, carried, v1):
+    """Normal update of the bedding spheres of S scenes (sphere 0 the front one at N1 (S,), sphere 1
+    a rear one at N2 (S,)): per-sphere inputs (S, 2), cells (S, 2, nb); the state (ell, v) is read,
+    the step's (ellN, N, vmax, carried, v1) written. Returns False where a contact radius exceeds
+    its spring grid (the step is then not usable)."""
+    ok = True
+    for s in range(N1.shape[0]):
+        for i in range(2):
+            _, ok_i = _sphere_phase(N1[s] if i == 0 else N2[s], R[s, i], Eb, Gb, mu[s, i], xmax[s, i], lo[s, i],
+                                    width[s, i], int_g[s, i], ell[s, i], v[s, i], ellN[s, i], N[s, i], vmax[s, i],
+                                    carried[s, i], v1[s, i])
+            ok = ok and ok_i
+    return ok
+
+
+@_jit
+def bedding_force(v1, vmax, ellN, Gb2, x, ub, F, k):
+    """Tangential force of the bedding (the front sphere and twice a rear one) and its slope at the
+    bedding-plane displacement x (S,) of a prepared step (``bedding_normal``), from the state's
+    displacements ub (S, 2): written to F, k (S,)."""
+    for s in range(x.shape[0]):
+        Fb0, kb0 = _force(v1[s, 0], vmax[s, 0], ellN[s, 0], Gb2, x[s] - ub[s, 0])
+        Fb1, kb1 = _force(v1[s, 1], vmax[s, 1], ellN[s, 1], Gb2, x[s] - ub[s, 1])
+        F[s] = Fb0 + 2.0 * Fb1
+        k[s] = kb0 + 2.0 * kb1
+
+
+@_jit
+def bedding_commit(v1, vmax, ellN, Gb2, x, ub, ell, v, F, tmp):
+    """Commit of a prepared bedding step at x (S,): the new state (v, ell, ub updated in place) and
+    the bedding's tangential force written to F (S,). tmp: scratch (nb,)."""
+    nb = v1.shape[2]
+    for s in range(x.shape[0]):
+        Fb0 = 0.0
+        for i in range(2):
+            dub = x[s] - ub[s, i]
+            for j in range(nb):
+                vm = vmax[s, i, j]
+                v2 = min(max(v1[s, i, j] + dub, -vm), vm)
+                v[s, i, j] = v2
+                ell[s, i, j] = ellN[s, i, j]
+                tmp[j] = ellN[s, i, j] * v2
+            ub[s, i] = ub[s, i] + dub
+            if i == 0:
+                Fb0 = Gb2 * _sum(tmp)
+            else:
+                F[s] = Fb0 + 2.0 * (Gb2 * _sum(tmp))

@@ -147,7 +147,8 @@ def same_apparatus(fast, slow):
     (FlatPunch(50e-6), Apparatus(kx=2e6, plate_model="bending")),
     (TruncatedSphere(R, 20e-6), Apparatus(kx=np.inf, plate_model="rigid", bedding=False)),
     (TruncatedSphere(R, 20e-6), Apparatus(kx=2e6, plate_model="inplane")),
-    (TruncatedSphere(R, 20e-6), Apparatus(kx=2e6, plate_model="tilt")),  # not compiled: the step loop both times
+    # the tilting readings run the step loop both times, with the compiled bedding against the step API's
+    (TruncatedSphere(R, 20e-6), Apparatus(kx=2e6, plate_model="tilt")),
     (TruncatedSphere(R, 20e-6), Apparatus(kx=2e6, plate_model="parallel")),  # idem (plate force not at h2)
 ], ids=["truncated", "sphere", "flat-bending", "rigid-no-bedding", "inplane", "tilt", "parallel"])
 def test_apparatus_equals_the_python_step_loop(prof, app, monkeypatch):
@@ -177,6 +178,51 @@ def test_apparatus_batch_with_per_scene_fields_equals_the_python_step_loop(monke
     kw = dict(dF=dF, alpha=np.array([0.0, 1.0, 3.0]) * np.ones(shape), ua=150e-9, cycles=3, steps=80)
     fast, slow = both(lambda: run_apparatus(law, app, Loading.apparatus(F0, **kw)), monkeypatch)
     same_apparatus(fast, slow)
+
+
+class OtherLaw(MDRContact):
+    """The MDR law as a law without a compiled loop (``run_apparatus`` compiles ``MDRContact`` itself only):
+    its steps run through the step loop, as an FE or rough law's do, with the bedding compiled or not."""
+
+
+def test_the_compiled_bedding_equals_the_step_api_around_a_law_without_a_compiled_loop(monkeypatch):
+    """``mdr.kernels.CompiledBedding`` (the step loop around any law) against ``mdr.apparatus.StepBedding``
+    (the bedding's step API): a batch of two faces under per-scene k_x, mu2 and R_bed, untilted and
+    tilting, within round-off; and the bedding carries force (with mu2 = 0 the slip index moves)."""
+    import mdr.apparatus as ap
+
+    used, real = [], kernels.CompiledBedding
+    monkeypatch.setattr(kernels, "CompiledBedding", type("Spy", (real,), {
+        "__init__": lambda self, *a: (used.append(1), real.__init__(self, *a))[1]}))
+    b = np.array([20e-6, 200e-6])
+    law = OtherLaw(TruncatedSphere(np.full(2, R), b), STEEL, MU, F_max=0.7, F_min=0.3, n=100)
+    kw = dict(dF=0.1, alpha=0.3, ua=150e-9, cycles=3, steps=80)
+    for plates in ("axial", "tilt"):
+        app = Apparatus(kx=np.array([2e6, 20e6]), mu2=np.array([0.1, 0.2]), R_bed=np.array([2.5e-3, 5e-3]),
+                        plate_model=plates)
+        used.clear()
+        fast, slow = both(lambda: run_apparatus(law, app, Loading.apparatus(F0, **kw)), monkeypatch)
+        assert used == [1]  # compiled the first time, the step API the second
+        same_apparatus(fast, slow)
+        close(fast["Fbed"], slow["Fbed"], what="Fbed")
+        assert np.all(np.max(np.abs(slow["Fbed"]), axis=-1) > 0.01 * MU * F0)
+        free = run_apparatus(law, ap.Apparatus(kx=app.kx, mu2=0.0, plate_model=plates), Loading.apparatus(F0, **kw))
+        assert np.all(np.abs(free["slip_index"] - fast["slip_index"]) > 1e3 * RTOL)
+
+
+def test_the_compiled_bedding_beyond_its_grid_raises_as_the_step_api(monkeypatch):
+    import mdr.apparatus as ap
+
+    small = lambda app, Wmax, batch: ap._mdr_bedding(app, 0.5 * Wmax, batch)  # noqa: E731  (a grid too short)
+    law = OtherLaw(Sphere(R), STEEL, MU, F_max=0.6, n=100)
+    msgs = []
+    for enabled in (True, False):
+        monkeypatch.setattr(kernels, "ENABLED", enabled)
+        with pytest.raises(InputError, match="exceeds the spring grid") as err:
+            run_apparatus(law, Apparatus(kx=2e6), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=2, steps=20),
+                          bed_law_factory=small)
+        msgs.append(str(err.value))
+    assert msgs[0] == msgs[1]
 
 
 def test_apparatus_lift_off_error_is_the_same(monkeypatch):

@@ -696,7 +696,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
             if fresh:  # the Jacobian at x, factorised (kept while the steps contract)
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
                 blocks = _last_blocks(rf.K, (plane, key, fn),
-                                      lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn))
+                                      lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi))
                 J = _coupled_jacobian(blocks, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
                 try:
                     fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok, blocks["lu_n"]), key
@@ -774,7 +774,7 @@ def _last_blocks(K, key, build) -> dict:
     return blocks
 
 
-def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn) -> dict:
+def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
     """The parts of ``_coupled_newton``'s Jacobian that depend only on the kept unknowns (the active
     pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns, dz/d(p, v)
     restricted to the kept columns, and the normal block [p, d] factorised (``_CoupledFactor``'s split
@@ -793,7 +793,18 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn) -> dict:
         Jnn[:ia.size, -1] = normal[:, -1]
         Jnn[-1, :ia.size] = A[ia] / sA
     lu_n = sla.lu_factor(Jnn, check_finite=False) if Jnn.size else None
-    return {"normal": normal, "dz": dz_dpv[:, cols], "where": where, "lu_n": lu_n}
+    # the rows of dz/d(p, v) on the kept columns that P' dz/d(p, v) reads for the kept tractions kv: each
+    # one's own row and its partner's (the other component of its vertex; ``_ContactBlock``), in kv's order
+    yi_of = np.full(n, -1)
+    yi_of[yi] = np.arange(yi.size)
+    is_x = kv < n
+    vertex = kv.copy()
+    vertex[~is_x] = yi[kv[~is_x] - n]
+    partner_row = np.where(is_x, np.where(yi_of[vertex] >= 0, n + yi_of[vertex], -1), vertex)
+    has = partner_row >= 0
+    return {"normal": normal, "rows": dz_dpv[np.ix_(kv, cols)], "partner": dz_dpv[np.ix_(partner_row[has], cols)],
+            "has_partner": has, "is_x": is_x,
+            "vertex": vertex, "where": where, "lu_n": lu_n}
 
 
 def _coupled_jacobian(b, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft):
@@ -806,7 +817,16 @@ def _coupled_jacobian(b, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft):
     J[:r0, :r0 + t] = b["normal"][:, :r0 + t]
     if fn:
         J[:r0, r0 + t] = b["normal"][:, -1]
-    P, Pu = _projection_jacobian(z, g, yi, b["dz"], dz_du, rows=kv)
+    # P' dz/d(p, v) on the kept rows and columns, as ``_projection_jacobian`` forms it (a row: s1 times its
+    # own, plus s2 times its partner's), from the rows gathered once per set (``_coupled_blocks``)
+    Pxx, Pyy, Pxy = _projection_derivative(z, g)
+    vx = b["vertex"]
+    s1 = np.where(b["is_x"], Pxx[vx], Pyy[vx])
+    s2 = Pxy[vx]
+    P = s1[:, None] * b["rows"]
+    hp = b["has_partner"]
+    P[hp] += s2[hp, None] * b["partner"]
+    Pu = np.where(b["is_x"], s1, s2) * dz_du[vx]
     np.negative(P, out=J[r0:r0 + t, :r0 + t])
     J[r0 + np.arange(t), r0 + np.arange(t)] += 1.0
     nz = np.hypot(z[:, 0], z[:, 1])
