@@ -185,7 +185,9 @@ class CompiledBedding:
         self.F, self.k, self.tmp = np.empty(S), np.empty(S), np.empty(nb)
 
     def _x(self, ub):
-        return _flat(ub, self.batch)
+        """A per-scene value (batch) as the compiled code's (S,) array."""
+        x = np.asarray(ub, dtype=float)
+        return x.reshape(-1) if x.shape == self.batch and x.flags.c_contiguous else _flat(x, self.batch)
 
     def normal(self, N_b):
         """The normal update at the sphere loads ``N_b`` (batch + (2,), > 0: the caller checks lift-off)."""

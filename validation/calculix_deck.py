@@ -19,7 +19,11 @@ Facts about CalculiX 2.20 the deck relies on (checked by ``tests/test_calculix.p
   the block's first contact edge is left out of the master surface. CalculiX's surface values near
   the axis are wrong (``validation.calculix_run``) and are not used.
 - Force control needs contact at the start of the step (else the indenter is a free body): step 1
-  prescribes a plate displacement of 0.4 times the Hertz approach, step 2 replaces it by the force F.
+  prescribes a plate displacement of the Hertz approach (``PRELOAD``), step 2 replaces it by the force F
+  in one increment. The bodies are elastic and frictionless, so the answer does not depend on that path,
+  only CalculiX's contact iterations do: on the 200 a bodies at a/80 they are 27 with this start against
+  72 with a plate displacement of 0.4 times the Hertz approach and the force in two increments (12 s
+  against 27 s on two threads), the approaches and the fitted p0 and a within 1e-6 of each other.
 """
 from __future__ import annotations
 
@@ -30,6 +34,9 @@ from .calculix_mesh import _FACES, H_DEFAULT, Geometry, QuadMesh, build_quad_mes
 
 #: default penalty factor: K = PENALTY_DEFAULT * E / h
 PENALTY_DEFAULT = 100.0
+#: step 1's plate displacement as a fraction of the Hertz approach (the bodies' own compliance makes the
+#: force of that displacement below F, which step 2 then applies)
+PRELOAD = 1.0
 #: length unit of the deck (m): CalculiX rejects element Jacobians below 1e-20 in the deck's units,
 #: which the 2-degree sector of a sub-micrometre element near the axis falls below in metres
 MM = 1e-3
@@ -49,7 +56,7 @@ def _lines(values, per_line=8):
 
 
 def write_inp(path, geometry: Geometry, h: float = H_DEFAULT, *, penalty: float = PENALTY_DEFAULT,
-              mesh: QuadMesh | None = None, preload: float = 0.4) -> QuadMesh:
+              mesh: QuadMesh | None = None, preload: float = PRELOAD) -> QuadMesh:
     """Write the CalculiX deck of ``geometry`` at contact element size ``h`` * a_ref to ``path``;
     return the mesh (module docstring: model, boundary conditions, two load steps).
 
@@ -95,7 +102,7 @@ def write_inp(path, geometry: Geometry, h: float = H_DEFAULT, *, penalty: float 
     out += ["*BOUNDARY", "NAXIS, 1, 1", "NBOTTOM, 1, 2"]
     # step 1: plate displacement (contact established); step 2: the force F
     out += ["*STEP", "*STATIC", "1.0, 1.0", "*BOUNDARY", f"NLOAD, 2, 2, {_num(-preload * d_h / MM)}", "*END STEP",
-            "*STEP", "*STATIC", "0.5, 1.0, 1e-3, 1.0", "*BOUNDARY, OP=NEW", "NAXIS, 1, 1", "NBOTTOM, 1, 2",
+            "*STEP", "*STATIC", "1.0, 1.0, 1e-3, 1.0", "*BOUNDARY, OP=NEW", "NAXIS, 1, 1", "NBOTTOM, 1, 2",
             "*CLOAD", f"NLOAD, 2, {_num(-geometry.F)}",
             "*NODE PRINT, NSET=NPROBE", "U", "*NODE PRINT, NSET=NLOAD", "U",
             "*NODE PRINT, NSET=NBOTTOM, TOTALS=ONLY", "RF",
