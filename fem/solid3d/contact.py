@@ -651,10 +651,18 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
         uu = x[N - 1] * st if ft else u
         return x[:n], x[n:n + m], dd, uu
 
+    plane = np.asarray(on_plane, dtype=bool).tobytes()
+
     def residual(x):
         p, v, dd, uu = split(x)
-        gap = gap0 - dd * A + Dn @ p - KpT @ v
-        s = uu * ex - D @ v + Kp @ p
+        # the products on the columns of the unknowns that are not 0 (p: the active set, v: the contact,
+        # after the first iterate), gathered once per pattern: the same sums of the same nonzero terms
+        ip, iv = np.flatnonzero(p), np.flatnonzero(v)
+        Dn_, KpT_, D_, Kp_ = _last_blocks(rf.K, (plane, ip.tobytes(), iv.tobytes()),
+                                          lambda: (Dn[:, ip], KpT[:, iv], D[:, iv], Kp[:, ip]), _COLUMNS)
+        pi, vi = p[ip], v[iv]
+        gap = gap0 - dd * A + Dn_ @ pi - KpT_ @ vi
+        s = uu * ex - D_ @ vi + Kp_ @ pi
         z = unpack(v + cd * (s - Pold))
         g = mu * np.maximum(p, 0.0)
         R = np.concatenate([p - np.maximum(0.0, p - cn * gap), v - pack(project_disk(z, g))])
@@ -674,7 +682,6 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     R, s, z, g, act = residual(x)
     scale = lambda x_: max(float(np.max(x_[:n])), 1e-300)  # noqa: E731
     wt = np.concatenate([np.ones(n), np.full(m, 1.0 / max(mu, 1e-300)), np.ones(fn + ft)])
-    plane = np.asarray(on_plane, dtype=bool).tobytes()
     fac, fac_key, split_ok = None, None, True
     for it in range(1, max_iter + 1):
         if np.max(np.abs(R) * wt) <= TOL * scale(x):
@@ -697,9 +704,9 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
                 blocks = _last_blocks(rf.K, (plane, key, fn),
                                       lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi))
-                J = _coupled_jacobian(blocks, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft)
+                tt, tn = _coupled_jacobian(blocks, z, g, dz_du, mu, ia.size, n, A, sA, st, fn, ft)
                 try:
-                    fac, fac_key = _CoupledFactor(J, ia.size, kv.size, fn, ft, split_ok, blocks["lu_n"]), key
+                    fac, fac_key = _CoupledFactor(blocks, tt, tn, ia.size, kv.size, fn, ft, split_ok), key
                 except (sla.LinAlgError, ValueError):
                     return None
             dx = np.zeros(N)
@@ -735,17 +742,15 @@ class _CoupledFactor:
     tangential one [v, u]) replace one of the whole (a quasi-Newton step that contracts at a rate of
     about beta^2; the caller falls back to the whole J where it does not halve ||R||)."""
 
-    def __init__(self, J, r0, t, fn, ft, split, lu_n):
-        K = J.shape[0]
-        self.iN = np.concatenate([np.arange(r0), [r0 + t] if fn else []]).astype(int)
-        self.iT = np.concatenate([np.arange(r0, r0 + t), [K - 1] if ft else []]).astype(int)
+    def __init__(self, b, tt, tn, r0, t, fn, ft, split):
+        self.iN, self.iT = _split_index(r0, t, fn, ft)
         self.split = bool(split and self.iN.size and self.iT.size)
         if self.split:
-            self.lu_n = lu_n  # the normal block depends on the kept unknowns alone (``_coupled_blocks``)
-            self.lu_t = sla.lu_factor(J[np.ix_(self.iT, self.iT)], check_finite=False)
-            self.Jtn = J[np.ix_(self.iT, self.iN)]
+            self.lu_n = b["lu_n"]  # the normal block depends on the kept unknowns alone (``_coupled_blocks``)
+            self.lu_t = sla.lu_factor(tt, check_finite=False)
+            self.Jtn = tn
         else:
-            self.lu = sla.lu_factor(J, check_finite=False)
+            self.lu = sla.lu_factor(_whole_jacobian(b, tt, tn, r0, t, fn, ft), check_finite=False)
 
     def solve(self, r):
         if not self.split:
@@ -758,19 +763,21 @@ class _CoupledFactor:
 
 #: the last gathered blocks of each dissimilar pair's coupling (``_last_blocks``)
 _BLOCKS: dict = {}
+#: the last gathered columns of each dissimilar pair's operators in ``_coupled_newton``'s residual
+_COLUMNS: dict = {}
 
 
-def _last_blocks(K, key, build) -> dict:
-    """``build()``, or the blocks built last for the coupling ``K`` under the same ``key`` (the same kept
+def _last_blocks(K, key, build, cache: dict = _BLOCKS):
+    """``build()``, or what it built last for the coupling ``K`` under the same ``key`` (the same kept
     unknowns: at a constant normal force the contact, and so the key, mostly stays from one increment to
-    the next). One entry per K, held weakly as ``_held_by`` holds its operators."""
-    hit = _BLOCKS.get(id(K))
+    the next). One entry per K in ``cache``, held weakly as ``_held_by`` holds its operators."""
+    hit = cache.get(id(K))
     if hit is not None and hit[0]() is K and hit[1] == key:
         return hit[2]
     blocks = build()
     if hit is None or hit[0]() is not K:
-        weakref.finalize(K, _BLOCKS.pop, id(K), None)
-    _BLOCKS[id(K)] = (weakref.ref(K), key, blocks)
+        weakref.finalize(K, cache.pop, id(K), None)
+    cache[id(K)] = (weakref.ref(K), key, blocks)
     return blocks
 
 
@@ -794,7 +801,8 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
         Jnn[-1, :ia.size] = A[ia] / sA
     lu_n = sla.lu_factor(Jnn, check_finite=False) if Jnn.size else None
     # the rows of dz/d(p, v) on the kept columns that P' dz/d(p, v) reads for the kept tractions kv: each
-    # one's own row and its partner's (the other component of its vertex; ``_ContactBlock``), in kv's order
+    # one's own row and its partner's (the other component of its vertex, ``_ContactBlock``; a row of zeros
+    # where it has none), in kv's order
     yi_of = np.full(n, -1)
     yi_of[yi] = np.arange(yi.size)
     is_x = kv < n
@@ -802,47 +810,68 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
     vertex[~is_x] = yi[kv[~is_x] - n]
     partner_row = np.where(is_x, np.where(yi_of[vertex] >= 0, n + yi_of[vertex], -1), vertex)
     has = partner_row >= 0
-    return {"normal": normal, "rows": dz_dpv[np.ix_(kv, cols)], "partner": dz_dpv[np.ix_(partner_row[has], cols)],
-            "has_partner": has, "is_x": is_x,
+    partner = np.zeros((kv.size, cols.size))
+    partner[has] = dz_dpv[np.ix_(partner_row[has], cols)]
+    return {"normal": normal, "Jnn": Jnn, "kv": kv, "rows": dz_dpv[np.ix_(kv, cols)],
+            "partner": partner, "has_partner": has, "is_x": is_x,
             "vertex": vertex, "where": where, "lu_n": lu_n}
 
 
-def _coupled_jacobian(b, z, g, yi, dz_du, mu, ia, kv, n, A, sA, st, fn, ft):
-    """``_coupled_newton``'s generalized Jacobian on the kept unknowns, ordered [p_ia, v_kv, d (fn),
-    u (ft)]: the normal rows (c_n dgap), the tangential ones (I - P' dz/d(p, v), -mu t where a vertex
-    slips, -P' dz/du), the force rows."""
-    r0, t = ia.size, kv.size
-    K = r0 + t + fn + ft
-    J = np.zeros((K, K))
-    J[:r0, :r0 + t] = b["normal"][:, :r0 + t]
-    if fn:
-        J[:r0, r0 + t] = b["normal"][:, -1]
+def _coupled_jacobian(b, z, g, dz_du, mu, r0, n, A, sA, st, fn, ft) -> tuple:
+    """``_coupled_newton``'s generalized Jacobian on the kept unknowns [p_ia, v_kv, d (fn), u (ft)]: the
+    blocks of its tangential rows (the kept tractions', then u's force row), ``(tt, tn)``: against the
+    tangential unknowns [v_kv, u] (I - P' dz/dv, -P' dz/du; the force row), and against the normal ones
+    [p_ia, d] (-P' dz/dp, -mu t where a vertex slips: d proj / d g is its slip direction; nothing in d).
+    The normal rows (c_n dgap, the force row of d) depend on the kept unknowns alone
+    (``_coupled_blocks``); ``_whole_jacobian`` joins them."""
+    t = b["vertex"].size
     # P' dz/d(p, v) on the kept rows and columns, as ``_projection_jacobian`` forms it (a row: s1 times its
     # own, plus s2 times its partner's), from the rows gathered once per set (``_coupled_blocks``)
     Pxx, Pyy, Pxy = _projection_derivative(z, g)
     vx = b["vertex"]
     s1 = np.where(b["is_x"], Pxx[vx], Pyy[vx])
     s2 = Pxy[vx]
-    P = s1[:, None] * b["rows"]
-    hp = b["has_partner"]
-    P[hp] += s2[hp, None] * b["partner"]
-    Pu = np.where(b["is_x"], s1, s2) * dz_du[vx]
-    np.negative(P, out=J[r0:r0 + t, :r0 + t])
-    J[r0 + np.arange(t), r0 + np.arange(t)] += 1.0
+    s2p = np.where(b["has_partner"], s2, 0.0)  # a row without a partner: its partner row is 0
+    tt, tn = np.empty((t + ft, t + ft)), np.empty((t + ft, r0 + fn))
+    for out, cols in ((tt[:t, :t], slice(r0, None)), (tn[:t, :r0], slice(0, r0))):
+        # -(s1 own + s2 partner), as (-s1) own - s2 partner: the same numbers (IEEE rounding is symmetric)
+        np.multiply(-s1[:, None], b["rows"][:, cols], out=out)
+        out -= s2p[:, None] * b["partner"][:, cols]
+    tt[np.arange(t), np.arange(t)] += 1.0
     nz = np.hypot(z[:, 0], z[:, 1])
-    vert = np.where(kv < n, kv, yi[np.clip(kv - n, 0, max(yi.size - 1, 0))])
-    slip = (nz[vert] > g[vert]) & (g[vert] > 0)
-    comp = np.where(kv < n, z[vert, 0], z[vert, 1])
-    col = b["where"][vert]
+    slip = (nz[vx] > g[vx]) & (g[vx] > 0)
+    comp = np.where(b["is_x"], z[vx, 0], z[vx, 1])
+    col = b["where"][vx]
     sel = slip & (col >= 0)
-    J[r0 + np.flatnonzero(sel), col[sel]] -= mu * comp[sel] / nz[vert][sel]  # d proj / d g = the slip direction
-    if ft:
-        J[r0:r0 + t, -1] = -Pu * st
+    tn[np.flatnonzero(sel), col[sel]] -= mu * comp[sel] / nz[vx][sel]  # d proj / d g = the slip direction
     if fn:
-        J[r0 + t, :r0] = A[ia] / sA
+        tn[:t, -1] = 0.0
     if ft:
-        J[-1, r0:r0 + t] = np.where(kv < n, A[np.minimum(kv, n - 1)], 0.0) / sA
+        tt[:t, -1] = -(np.where(b["is_x"], s1, s2) * dz_du[vx]) * st
+        tt[-1, :t] = np.where(b["is_x"], A[np.minimum(b["kv"], n - 1)], 0.0) / sA
+        tt[-1, -1] = 0.0
+        tn[-1] = 0.0
+    return tt, tn
+
+
+def _whole_jacobian(b, tt, tn, r0, t, fn, ft) -> np.ndarray:
+    """The whole Jacobian of ``_coupled_newton`` [p_ia, v_kv, d, u] from its normal rows (``_coupled_blocks``)
+    and its tangential ones (``_coupled_jacobian``)."""
+    K = r0 + t + fn + ft
+    iN, iT = _split_index(r0, t, fn, ft)
+    J = np.zeros((K, K))
+    J[np.ix_(iN, iN)] = b["Jnn"]
+    J[:r0, r0:r0 + t] = b["normal"][:, r0:r0 + t]
+    J[np.ix_(iT, iT)] = tt
+    J[np.ix_(iT, iN)] = tn
     return J
+
+
+def _split_index(r0, t, fn, ft) -> tuple:
+    """The positions of the normal unknowns [p_ia, d] and the tangential ones [v_kv, u] in [p_ia, v_kv, d, u]."""
+    K = r0 + t + fn + ft
+    return (np.concatenate([np.arange(r0), [r0 + t] if fn else []]).astype(int),
+            np.concatenate([np.arange(r0, r0 + t), [K - 1] if ft else []]).astype(int))
 
 
 def predict(state, A, g, u, Fx):
