@@ -186,7 +186,10 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
     unpack, pack = partial(_unpack, n=n, yi=yi), partial(_pack, yi=yi)
 
     def residual(v, dl):
-        s = dl * ex - D @ v  # weighted relative displacement
+        # the weighted relative displacement; D's product on the columns of the nonzero tractions (the
+        # contact's, once projected), gathered once per pattern: the same sums of the same nonzero terms
+        iv = np.flatnonzero(v)
+        s = dl * ex - _last_blocks(D, iv.tobytes(), lambda: D[:, iv], _COLUMNS) @ v[iv]
         r = unpack(s - Pold)  # slip increments (n, 2)
         q = unpack(v)
         z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
@@ -343,6 +346,8 @@ class _ContactBlock:
         self.has_partner = self.partner >= 0
         self.is_x = is_x
         self.du = dz_du[self.vertex]  # dz/du of the vertex's x unknown (dz_y/du = 0)
+        self.D_partner = np.zeros_like(self.D)  # each row's partner row (0 where it has none)
+        self.D_partner[self.has_partner] = self.D[self.partner[self.has_partner]]
 
     def matrix(self, z, g, fc, A, dscale):
         """The Newton matrix on the contact's unknowns at z (with ``fc`` the u column and the force row)."""
@@ -350,19 +355,20 @@ class _ContactBlock:
         j = self.vertex
         s1 = np.where(self.is_x, Pxx[j], Pyy[j])
         s2 = np.where(self.has_partner, Pxy[j], 0.0)
-        k = self.kv.size + (1 if fc else 0)
-        J = np.zeros((k, k))
-        P = s1[:, None] * self.D
-        p = self.has_partner
-        P[p] += s2[p, None] * self.D[self.partner[p]]
-        np.negative(P, out=J[:self.kv.size, :self.kv.size])
-        J[np.arange(self.kv.size), np.arange(self.kv.size)] += 1.0
+        t = self.kv.size
+        k = t + (1 if fc else 0)
+        J = np.empty((k, k))
+        # -(s1 own + s2 partner), as (-s1) own - s2 partner: the same numbers (IEEE rounding is symmetric)
+        np.multiply(-s1[:, None], self.D, out=J[:t, :t])
+        J[:t, :t] -= s2[:, None] * self.D_partner
+        J[np.arange(t), np.arange(t)] += 1.0
         if fc:
             Pu = np.where(self.is_x, s1, s2) * self.du
-            J[:self.kv.size, -1] = -Pu * dscale
-            row = np.zeros(self.kv.size)
+            J[:t, -1] = -Pu * dscale
+            row = np.zeros(t)
             row[self.is_x] = A[self.kv[self.is_x]] / (A.sum() + 1e-300)
-            J[-1, :self.kv.size] = row
+            J[-1, :t] = row
+            J[-1, -1] = 0.0
         return J
 
 
@@ -763,7 +769,7 @@ class _CoupledFactor:
 
 #: the last gathered blocks of each dissimilar pair's coupling (``_last_blocks``)
 _BLOCKS: dict = {}
-#: the last gathered columns of each dissimilar pair's operators in ``_coupled_newton``'s residual
+#: the last gathered columns of each operator in a residual (``solve_tangential3d``'s, ``_coupled_newton``'s)
 _COLUMNS: dict = {}
 
 
