@@ -245,7 +245,7 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
                 step[kept] = -sla.solve(Jkk, R[kept] - Jko @ R[out], check_finite=False)
                 lu = None
             else:
-                block = block or _ContactBlock(kept[kept < m], n, yi, dz_dv, dz_du)
+                block = block or _contact_block(kept[kept < m], n, yi, dz_dv, dz_du)
                 lu = sla.lu_factor(block.matrix(z, g, fc, A, dscale), check_finite=False)
                 step[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
         except (sla.LinAlgError, ValueError):
@@ -349,27 +349,47 @@ class _ContactBlock:
         self.D_partner = np.zeros_like(self.D)  # each row's partner row (0 where it has none)
         self.D_partner[self.has_partner] = self.D[self.partner[self.has_partner]]
 
-    def matrix(self, z, g, fc, A, dscale):
-        """The Newton matrix on the contact's unknowns at z (with ``fc`` the u column and the force row)."""
+    def _fill(self, z, g, J):
+        """Write I - P' dz/dv on the contact's unknowns at z into J[:t, :t]; return P' dz/du (t,)."""
         Pxx, Pyy, Pxy = _projection_derivative(z, g)
         j = self.vertex
         s1 = np.where(self.is_x, Pxx[j], Pyy[j])
         s2 = np.where(self.has_partner, Pxy[j], 0.0)
         t = self.kv.size
-        k = t + (1 if fc else 0)
-        J = np.empty((k, k))
         # -(s1 own + s2 partner), as (-s1) own - s2 partner: the same numbers (IEEE rounding is symmetric)
         np.multiply(-s1[:, None], self.D, out=J[:t, :t])
         J[:t, :t] -= s2[:, None] * self.D_partner
         J[np.arange(t), np.arange(t)] += 1.0
+        return np.where(self.is_x, s1, s2) * self.du
+
+    def matrix(self, z, g, fc, A, dscale):
+        """The Newton matrix on the contact's unknowns at z (with ``fc`` the u column and the force row)."""
+        t = self.kv.size
+        J = np.empty((t + (1 if fc else 0),) * 2)
+        Pu = self._fill(z, g, J)
         if fc:
-            Pu = np.where(self.is_x, s1, s2) * self.du
             J[:t, -1] = -Pu * dscale
             row = np.zeros(t)
             row[self.is_x] = A[self.kv[self.is_x]] / (A.sum() + 1e-300)
             J[-1, :t] = row
             J[-1, -1] = 0.0
         return J
+
+    def tangent(self, z, g):
+        """(I - P' dz/dv, P' dz/du) on the contact's unknowns at z: the system of d v / d u."""
+        J = np.empty((self.kv.size,) * 2)
+        return J, self._fill(z, g, J)
+
+
+#: the last contact block of each reduced flexibility (``_contact_block``)
+_CONTACT_BLOCKS: dict = {}
+
+
+def _contact_block(kv, n, yi, dz_dv, dz_du) -> "_ContactBlock":
+    """``_ContactBlock(kv, n, yi, dz_dv, dz_du)``, or the one built last for the same flexibility, contact
+    and dz/du (a Coulomb increment and its tangent, and the increments of a constant contact, share it)."""
+    return _last_blocks(dz_dv, (kv.tobytes(), dz_du.tobytes()), lambda: _ContactBlock(kv, n, yi, dz_dv, dz_du),
+                        _CONTACT_BLOCKS)
 
 
 def _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale) -> tuple:
@@ -459,8 +479,8 @@ def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
     # fraction of the cost: the contact is part of the meshed interface)
     inside = g > 0
     kv = np.flatnonzero(np.concatenate([inside, inside[yi]]))
-    Pdz, Pdu = _projection_jacobian(z, g, yi, dz_dv, Cvec * ex, rows=kv)
-    dv = sla.solve(np.eye(kv.size) - Pdz[:, kv], Pdu, check_finite=False)
+    J, Pdu = _contact_block(kv, n, yi, dz_dv, Cvec * ex).tangent(z, g)
+    dv = sla.solve(J, Pdu, check_finite=False)
     return float(A[kv[kv < n]] @ dv[kv < n])
 
 
