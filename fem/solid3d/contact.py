@@ -836,10 +836,12 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
     vertex[~is_x] = yi[kv[~is_x] - n]
     partner_row = np.where(is_x, np.where(yi_of[vertex] >= 0, n + yi_of[vertex], -1), vertex)
     has = partner_row >= 0
-    partner = np.zeros((kv.size, cols.size))
-    partner[has] = dz_dpv[np.ix_(partner_row[has], cols)]
-    return {"normal": normal, "Jnn": Jnn, "kv": kv, "rows": dz_dpv[np.ix_(kv, cols)],
-            "partner": partner, "has_partner": has, "is_x": is_x,
+    out = {}
+    for part, cc in (("p", ia), ("v", n + kv)):  # the columns of the pressures, then of the tractions
+        out["rows_" + part] = dz_dpv[np.ix_(kv, cc)]
+        out["partner_" + part] = np.zeros((kv.size, cc.size))
+        out["partner_" + part][has] = dz_dpv[np.ix_(partner_row[has], cc)]
+    return {**out, "normal": normal, "Jnn": Jnn, "kv": kv, "has_partner": has, "is_x": is_x,
             "vertex": vertex, "where": where, "lu_n": lu_n}
 
 
@@ -859,10 +861,10 @@ def _coupled_jacobian(b, z, g, dz_du, mu, r0, n, A, sA, st, fn, ft) -> tuple:
     s2 = Pxy[vx]
     s2p = np.where(b["has_partner"], s2, 0.0)  # a row without a partner: its partner row is 0
     tt, tn = np.empty((t + ft, t + ft)), np.empty((t + ft, r0 + fn))
-    for out, cols in ((tt[:t, :t], slice(r0, None)), (tn[:t, :r0], slice(0, r0))):
+    for out, part in ((tt[:t, :t], "v"), (tn[:t, :r0], "p")):
         # -(s1 own + s2 partner), as (-s1) own - s2 partner: the same numbers (IEEE rounding is symmetric)
-        np.multiply(-s1[:, None], b["rows"][:, cols], out=out)
-        out -= s2p[:, None] * b["partner"][:, cols]
+        np.multiply(-s1[:, None], b["rows_" + part], out=out)
+        out -= s2p[:, None] * b["partner_" + part]
     tt[np.arange(t), np.arange(t)] += 1.0
     nz = np.hypot(z[:, 0], z[:, 1])
     slip = (nz[vx] > g[vx]) & (g[vx] > 0)
