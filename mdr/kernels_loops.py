@@ -9,7 +9,8 @@ by scene and step by step.
   update of a parabolic bedding sphere.
 - ``bedding_normal``, ``bedding_force``, ``bedding_commit``: one step of those bedding spheres
   alone, for the step loop of ``run_apparatus`` around any other contact law (``mdr.kernels.
-  CompiledBedding``): the same arithmetic as the bedding of ``run_apparatus_loop``.
+  CompiledBedding``), from the one-scene pieces ``_bedding_phase``, ``_bedding_force`` and
+  ``_bedding_commit`` that ``run_apparatus_loop`` steps its bedding with too.
 
 Built from the one-step functions of ``mdr.kernels_step`` and called through ``mdr.kernels``,
 which prepares the inputs with numpy (contact radii, partly covered cells) and turns the status
@@ -201,13 +202,8 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                     status[s] = LIFT_OFF
                     info[s, 0] = k
                     break
-                ok = True
-                for i in range(2):
-                    _, ok_i = _sphere_phase(N1 if i == 0 else N2, bR[s, i], Eb, Gb, bmu[s, i], bxmax[s, i],
-                                            blo[s, i], bwidth[s, i], bint_g[s, i], ellb[i], vb[i], ellNb[i],
-                                            Nb[i], vmaxb[i], carriedb[i], v1b[i])
-                    ok = ok and ok_i
-                if not ok:
+                if not _bedding_phase(N1, N2, bR[s], Eb, Gb, bmu[s], bxmax[s], blo[s], bwidth[s], bint_g[s],
+                                      ellb, vb, ellNb, Nb, vmaxb, carriedb, v1b):
                     status[s] = BEYOND_GRID
                     info[s, 0] = k
                     break
@@ -228,10 +224,7 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                 Fb = 0.0
                 kb = 0.0
                 if use_bed:
-                    Fb0, kb0 = _force(v1b[0], vmaxb[0], ellNb[0], Gb2, u2 - ub[0])
-                    Fb1, kb1 = _force(v1b[1], vmaxb[1], ellNb[1], Gb2, u2 - ub[1])
-                    Fb = Fb0 + 2.0 * Fb1
-                    kb = kb0 + 2.0 * kb1
+                    Fb, kb = _bedding_force(v1b, vmaxb, ellNb, Gb2, u2, ub)
                 r = u2 + cp[s] * (F + Fb) - u3[k]
                 sl = du2 + cp[s] * (kF + kb * du2)
                 slope = sl
@@ -256,20 +249,7 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
             u2 = x + cx[s] * Fx
             Fbed = 0.0
             if use_bed:
-                Fb0 = 0.0
-                for i in range(2):
-                    dub = u2 - ub[i]
-                    for j in range(nb):
-                        vm = vmaxb[i, j]
-                        v2 = min(max(v1b[i, j] + dub, -vm), vm)
-                        vb[i, j] = v2
-                        ellb[i, j] = ellNb[i, j]
-                        tmpb[j] = ellNb[i, j] * v2
-                    ub[i] = ub[i] + dub
-                    if i == 0:
-                        Fb0 = Gb2 * _sum(tmpb)
-                    else:
-                        Fbed = Fb0 + 2.0 * (Gb2 * _sum(tmpb))
+                Fbed = _bedding_commit(v1b, vmaxb, ellNb, Gb2, u2, ub, ellb, vb, tmpb)
                 M = -Fx * h[s] + (Fx + Fbed) * h2[s]
             du_prev = x
             o_Fx[s, k] = Fx
@@ -290,52 +270,72 @@ def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, 
                 sa_u[s] = u_old
 
 
-# ------------------------------------------------------------------ the bedding alone, step by step
+# ------------------------------------------------------------------ the bedding, one step
+@_jit
+def _bedding_phase(N1, N2, R, Eb, Gb, mu, xmax, lo, width, int_g, ell, v, ellN, N, vmax, carried, v1):
+    """Normal update of one scene's bedding spheres (sphere 0 the front one at N1, sphere 1 a rear one
+    at N2; per-sphere inputs (2,), cells (2, nb)): the state (ell, v) read, the step's (ellN, N, vmax,
+    carried, v1) written. Returns False where a contact radius exceeds its spring grid."""
+    ok = True
+    for i in range(2):
+        _, ok_i = _sphere_phase(N1 if i == 0 else N2, R[i], Eb, Gb, mu[i], xmax[i], lo[i], width[i], int_g[i],
+                                ell[i], v[i], ellN[i], N[i], vmax[i], carried[i], v1[i])
+        ok = ok and ok_i
+    return ok
+
+
+@_jit
+def _bedding_force(v1, vmax, ellN, Gb2, x, ub):
+    """One scene's bedding force (the front sphere and twice a rear one) and its slope at the
+    bedding-plane displacement x of a prepared step, from the state's displacements ub (2,)."""
+    Fb0, kb0 = _force(v1[0], vmax[0], ellN[0], Gb2, x - ub[0])
+    Fb1, kb1 = _force(v1[1], vmax[1], ellN[1], Gb2, x - ub[1])
+    return Fb0 + 2.0 * Fb1, kb0 + 2.0 * kb1
+
+
+@_jit
+def _bedding_commit(v1, vmax, ellN, Gb2, x, ub, ell, v, tmp):
+    """Commit of one scene's prepared bedding step at x: the state (v, ell, ub) updated in place; returns
+    the bedding's tangential force. tmp: scratch (nb,)."""
+    Fb0 = 0.0
+    Fbed = 0.0
+    for i in range(2):
+        dub = x - ub[i]
+        for j in range(v1.shape[1]):
+            vm = vmax[i, j]
+            v2 = min(max(v1[i, j] + dub, -vm), vm)
+            v[i, j] = v2
+            ell[i, j] = ellN[i, j]
+            tmp[j] = ellN[i, j] * v2
+        ub[i] = ub[i] + dub
+        if i == 0:
+            Fb0 = Gb2 * _sum(tmp)
+        else:
+            Fbed = Fb0 + 2.0 * (Gb2 * _sum(tmp))
+    return Fbed
+
+
 @_jit
 def bedding_normal(N1, N2, R, Eb, Gb, mu, xmax, lo, width, int_g, ell, v, ellN, N, vmax, carried, v1):
-    """Normal update of the bedding spheres of S scenes (sphere 0 the front one at N1 (S,), sphere 1
-    a rear one at N2 (S,)): per-sphere inputs (S, 2), cells (S, 2, nb); the state (ell, v) is read,
-    the step's (ellN, N, vmax, carried, v1) written. Returns False where a contact radius exceeds
-    its spring grid (the step is then not usable)."""
+    """``_bedding_phase`` for S scenes (N1, N2 (S,); per-sphere inputs (S, 2), cells (S, 2, nb)). Returns
+    False where a contact radius exceeds its spring grid."""
     ok = True
     for s in range(N1.shape[0]):
-        for i in range(2):
-            _, ok_i = _sphere_phase(N1[s] if i == 0 else N2[s], R[s, i], Eb, Gb, mu[s, i], xmax[s, i], lo[s, i],
-                                    width[s, i], int_g[s, i], ell[s, i], v[s, i], ellN[s, i], N[s, i], vmax[s, i],
-                                    carried[s, i], v1[s, i])
-            ok = ok and ok_i
+        ok_s = _bedding_phase(N1[s], N2[s], R[s], Eb, Gb, mu[s], xmax[s], lo[s], width[s], int_g[s], ell[s], v[s],
+                              ellN[s], N[s], vmax[s], carried[s], v1[s])
+        ok = ok and ok_s
     return ok
 
 
 @_jit
 def bedding_force(v1, vmax, ellN, Gb2, x, ub, F, k):
-    """Tangential force of the bedding (the front sphere and twice a rear one) and its slope at the
-    bedding-plane displacement x (S,) of a prepared step (``bedding_normal``), from the state's
-    displacements ub (S, 2): written to F, k (S,)."""
+    """``_bedding_force`` for S scenes at x (S,): written to F, k (S,)."""
     for s in range(x.shape[0]):
-        Fb0, kb0 = _force(v1[s, 0], vmax[s, 0], ellN[s, 0], Gb2, x[s] - ub[s, 0])
-        Fb1, kb1 = _force(v1[s, 1], vmax[s, 1], ellN[s, 1], Gb2, x[s] - ub[s, 1])
-        F[s] = Fb0 + 2.0 * Fb1
-        k[s] = kb0 + 2.0 * kb1
+        F[s], k[s] = _bedding_force(v1[s], vmax[s], ellN[s], Gb2, x[s], ub[s])
 
 
 @_jit
 def bedding_commit(v1, vmax, ellN, Gb2, x, ub, ell, v, F, tmp):
-    """Commit of a prepared bedding step at x (S,): the new state (v, ell, ub updated in place) and
-    the bedding's tangential force written to F (S,). tmp: scratch (nb,)."""
-    nb = v1.shape[2]
+    """``_bedding_commit`` for S scenes at x (S,): the forces written to F (S,)."""
     for s in range(x.shape[0]):
-        Fb0 = 0.0
-        for i in range(2):
-            dub = x[s] - ub[s, i]
-            for j in range(nb):
-                vm = vmax[s, i, j]
-                v2 = min(max(v1[s, i, j] + dub, -vm), vm)
-                v[s, i, j] = v2
-                ell[s, i, j] = ellN[s, i, j]
-                tmp[j] = ellN[s, i, j] * v2
-            ub[s, i] = ub[s, i] + dub
-            if i == 0:
-                Fb0 = Gb2 * _sum(tmp)
-            else:
-                F[s] = Fb0 + 2.0 * (Gb2 * _sum(tmp))
+        F[s] = _bedding_commit(v1[s], vmax[s], ellN[s], Gb2, x[s], ub[s], ell[s], v[s], tmp)
