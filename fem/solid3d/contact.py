@@ -321,6 +321,32 @@ def _reduced(Dt, on_plane) -> tuple:
     return _held_by(_REDUCED, Dt, on_plane, build)
 
 
+def _partners(kv, n, yi, m) -> tuple:
+    """Of the packed unknowns ``kv`` (sorted: q_x of vertices, then q_y of vertices off the plane ``yi``; m
+    packed unknowns in all): each one's vertex, whether it is a q_x, the position in ``kv`` of its partner
+    (the other component of its vertex: a q_y's is its vertex's q_x, a q_x's its vertex's q_y where it has
+    one; -1 where that is not in ``kv``) and whether it has one there."""
+    ypos = np.full(n, -1)
+    ypos[yi] = np.arange(yi.size)
+    is_x = kv < n
+    vertex = kv.copy()
+    vertex[~is_x] = yi[kv[~is_x] - n]
+    where = np.full(m, -1)
+    where[kv] = np.arange(kv.size)
+    partner = vertex.copy()  # a q_y's partner: its vertex's q_x
+    yx = ypos[kv[is_x]]  # a q_x's partner: its vertex's q_y, where it has one
+    partner[is_x] = np.where(yx >= 0, n + yx, -1)
+    partner = np.where(partner >= 0, where[np.maximum(partner, 0)], -1)
+    return vertex, is_x, partner, partner >= 0
+
+
+def _partner_rows(rows, partner, has) -> np.ndarray:
+    """Each row's partner row among ``rows`` (``_partners``), a row of zeros where it has none."""
+    out = np.zeros_like(rows)
+    out[has] = rows[partner[has]]
+    return out
+
+
 class _ContactBlock:
     """The Newton matrix of ``_newton_blocks`` restricted to the unknowns ``kv`` of the vertices in contact
     (packed, sorted: their q_x, then their q_y off the plane), without the columns out of contact: the
@@ -332,22 +358,9 @@ class _ContactBlock:
     def __init__(self, kv, n, yi, dz_dv, dz_du):
         self.kv = kv
         self.D = dz_dv[np.ix_(kv, kv)]
-        ypos = np.full(n, -1)
-        ypos[yi] = np.arange(yi.size)
-        is_x = kv < n
-        self.vertex = kv.copy()
-        self.vertex[~is_x] = yi[kv[~is_x] - n]
-        where = np.full(dz_dv.shape[0], -1)
-        where[kv] = np.arange(kv.size)
-        partner = self.vertex.copy()  # a q_y's partner: its vertex's q_x
-        yx = ypos[kv[is_x]]  # a q_x's partner: its vertex's q_y, where it has one
-        partner[is_x] = np.where(yx >= 0, n + yx, -1)
-        self.partner = np.where(partner >= 0, where[np.maximum(partner, 0)], -1)
-        self.has_partner = self.partner >= 0
-        self.is_x = is_x
+        self.vertex, self.is_x, self.partner, self.has_partner = _partners(kv, n, yi, dz_dv.shape[0])
         self.du = dz_du[self.vertex]  # dz/du of the vertex's x unknown (dz_y/du = 0)
-        self.D_partner = np.zeros_like(self.D)  # each row's partner row (0 where it has none)
-        self.D_partner[self.has_partner] = self.D[self.partner[self.has_partner]]
+        self.D_partner = _partner_rows(self.D, self.partner, self.has_partner)
 
     def _fill(self, z, g, J):
         """Write I - P' dz/dv on the contact's unknowns at z into J[:t, :t]; return P' dz/du (t,)."""
@@ -827,20 +840,13 @@ def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
         Jnn[-1, :ia.size] = A[ia] / sA
     lu_n = sla.lu_factor(Jnn, check_finite=False) if Jnn.size else None
     # the rows of dz/d(p, v) on the kept columns that P' dz/d(p, v) reads for the kept tractions kv: each
-    # one's own row and its partner's (the other component of its vertex, ``_ContactBlock``; a row of zeros
-    # where it has none), in kv's order
-    yi_of = np.full(n, -1)
-    yi_of[yi] = np.arange(yi.size)
-    is_x = kv < n
-    vertex = kv.copy()
-    vertex[~is_x] = yi[kv[~is_x] - n]
-    partner_row = np.where(is_x, np.where(yi_of[vertex] >= 0, n + yi_of[vertex], -1), vertex)
-    has = partner_row >= 0
+    # one's own row and its partner's (``_partners``: the other component of its vertex, in contact with
+    # it; a row of zeros where it has none), in kv's order, per column block (the pressures', the tractions')
+    vertex, is_x, partner, has = _partners(kv, n, yi, dz_dpv.shape[0])
     out = {}
-    for part, cc in (("p", ia), ("v", n + kv)):  # the columns of the pressures, then of the tractions
+    for part, cc in (("p", ia), ("v", n + kv)):
         out["rows_" + part] = dz_dpv[np.ix_(kv, cc)]
-        out["partner_" + part] = np.zeros((kv.size, cc.size))
-        out["partner_" + part][has] = dz_dpv[np.ix_(partner_row[has], cc)]
+        out["partner_" + part] = _partner_rows(out["rows_" + part], partner, has)
     return {**out, "normal": normal, "Jnn": Jnn, "kv": kv, "has_partner": has, "is_x": is_x,
             "vertex": vertex, "where": where, "lu_n": lu_n}
 
