@@ -2,7 +2,7 @@
 
 Without ccx the tests that run it are skipped with the install command; the parsers, the deck and
 the missing-program message are tested everywhere. The five-geometry comparison is ``slow``
-(about a minute of CalculiX per geometry for its two mesh levels).
+(about half a minute of CalculiX per geometry for its two mesh levels).
 """
 import math
 import os
@@ -107,9 +107,9 @@ def test_deck_loads_the_full_circumference_in_mm(tmp_path):
 
 
 @needs_ccx
-@pytest.mark.slow  # 22 s of CalculiX's contact iterations (61 at a/20): with the witness's other runs
+@pytest.mark.slow  # 5 s of CalculiX (22 s with the deck's first start): with the witness's other runs
 def test_coarse_sphere_against_hertz():
-    """One coarse run (a/20, about 22 s): the half-space-comparable indentation, p0 and a of the
+    """One coarse run (a/20, about 5 s): the half-space-comparable indentation, p0 and a of the
     200 a bodies within 1 % of Hertz, and the force balance of the 2-degree sector (reaction and
     contact force x 180 = F). With the force applied per sector (F/180) this test fails: the contact
     is then 0.18 a wide and the p^2 fit finds no pressure in its window (checked by hand)."""
@@ -135,8 +135,8 @@ def test_calculix_agrees_with_fem_normal(block, cap):
     codes' error bars (change between the levels), CalculiX's penalty error and a margin (1e-4 for
     the displacements, 1e-3 for p0 and a). The project's own p0 (axis extrapolation) is within the
     bars plus 2e-3, its own edge radius within the bars plus one CalculiX node spacing."""
-    # the slow suite runs one test at a time: CalculiX on both cores (2 threads: 78 -> 59 s at a/80,
-    # the same numbers)
+    # the slow suite runs one test at a time: CalculiX on both cores (2 threads: 78 -> 59 s at a/80 with the
+    # deck's first start, the same numbers)
     res = cx.witness_levels(cx.Geometry(block, cap), threads=min(2, os.cpu_count() or 1))
     fine = res["runs"][-1]
     pen = fine["calculix"]["penalty_error"]

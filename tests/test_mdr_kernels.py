@@ -219,8 +219,8 @@ def test_the_compiled_bedding_beyond_its_grid_raises_as_the_step_api(monkeypatch
     for enabled in (True, False):
         monkeypatch.setattr(kernels, "ENABLED", enabled)
         with pytest.raises(InputError, match="exceeds the spring grid") as err:
-            run_apparatus(law, Apparatus(kx=2e6), Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=2, steps=20),
-                          bed_law_factory=small)
+            loading = Loading.apparatus(F0, dF=0.1, alpha=0.0, ua=150e-9, cycles=2, steps=20)
+            run_apparatus(law, Apparatus(kx=2e6), loading, bed_law_factory=small)
         msgs.append(str(err.value))
     assert msgs[0] == msgs[1]
 

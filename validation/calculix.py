@@ -198,7 +198,7 @@ def witness_cached(out, log=print, force: bool = False, levels=LEVELS) -> list:
         require_ccx()
         results = []
         for block, cap in GEOMETRIES:
-            log(f"  CalculiX witness: block {block:g} a, cap {cap:g} a (two mesh levels, about a minute)")
+            log(f"  CalculiX witness: block {block:g} a, cap {cap:g} a (two mesh levels, about half a minute)")
             try:
                 results.append(witness_levels(Geometry(block, cap), tuple(levels)))
             except (ConvergenceError, RuntimeError, subprocess.SubprocessError, OSError) as e:
