@@ -666,8 +666,9 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     tangential rows); returns ``solve_coupled3d``'s tuple, or None where it does not converge (the
     caller alternates then). The steps: the split Jacobian first (``_CoupledFactor``), reused while
     its steps halve ||R|| (the chord method) and refactorised at x when they do not or the kept
-    unknowns change; where a fresh split one does not halve ||R||, the whole Jacobian, backtracked
-    until ||R|| decreases. Only the iterations depend on these choices, not the solution."""
+    unknowns change; where a fresh split one does not halve ||R||, its step backtracked (up to five
+    halvings) until ||R|| decreases, and where that fails too, the whole Jacobian, backtracked the same
+    way. Only the iterations depend on these choices, not the solution."""
     n = A.size
     yi, D, cd, dz_dv = _reduced(rf.Dt, on_plane)
     m = D.shape[0]
@@ -710,6 +711,17 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
         if ft:
             R = np.append(R, (A @ v[:n] - F_t) / sA)
         return R, s, z, g, p - cn * gap > 0
+
+    def backtrack(dx, Rt_, nr0, tries):
+        """(step, residual) of the first of 1, 1/2, 1/4, ... (``tries`` of them) along dx where ||R||
+        decreases (Armijo), or None; ``Rt_`` the residual at the full step."""
+        step = 1.0
+        for _ in range(tries):
+            if np.linalg.norm(Rt_[0]) < (1 - 1e-4 * step) * nr0:
+                return step, Rt_
+            step *= 0.5
+            Rt_ = residual(x + step * dx)
+        return None
 
     v0 = np.zeros(m) if q0 is None else pack(np.asarray(q0, dtype=float))
     try:
@@ -757,18 +769,16 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
             if not fresh:  # a reused factorisation that no longer contracts: the Jacobian at x
                 fac = None
                 continue
-            if fac.split:  # the split Jacobian (weak coupling left out) does not contract here: the whole one
+            # a fresh Jacobian whose step does not halve ||R||: backtracked until ||R|| decreases; the split one
+            # a few halvings (the weak coupling left out), then the whole one; the whole one 30 halvings
+            found = backtrack(dx, Rt_, nr0, 6 if fac.split else 30)
+            if found is not None:
+                step, Rt_ = found
+                break
+            if fac.split:
                 split_ok, fac = False, None
                 continue
-            step = 1.0  # the whole Jacobian at x: backtracked until ||R|| decreases
-            for _ in range(30):
-                if np.linalg.norm(Rt_[0]) < (1 - 1e-4 * step) * nr0:
-                    break
-                step *= 0.5
-                Rt_ = residual(x + step * dx)
-            else:
-                return None
-            break
+            return None
         x = x + step * dx
         R, s, z, g, act = Rt_
     return None
