@@ -104,6 +104,27 @@ def test_field_plot_not_blank(quick_report):
     assert image_is_blank(np.full((50, 50, 3), 255, np.uint8))
 
 
+def test_figures_render_in_a_process_without_display_settings(tmp_path, shared_mesh_cache):
+    """The README: nothing needs to be set on a machine without a display. A fresh process of the README's
+    command without MPLBACKEND, VTK_DEFAULT_OPENGL_WINDOW and DISPLAY (``validation.fields`` chooses EGL,
+    matplotlib its non-interactive backend) writes the scene's field plot and loops, neither blank."""
+    import os
+    import subprocess
+    import sys
+
+    import matplotlib.image as mpimg
+
+    env = {k: v for k, v in os.environ.items() if k not in ("MPLBACKEND", "VTK_DEFAULT_OPENGL_WINDOW", "DISPLAY")}
+    env["FRETTING_MESH_CACHE"] = str(shared_mesh_cache)
+    proc = subprocess.run([sys.executable, "-m", "validation.compare", "--quick", "--scenes", "sphere-md",
+                           "--no-hard-cases", "--out", str(tmp_path)], env=env, capture_output=True, text=True,
+                          cwd=Path(__file__).resolve().parent.parent)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    for name in ("fields.png", "loops.png"):
+        img = mpimg.imread(tmp_path / "scenes" / "sphere-md" / name)
+        assert not image_is_blank((img[..., :3] * 255).astype(np.uint8)), name
+
+
 @pytest.mark.xdist_group("validation-quick-report")  # the module fixture quick_report built once, on one worker
 def test_vtu_has_fields(quick_report):
     import meshio
