@@ -832,9 +832,9 @@ def _last_blocks(K, key, build, cache: dict = _BLOCKS):
 
 def _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi) -> dict:
     """The parts of ``_coupled_newton``'s Jacobian that depend only on the kept unknowns (the active
-    pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns, dz/d(p, v)
-    restricted to the kept columns, and the normal block [p, d] factorised (``_CoupledFactor``'s split
-    step), gathered once per set."""
+    pressures ``ia``, the packed tractions in contact ``kv``): the normal rows' columns, the rows of
+    dz/d(p, v) of the kept tractions and of their partners on the kept columns (per column block), and
+    the normal block [p, d] factorised (``_CoupledFactor``'s split step), gathered once per set."""
     cols = np.concatenate([ia, n + kv])
     normal = np.zeros((ia.size, cols.size + fn))
     normal[:, :ia.size] = cn[ia, None] * Dn[np.ix_(ia, ia)]
