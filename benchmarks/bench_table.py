@@ -24,7 +24,11 @@ the ratios much less. Rows:
    condensation) and warm (both read back), the stationary dissipation against the half-space answer
    without Mindlin's assumption, 0.9957 of Mindlin-Deresiewicz (an independent boundary-element ladder,
    -0.43 +- 0.01 %; this project's half-space engine -0.42 +- 0.02 %, docs/rough.md).
-5. **A dissimilar pair**: the sphere of row 4 on an aluminium block (beta = +0.11, the coupled
+5. **The 3D sphere paired** (``--paired``, ``fem.contact_run.paired_keys``): the run of row 4 and its twin with
+   the traction along x on the same set-up, in lockstep, and MDR on the same loading (exact in the half space
+   under Mindlin's assumption): MDR's dissipation times free / twin, in which the error the two 3D runs share
+   cancels; from a cold cache of its own and warm, against the same half-space answer.
+6. **A dissimilar pair**: the sphere of row 4 on an aluminium block (beta = +0.11, the coupled
    normal-tangential increments of ``fem.solid3d.contact.solve_coupled3d``) against the identical pair on
    the same mesh, both warm: the ratio is the coupling's cost (the goal: at most 2x).
 
@@ -151,14 +155,14 @@ def stick_radius_fe_against_fft() -> list:
     return rows
 
 
-def _fem_3d(cache, *materials) -> tuple:
-    """``python -m fem contact --model 3d`` on the sphere of rows 4-5 (``materials``: its flags for
-    another pair): (wall time in s, the result's JSON)."""
+def _fem_3d(cache, *flags) -> tuple:
+    """``python -m fem contact --model 3d`` on the sphere of rows 4-6 (``flags``: more flags, another pair's
+    materials or ``--paired``): (wall time in s, the result's JSON)."""
     with tempfile.TemporaryDirectory() as tmp:
         js = Path(tmp) / "out.json"
         cmd = [sys.executable, "-m", "fem", "contact", "--model", "3d", "--profile", "sphere", "--R", str(R),
                "--mu", str(MU), "--F0", str(F), "--dF", "0", "--fa", str(0.5 * MU * F), "--cycles", "3",
-               "--steps", "100", *MESH_3D, *materials, "--cache-dir", cache, "--json", str(js)]
+               "--steps", "100", *MESH_3D, *flags, "--cache-dir", cache, "--json", str(js)]
         t0 = time.perf_counter()
         subprocess.run(cmd, check=True, cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)},
                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -166,8 +170,8 @@ def _fem_3d(cache, *materials) -> tuple:
 
 
 def sphere_3d() -> list:
-    """Rows 4-5: the 3D sphere from a cold and a warm cache (``python -m fem contact --model 3d``), and
-    the same sphere on an aluminium block (Dundurs' beta = +0.11: the coupled normal-tangential
+    """Rows 4-6: the 3D sphere from a cold and a warm cache (``python -m fem contact --model 3d``), the same
+    paired with its twin along x (cold and warm), and the same sphere on an aluminium block (Dundurs' beta = +0.11: the coupled normal-tangential
     increments) on the same mesh, warm, beside the identical pair's warm run."""
     us = ref.gross_slip_displacement(ref.hertz(F, R, MAT.E_star)["d"], MU, MAT.E_star, MAT.G_star)
     W_md = float(ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us))
@@ -178,11 +182,18 @@ def sphere_3d() -> list:
         out.append(row("3D FE, two-component traction", f"sphere at Q = mu F / 2, 3 cycles of 100 steps, {label}: "
                        "the dissipation against the half-space answer (0.9957 of Mindlin-Deresiewicz)",
                        f"a/7, ring a/14, {d['dofs']} DOFs", wall, d["dissipation"] / W_md / HALF_SPACE_TURNING - 1))
+    paired_cache = tempfile.mkdtemp(prefix="bench_table_3d_paired_")
+    for label in ("cold cache", "warm cache"):
+        wall, d = _fem_3d(paired_cache, "--paired")
+        out.append(row("3D FE, paired with its twin along x (--paired)", f"the sphere above, {label}: the run, its twin "
+                       "along x on the same set-up, MDR; MDR's dissipation x free / twin against the half-space answer",
+                       f"a/7, ring a/14, {d['dofs']} DOFs, two runs", wall,
+                       d["paired"]["dissipation"] / W_md / HALF_SPACE_TURNING - 1))
     alu = ("--E2", "70e9", "--nu2", "0.33")
     _fem_3d(cache, *alu)  # the aluminium block's condensed interface, into the cache
     wall_alu, d_alu = _fem_3d(cache, *alu)
     wall_steel, d_steel = _fem_3d(cache)
-    out.append(row("3D FE, dissimilar pair (coupled increments)", "the sphere of row 4 on an aluminium block "
+    out.append(row("3D FE, dissimilar pair (coupled increments)", "the sphere above on an aluminium block "
                    "(beta = +0.11), warm cache: the cost of the normal-tangential coupling",
                    f"a/7, ring a/14, {d_alu['dofs']} DOFs", wall_alu, None, "the same sphere on steel, warm",
                    f"{d_steel['dofs']} DOFs", wall_steel, d_steel["dissipation"] / W_md / HALF_SPACE_TURNING - 1))
@@ -227,7 +238,7 @@ def main(argv=None) -> int:
     if not args.no_calculix:
         steps.append(("axisymmetric FE against CalculiX", lambda: [fe_against_calculix()]))
     steps += [("stick radius: FE against the FFT boundary elements", stick_radius_fe_against_fft),
-              ("the 3D sphere, cold and warm, and on aluminium", sphere_3d)]
+              ("the 3D sphere, cold and warm, paired, and on aluminium", sphere_3d)]
     for label, fun in steps:
         t0 = time.perf_counter()
         print(f"{label} ...", file=sys.stderr, flush=True)

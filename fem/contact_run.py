@@ -21,7 +21,9 @@ import time
 
 from dataclasses import replace
 
-from mdr.drive import run_contact
+from common.errors import InputError
+
+from mdr.drive import run_contact, run_mdr_contact
 from mdr.loading import Loading, gross_slip_work
 
 from fem.options import FEOptions
@@ -29,7 +31,7 @@ from fem.solid3d import runs
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions = FEOptions(), *, vtu=None,
-                    return_law=False):
+                    return_law=False, paired=False):
     """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``) with the FE side
     of ``options`` (``fem.options.FEOptions``: the axisymmetric model ``fem.axisym.law.FEContact`` or
     the 3D model ``fem.solid3d.law.FEContact3D``); returns the result dict (and the law if
@@ -38,10 +40,13 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
     (``fem.axisym.output.write_fretting_vtu``: displacements, von Mises stress and the stress
     components, contact pressure, shear traction, stick/slip status and slip), of the 3D model the
     contact disk (``fem.solid3d.output``: pressure, both shear traction components, stick/slip
-    status, slip; without ``per_cycle``, the run being cut at that step)."""
+    status, slip; without ``per_cycle``, the run being cut at that step). ``paired`` (3D only): also
+    run the twin along x on the same set-up and add the key ``paired`` (:func:`paired_keys`)."""
     loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
+    if paired:
+        check_paired(materials, options, vtu)
     if options.model == "3d":
-        return _run_3d(profile, materials, mu, loading, options, return_law, vtu)
+        return _run_3d(profile, materials, mu, loading, options, return_law, vtu, paired)
     t0 = time.perf_counter()
     F0 = loading.F0
     law = options.law(profile, materials, mu, loading.F_max)
@@ -66,13 +71,76 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
 RAMP_STEPS = 20
 
 
-def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None):
+def check_paired(materials, options: FEOptions, vtu=None) -> None:
+    """The conditions of :func:`paired_keys`, checked before any work: the 3D model with the traction
+    of free direction on the aligned face, a pair of identical elastic constants (Dundurs' beta = 0,
+    where MDR is the exact half-space answer under Mindlin's assumption), the half-space comparable
+    displacement, no field file."""
+    from fem.solid3d.model import dundurs_beta
+
+    if options.model != "3d":
+        raise InputError("paired applies to the 3D model only (--model 3d: the twin along x on its mesh)")
+    if options.traction not in (None, "free"):
+        raise InputError(f"paired needs the traction of free direction (the twin is the run along x), "
+                         f"got traction={options.traction!r}")
+    if options.tilt != 0.0:
+        raise InputError(f"paired needs the aligned face (tilt 0: MDR knows no tilt), got tilt={options.tilt!r}")
+    if abs(dundurs_beta(materials)) > PAIRED_BETA_MAX:
+        raise InputError(f"paired needs bodies of identical elastic constants (Dundurs' beta = 0, where MDR is exact "
+                         f"under Mindlin's assumption), got beta = {dundurs_beta(materials):+.3g}")
+    if options.displacement != "contact":
+        raise InputError("paired needs displacement 'contact' (the half-space comparable measure MDR uses), "
+                         f"got {options.displacement!r}")
+    if vtu is not None:
+        raise InputError("paired runs two laws in lockstep and writes no field file: leave out --vtu")
+
+
+#: MDR's steps per cycle in :func:`paired_keys`, times the 3D runs': its time step's error (-0.06 % at 100
+#: steps per cycle on the sphere) out of the answer, while the 3D runs' cancels in their ratio
+PAIRED_MDR_STEP_FACTOR = 10
+
+#: |Dundurs' beta| below which a pair counts as identical for :func:`check_paired` (round-off of
+#: equal constants given as different numbers)
+PAIRED_BETA_MAX = 1e-9
+
+
+def paired_keys(free: dict, x: dict, mindlin: dict) -> dict:
+    """The dissipation of the traction of free direction as the half-space answer: the MDR law's on
+    the same loading (``mindlin``: exact in the half space under Mindlin's assumption, the traction
+    along x, for Dundurs' beta = 0; run on ``PAIRED_MDR_STEP_FACTOR`` times the steps) times the ratio
+    of the 3D run ``free`` to its twin ``x`` along x on the same mesh, their last cycles. A control
+    variate: the twin's error against the exact answer is the error both runs share (the unstructured
+    mesh's quantisation of the stick and contact edges, the bodies' finite size, the time step), and
+    cancels in the ratio; what is left is the mesh's error of the direction effect itself (docs/fem3d.md:
+    0.06 % across the ring meshes of the sphere at a/7), and the twin's error to second order.
+    Keys: ``dissipation`` (J), ``direction_effect`` (free / x - 1), ``twin_dissipation``,
+    ``mindlin_dissipation`` (J), ``twin_error`` (the twin against MDR: what the ratio removed); None
+    where a run dissipated nothing or not a finite amount."""
+    import math
+
+    W, Wx, Wm = (float(r["dissipation"]) if r.get("dissipation") is not None else math.nan
+                 for r in (free, x, mindlin))
+    twin = math.isfinite(Wx) and math.isfinite(Wm) and Wx > 0 and Wm > 0
+    ok = twin and math.isfinite(W)
+    return {"dissipation": Wm * W / Wx if ok else None, "direction_effect": W / Wx - 1 if ok else None,
+            "twin_dissipation": Wx if math.isfinite(Wx) else None,
+            "mindlin_dissipation": Wm if math.isfinite(Wm) else None,
+            "twin_error": Wx / Wm - 1 if twin else None}
+
+
+def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None, paired=False):
     import resource
 
     t0 = time.perf_counter()
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
-    if vtu is None:
+    if paired:
+        out, out_x = drive_3d_together([law, law.assuming(traction="x")], loading, t_setup=t1 - t0)
+        fine = replace(loading, steps=PAIRED_MDR_STEP_FACTOR * loading.steps)
+        out["paired"] = paired_keys(out, out_x, run_mdr_contact(profile, materials, mu, fine))
+        out["runtime_s"]["twin"] = out_x["runtime_s"]["cycles"]  # the twin's cycles, in the total
+        out["runtime_s"]["total"] += out["runtime_s"]["twin"]
+    elif vtu is None:
         out = drive_3d(law, loading, t_setup=t1 - t0)
     else:  # the contact fields at the drive's peak in the last cycle (fem.solid3d.output)
         from fem.solid3d.output import write_contact_vtu

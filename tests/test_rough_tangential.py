@@ -13,6 +13,7 @@ measured.
 import numpy as np
 import pytest
 
+from conftest import BE_TURNING, BE_TURNING_ERROR
 from common.errors import InputError
 from mdr import reference as ref
 from mdr.loops import loop_integral
@@ -207,11 +208,6 @@ def test_a_turning_traction_obeys_coulomb_as_a_disk():
         cosine = np.sum(new.q * ds, axis=0)[slip] / (mag[slip] * np.hypot(ds[0], ds[1])[slip])
         assert slip.any() and np.all(cosine > 1 - 1e-4), cosine.min()
         st = new
-
-
-#: the independent boundary-element ladder's dissipation of the traction free to turn against Mindlin's
-#: along x (steel on steel, the smooth sphere at Q = mu F / 2; a/12 .. a/24): -0.43 +- 0.01 %
-BE_TURNING, BE_TURNING_ERROR = -0.43e-2, 0.01e-2
 
 
 @pytest.mark.slow
