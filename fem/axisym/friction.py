@@ -58,7 +58,7 @@ DEFAULT_FRICTION_AL_TOL = 1e-7
 _POTRF, _POTRS = sla.get_lapack_funcs(("potrf", "potrs"), (np.zeros(1),))
 
 
-class _SetFactor:
+class SetFactor:
     """Cholesky factor of M restricted to one free set, with y = M_ff^-1 1 and its sum (the
     stick-set tangent). Solves through LAPACK's potrs directly: these systems are small
     (tens of pairs) and solved thousands of times, so the checks of ``scipy.linalg.cho_solve``
@@ -69,7 +69,7 @@ class _SetFactor:
     def __init__(self, Mff):
         c, info = _POTRF(Mff, lower=1, clean=1)
         if info != 0:
-            raise np.linalg.LinAlgError(f"friction: the flexibility restricted to the {Mff.shape[0]} sticking pairs "
+            raise np.linalg.LinAlgError(f"the flexibility restricted to the {Mff.shape[0]} pairs of a set "
                                         f"is not positive definite (LAPACK potrf info {info})")
         self.c = c
         self.y = self.solve(np.ones(Mff.shape[0]))
@@ -82,21 +82,22 @@ class _SetFactor:
         return x
 
 
-class _Factors:
-    """Factors of M restricted to free sets (:class:`_SetFactor`), cached by the set."""
+class SetFactors:
+    """Factors of M restricted to free sets (:class:`SetFactor`), cached by the set (the last ``size``
+    sets): the friction's pairs here, the normal solver's active sets (``fem.axisym.normal``)."""
 
     def __init__(self, M, size=8):
         self.M = M
         self.size = size
         self.cache = {}
 
-    def get(self, free) -> _SetFactor:
+    def get(self, free) -> SetFactor:
         key = free.tobytes()
         f = self.cache.get(key)
         if f is None:
             if len(self.cache) >= self.size:
                 self.cache.pop(next(iter(self.cache)))
-            f = _SetFactor(self.M[np.ix_(free, free)])
+            f = SetFactor(self.M[np.ix_(free, free)])
             self.cache[key] = f
         return f
 

@@ -62,7 +62,7 @@ from meshes.axisym import CONTACT_EXTENT_DEFAULT, H_CONTACT_DEFAULT
 
 from fem.bulk import DEFAULT_PROBE_DEPTH, axis_point, bulk_probe, contact_from_plate
 from fem.condense import Condensation
-from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL, _Factors
+from fem.axisym.friction import DEFAULT_FRICTION_AL_TOL, SetFactors
 from fem.axisym.law_step import FEState, FETrial, finish, normal_part, tangential
 from fem.axisym.mode1 import fixed_dofs_mode1, node_dofs_mode1, stiffness_mode1
 from fem.axisym.model import build_model
@@ -165,8 +165,8 @@ class FEContact:
             self.c_bulk = self.plate_bulk_compliance(F_ref)
             self.Ct = self.Ct - self.c_bulk
         self.M = self.Ct + np.diag(1.0 / self.k)
-        self._fac = _Factors(self.M, size=16)
-        self._fac_exact = _Factors(self.Ct, size=16)  # the AL's limit (exact Coulomb): Ct itself
+        self._fac = SetFactors(self.M, size=16)
+        self._fac_exact = SetFactors(self.Ct, size=16)  # the AL's limit (exact Coulomb): Ct itself
         self.timings = {"mesh": t1 - t0, "setup": time.perf_counter() - t1}
 
     # ----------------------------------------------------------------- model

@@ -92,6 +92,8 @@ class AxisymContactModel:
     rigid_indenter: bool = False
     timings: dict = field(default_factory=dict)
     backend: str = ""
+    #: the normal solver's factors of C + diag(1/k) on active sets, per penalty (``fem.axisym.normal``)
+    normal_factors: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def dofs(self) -> int:

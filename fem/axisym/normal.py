@@ -51,9 +51,9 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.linalg as sla
 
 from common.errors import ConvergenceError, InputError, nonnegative, positive, positive_int
+from fem.axisym.friction import SetFactors
 from mdr.normal import moment_radius
 
 from fem.bulk import normal_indentation
@@ -85,33 +85,27 @@ class NormalResult:
     pressure_radius: float = float("nan")
 
 
-def _active_solve(C, gap0, k, lbar, A, force, approach):
-    """Solve the linear equations on active set A; return (lam, d)."""
+def _active_solve(fac, gap0, k, lbar, A, force, approach):
+    """Solve the linear equations on active set A (``fac``: the factors of C + diag(1/k) by set); return
+    (lam, d)."""
     n = gap0.size
     lam = np.zeros(n)
     if not np.any(A):
         if force is not None:
             raise ConvergenceError("empty active set under a positive force")
         return lam, approach
-    M = C[np.ix_(A, A)] + np.diag(1.0 / k[A])
-    rhs = lbar[A] / k[A] - gap0[A]
-    chol = sla.cho_factor(M, lower=True, check_finite=False)
-    x = sla.cho_solve(chol, rhs, check_finite=False)
-    if force is None:
-        d = approach
-        lam[A] = x + d * sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
-    else:
-        y = sla.cho_solve(chol, np.ones(A.sum()), check_finite=False)
-        d = (force - x.sum()) / y.sum()
-        lam[A] = x + d * y
+    f = fac.get(A)
+    x = f.solve(lbar[A] / k[A] - gap0[A])
+    d = approach if force is None else (force - x.sum()) / f.ysum
+    lam[A] = x + d * f.y
     return lam, d
 
 
-def _semismooth_newton(C, gap0, k, lbar, force, approach, A0, max_iter):
+def _semismooth_newton(C, fac, gap0, k, lbar, force, approach, A0, max_iter):
     A = A0.copy()
     seen = set()
     for it in range(1, max_iter + 1):
-        lam, d = _active_solve(C, gap0, k, lbar, A, force, approach)
+        lam, d = _active_solve(fac, gap0, k, lbar, A, force, approach)
         gap = gap0 - d + C @ lam
         A_new = (lbar - k * gap) > 0.0
         if np.array_equal(A_new, A):
@@ -123,6 +117,16 @@ def _semismooth_newton(C, gap0, k, lbar, force, approach, A0, max_iter):
         seen.add(key)
         A = A_new
     raise ConvergenceError(f"semi-smooth Newton: active set not settled after {max_iter} iterations")
+
+
+def _set_factors(model, penalty, k) -> SetFactors:
+    """The factors of C + diag(1/k) on active sets, kept on ``model`` per penalty: the passes of the
+    augmented Lagrangian and the solves at nearby loads mostly meet the sets again (the same factor,
+    so the same numbers)."""
+    facs = model.normal_factors
+    if penalty not in facs:
+        facs[penalty] = SetFactors(model.C + np.diag(1.0 / k), size=8)
+    return facs[penalty]
 
 
 def _edge_radius(r, p, lam):
@@ -177,6 +181,7 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     iface = model.interface
     C, gap0 = model.C, iface.gap0
     k = penalty_stiffness(penalty, model.materials.E_star, iface)
+    fac = _set_factors(model, penalty, k)
     lbar = np.zeros(iface.n)
     A = gap0 <= np.min(gap0) + 1e-300  # start from first contact
     if force is not None:
@@ -185,7 +190,7 @@ def solve_normal(model, *, force=None, approach=None, penalty=DEFAULT_PENALTY, a
     n_newton = 0
     with blas_threads(1):
         for n_al in range(1, max_al + 1):
-            lam, d, gap, A, nit = _semismooth_newton(C, gap0, k, lbar, force, approach, A, max_newton)
+            lam, d, gap, A, nit = _semismooth_newton(C, fac, gap0, k, lbar, force, approach, A, max_newton)
             n_newton += nit
             pen = max(float(np.max(-gap[lam > 0], initial=0.0)), 0.0)
             rel_pen = pen / abs(d) if d != 0 else np.inf
