@@ -128,6 +128,23 @@ def paired_keys(free: dict, x: dict, mindlin: dict) -> dict:
             "twin_error": Wx / Wm - 1 if twin else None}
 
 
+#: |twin_error| beyond which :func:`paired_note` speaks: the twin that far from its exact answer means a
+#: mesh that does not resolve the contact (measured on the sphere: 8.8 % at a/4 left -0.36 % in the
+#: paired estimate, 2 % at a/5 -0.1 %), where the shared error cancels only to first order
+PAIRED_TWIN_ERROR_NOTE = 0.1
+
+
+def paired_note(paired: dict) -> str | None:
+    """One line for the user where the twin is more than ``PAIRED_TWIN_ERROR_NOTE`` off its exact answer
+    (or none could be formed), else None."""
+    e = paired.get("twin_error")
+    if e is not None and abs(e) <= PAIRED_TWIN_ERROR_NOTE:
+        return None
+    off = "an undetermined amount" if e is None else f"{abs(e):.0%}"
+    return (f"the twin along x is {off} off MDR's exact answer: the mesh does not resolve the contact, and the "
+            "paired estimate cancels a shared error only to first order; refine --h-contact")
+
+
 def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None, paired=False):
     import resource
 

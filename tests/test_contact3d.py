@@ -426,6 +426,22 @@ def test_paired_dissipation_cancels_the_mesh_error(shared_mesh_cache):
     assert out["runtime_s"]["twin"] > 0 and out["traction"] == "free"
 
 
+def test_paired_note_where_the_twin_is_far_from_its_exact_answer(tmp_path, capsys):
+    """A mesh that does not resolve the contact (the truncated sphere b = 20 um at h = 0.3 b: the twin
+    along x 44 % off MDR, the direction effect of the wrong sign) gets one line on stderr saying so; a
+    twin within 10 % gets none."""
+    from fem.cli import main
+    from fem.contact_run import PAIRED_TWIN_ERROR_NOTE, paired_note
+
+    assert main(["contact", "--model", "3d", "--profile", "truncated", "--R", str(R), "--b", "20e-6", "--mu", str(MU),
+                 "--F0", str(F), "--fa", str(0.1 * F), "--cycles", "2", "--steps", "24", "--h-contact", "0.3",
+                 "--paired", "--cache-dir", str(tmp_path), "--json", str(tmp_path / "o.json")]) == 0
+    notes = [ln for ln in capsys.readouterr().err.splitlines() if "twin along x" in ln]
+    assert len(notes) == 1 and "refine --h-contact" in notes[0], notes
+    assert paired_note({"twin_error": 0.5 * PAIRED_TWIN_ERROR_NOTE}) is None
+    assert "undetermined" in paired_note({"twin_error": None})
+
+
 def test_paired_keys_of_runs_that_dissipate_nothing():
     """A twin or a reference that dissipated nothing, or not a finite amount: the ratios are None, not
     an exception or an infinity (a report prints them as missing)."""
