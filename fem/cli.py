@@ -137,7 +137,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "(the mesh's, the time step's) cancels (within 0.1 %% of the half-space answer on the sphere's "
                         "ring mesh at a/7, where one run is off by up to 1.3 %%; docs/fem3d.md); with direction_effect, "
                         "twin_dissipation, mindlin_dissipation, twin_error. Needs the traction of free direction, "
-                        "no tilt, identical elastic constants (Dundurs' beta = 0), --displacement contact, no --vtu; a note "
+                        "no tilt, no normal-tangential coupling (Dundurs' beta = 0, as for identical bodies), --displacement contact, no --vtu; a note "
                         "on stderr where the twin is more than 10 %% off MDR (a mesh that does not resolve the contact)")
     c.add_argument("--ring", type=float, nargs=3, default=None, metavar=("R", "W", "H"),
                    help="--model 3d only: refine the mesh to element size H within W of the circle r = R of the "

@@ -73,8 +73,9 @@ RAMP_STEPS = 20
 
 def check_paired(materials, options: FEOptions, vtu=None) -> None:
     """The conditions of :func:`paired_keys`, checked before any work: the 3D model with the traction
-    of free direction on the aligned face, a pair of identical elastic constants (Dundurs' beta = 0,
-    where MDR is the exact half-space answer under Mindlin's assumption), the half-space comparable
+    of free direction on the aligned face, bodies without normal-tangential coupling (Dundurs' beta = 0,
+    as for identical elastic constants: where MDR is the exact half-space answer under Mindlin's
+    assumption), the half-space comparable
     displacement, no field file."""
     from fem.solid3d.model import dundurs_beta
 
@@ -86,8 +87,9 @@ def check_paired(materials, options: FEOptions, vtu=None) -> None:
     if options.tilt != 0.0:
         raise InputError(f"paired needs the aligned face (tilt 0: MDR knows no tilt), got tilt={options.tilt!r}")
     if abs(dundurs_beta(materials)) > PAIRED_BETA_MAX:
-        raise InputError(f"paired needs bodies of identical elastic constants (Dundurs' beta = 0, where MDR is exact "
-                         f"under Mindlin's assumption), got beta = {dundurs_beta(materials):+.3g}")
+        raise InputError(f"paired needs bodies without normal-tangential coupling (Dundurs' beta = 0, as for identical "
+                         f"elastic constants: where MDR is exact under Mindlin's assumption), got beta = "
+                         f"{dundurs_beta(materials):+.3g}")
     if options.displacement != "contact":
         raise InputError("paired needs displacement 'contact' (the half-space comparable measure MDR uses), "
                          f"got {options.displacement!r}")
