@@ -80,21 +80,22 @@ def check_paired(materials, options: FEOptions, vtu=None) -> None:
     from fem.solid3d.model import dundurs_beta
 
     if options.model != "3d":
-        raise InputError("paired applies to the 3D model only (--model 3d: the twin along x on its mesh)")
+        raise InputError("paired (--paired) applies to the 3D model only (--model 3d: the twin along x on its mesh)")
     if options.traction not in (None, "free"):
-        raise InputError(f"paired needs the traction of free direction (the twin is the run along x), "
+        raise InputError(f"paired (--paired) needs the traction of free direction, since its twin is the run along x; "
                          f"got traction={options.traction!r}")
     if options.tilt != 0.0:
-        raise InputError(f"paired needs the aligned face (tilt 0: MDR knows no tilt), got tilt={options.tilt!r}")
+        raise InputError(f"paired (--paired) needs the aligned face (tilt 0: MDR knows no tilt), "
+                         f"got tilt={options.tilt!r}")
     if abs(dundurs_beta(materials)) > PAIRED_BETA_MAX:
-        raise InputError(f"paired needs bodies without normal-tangential coupling (Dundurs' beta = 0, as for identical "
-                         f"elastic constants: where MDR is exact under Mindlin's assumption), got beta = "
-                         f"{dundurs_beta(materials):+.3g}")
+        raise InputError(f"paired (--paired) needs bodies without normal-tangential coupling (Dundurs' beta = 0, "
+                         f"as for identical elastic constants: where MDR is exact under Mindlin's assumption), "
+                         f"got beta = {dundurs_beta(materials):+.3g}")
     if options.displacement != "contact":
-        raise InputError("paired needs displacement 'contact' (the half-space comparable measure MDR uses), "
+        raise InputError("paired (--paired) needs displacement 'contact' (the half-space comparable measure MDR uses), "
                          f"got {options.displacement!r}")
     if vtu is not None:
-        raise InputError("paired runs two laws in lockstep and writes no field file: leave out --vtu")
+        raise InputError("paired (--paired) runs two laws in lockstep and writes no field file: leave out --vtu")
 
 
 #: MDR's steps per cycle in :func:`paired_keys`, times the 3D runs': its time step's error (-0.06 % at 100

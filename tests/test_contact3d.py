@@ -381,10 +381,10 @@ def test_cli_model_3d_writes_the_contact_fields(tmp_path, capsys):
     assert np.allclose(y[n:], -y[:n]) and len(m.cells_dict["triangle"]) > 2 * n
 
 @pytest.mark.parametrize("flags,msg", [
-    (["--model", "3d", "--traction", "x"], "paired needs the traction of free direction"),
-    (["--model", "3d", "--tilt", "0.001"], "paired needs the aligned face"),
+    (["--model", "3d", "--traction", "x"], "paired (--paired) needs the traction of free direction"),
+    (["--model", "3d", "--tilt", "0.001"], "paired (--paired) needs the aligned face"),
     (["--model", "3d", "--E2", "70e9", "--nu2", "0.33"], "Dundurs' beta = 0"),
-    (["--model", "3d", "--displacement", "plate"], "paired needs displacement 'contact'"),
+    (["--model", "3d", "--displacement", "plate"], "paired (--paired) needs displacement 'contact'"),
     (["--model", "3d", "--vtu", "x.vtu"], "leave out --vtu"),
     ([], "--paired applies to --model 3d only"),
 ])
