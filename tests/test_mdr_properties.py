@@ -29,9 +29,18 @@ def test_harmonic_fretting_invariants(prof, mat, mu, F0, q, alpha, ua):
     # a stationary loop closes, and its area is the friction work done in it
     if res["stationary"]:
         assert abs(Fx[-1] - Fx[0]) <= 1e-6 * mu * F0
-        scale = 4 * mu * F0 * ua
-        # with a varying normal force the two differ by a first-order time-step error (80 steps)
-        assert abs(res["dissipation"] - res["friction_work"]) <= (2e-3 + 0.1 * q) * res["dissipation"] + 5e-3 * scale
+        # the two differ by discretisation errors that vanish as the springs and the steps are refined
+        # together: a spring that leaves contact while the normal force falls carries its tangential elastic
+        # energy away instead of slipping it off (first order in the steps and in the spring spacing). Near
+        # full stick under a strongly varying force that is most of the friction work: 90 % at 80 steps and
+        # 120 springs for mu = 1, q = 0.75, u_A = 1 nm; at 120 springs the steps alone leave 38 %, 4x the
+        # springs and 64x the steps 7 %. So: within 2e-3 of the dissipation plus 1e-3 of 4 mu F0 u_A, or
+        # at 4x the springs and 16x the steps the difference shrinks to at most half.
+        err = abs(res["dissipation"] - res["friction_work"])
+        if err > 2e-3 * res["dissipation"] + 1e-3 * 4 * mu * F0 * ua:
+            fine = run_mdr_contact(prof, mat, mu, Loading.of(F0, dF=q * F0, alpha=alpha, ua=ua, cycles=cycles,
+                                                              steps=16 * steps), n=480)
+            assert abs(fine["dissipation"] - fine["friction_work"]) <= 0.5 * err, (err, fine["dissipation"])
 
 
 @settings(**SETTINGS)
