@@ -380,6 +380,7 @@ def test_cli_model_3d_writes_the_contact_fields(tmp_path, capsys):
     assert np.allclose(pd["shear_traction_x"][n:], pd["shear_traction_x"][:n])
     assert np.allclose(y[n:], -y[:n]) and len(m.cells_dict["triangle"]) > 2 * n
 
+
 @pytest.mark.parametrize("flags,msg", [
     (["--model", "3d", "--traction", "x"], "paired (--paired) needs the traction of free direction"),
     (["--model", "3d", "--tilt", "0.001"], "paired (--paired) needs the aligned face"),
@@ -427,7 +428,7 @@ def test_paired_dissipation_cancels_the_mesh_error(shared_mesh_cache):
 
 
 def test_paired_note_where_the_twin_is_far_from_its_exact_answer(tmp_path, capsys):
-    """A mesh that does not resolve the contact (the truncated sphere b = 20 um at h = 0.3 b: the twin
+    """A mesh that does not resolve the contact (the truncated sphere b = 20 um at --h-contact 0.3: the twin
     along x 44 % off MDR, the direction effect of the wrong sign) gets one line on stderr saying so; a
     twin within 10 % gets none."""
     from fem.cli import main
