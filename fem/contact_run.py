@@ -28,6 +28,7 @@ from mdr.loading import Loading, gross_slip_work
 
 from fem.options import FEOptions
 from fem.solid3d import runs
+from fem.solid3d.model import dundurs_beta
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions = FEOptions(), *, vtu=None,
@@ -77,8 +78,6 @@ def check_paired(materials, options: FEOptions, vtu=None) -> None:
     as for identical elastic constants: where MDR is the exact half-space answer under Mindlin's
     assumption), the half-space comparable
     displacement, no field file."""
-    from fem.solid3d.model import dundurs_beta
-
     if options.model != "3d":
         raise InputError("paired (--paired) applies to the 3D model only (--model 3d: the twin along x on its mesh)")
     if options.traction not in (None, "free"):
