@@ -171,8 +171,9 @@ def _fem_3d(cache, *flags) -> tuple:
 
 def sphere_3d() -> list:
     """Rows 4-6: the 3D sphere from a cold and a warm cache (``python -m fem contact --model 3d``), the same
-    paired with its twin along x (cold and warm), and the same sphere on an aluminium block (Dundurs' beta = +0.11: the coupled normal-tangential
-    increments) on the same mesh, warm, beside the identical pair's warm run."""
+    paired with its twin along x (cold and warm), and the same sphere on an aluminium block (Dundurs'
+    beta = +0.11: the coupled normal-tangential increments) on the same mesh, warm, beside the identical
+    pair's warm run."""
     us = ref.gross_slip_displacement(ref.hertz(F, R, MAT.E_star)["d"], MU, MAT.E_star, MAT.G_star)
     W_md = float(ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, us))
     cache = tempfile.mkdtemp(prefix="bench_table_3d_")

@@ -134,11 +134,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="--model 3d only: also run the twin along x (--traction x) on the same mesh in lockstep and "
                         "add 'paired': the dissipation as MDR's on the same loading (exact in the half space under "
                         "Mindlin's assumption) times the ratio free / twin, in which the error the two runs share "
-                        "(the mesh's, the time step's) cancels (within 0.1 %% of the half-space answer on the sphere's "
-                        "ring mesh at a/7, where one run is off by up to 1.3 %%; docs/fem3d.md); with direction_effect, "
-                        "twin_dissipation, mindlin_dissipation, twin_error. Needs the traction of free direction, "
-                        "no tilt, no normal-tangential coupling (Dundurs' beta = 0, as for identical bodies), --displacement contact, no --vtu; a note "
-                        "on stderr where the twin is more than 10 %% off MDR (a mesh that does not resolve the contact)")
+                        "(the mesh's, the time step's) cancels (within 0.1 %% of the half-space answer on the "
+                        "sphere's ring mesh at a/7, where one run is off by up to 1.3 %%; docs/fem3d.md); with "
+                        "direction_effect, twin_dissipation, mindlin_dissipation, twin_error. Needs the traction of "
+                        "free direction, no tilt, no normal-tangential coupling (Dundurs' beta = 0, as for identical "
+                        "bodies), --displacement contact, no --vtu; a note on stderr where the twin is more than 10 %% "
+                        "off MDR (a mesh that does not resolve the contact)")
     c.add_argument("--ring", type=float, nargs=3, default=None, metavar=("R", "W", "H"),
                    help="--model 3d only: refine the mesh to element size H within W of the circle r = R of the "
                         "contact face (all / a_ref, H <= --h-contact): the slip annulus and the contact edge of "

@@ -17,6 +17,7 @@ indentation of ``fem.axisym.normal``), ``approach`` the plate approach.
 """
 from __future__ import annotations
 
+import math
 import time
 
 from dataclasses import replace
@@ -76,8 +77,7 @@ def check_paired(materials, options: FEOptions, vtu=None) -> None:
     """The conditions of :func:`paired_keys`, checked before any work: the 3D model with the traction
     of free direction on the aligned face, bodies without normal-tangential coupling (Dundurs' beta = 0,
     as for identical elastic constants: where MDR is the exact half-space answer under Mindlin's
-    assumption), the half-space comparable
-    displacement, no field file."""
+    assumption), the half-space comparable displacement, no field file."""
     if options.model != "3d":
         raise InputError("paired (--paired) applies to the 3D model only (--model 3d: the twin along x on its mesh)")
     if options.traction not in (None, "free"):
@@ -118,8 +118,6 @@ def paired_keys(free: dict, x: dict, mindlin: dict) -> dict:
     Keys: ``dissipation`` (J), ``direction_effect`` (free / x - 1), ``twin_dissipation``,
     ``mindlin_dissipation`` (J), ``twin_error`` (the twin against MDR: what the ratio removed); None
     where a run dissipated nothing or not a finite amount."""
-    import math
-
     W, Wx, Wm = (float(r["dissipation"]) if r.get("dissipation") is not None else math.nan
                  for r in (free, x, mindlin))
     twin = math.isfinite(Wx) and math.isfinite(Wm) and Wx > 0 and Wm > 0
