@@ -1,8 +1,10 @@
 """Rough height maps: generated (self-affine, isotropic, periodic) or measured (a file).
 
 A generated map is a realisation of the isotropic power-law spectrum of a self-affine surface,
-C(q) ~ q^(-2 (1 + H)) between the wavenumbers of the long and the short wavelength cut-offs (flat
-below the long one: ``Isopowerlaw2D``, q0 = q1), filtered white noise (tamaas
+C(q) ~ q^(-2 (1 + H)) between the wavenumbers of the long and the short wavelength cut-offs and zero
+outside them: no roll-off plateau (``Isopowerlaw2D`` with q0 = q1), so no wavelength longer than the
+long cut-off is in the map (``tests/test_rough_surfaces.py`` asserts it on the map's own spectrum,
+``radial_psd``); filtered white noise (tamaas
 ``SurfaceGeneratorFilter2D``; Hu & Tonder 1992, Int. J. Mach. Tools Manufact. 32, 83), scaled to
 the stated rms height exactly. The parameters are SI and checked once (``RoughnessParams``): a cut-off
 must be resolved by the grid (the short wavelength at least 2 pixels, the long one at most the map).
@@ -54,7 +56,7 @@ class HeightMap:
 
 @dataclass(frozen=True)
 class RoughnessParams:
-    """A self-affine isotropic surface (SI): ``rms`` height (m), ``hurst`` exponent in (0, 1), the
+    """A self-affine isotropic surface (SI): ``rms`` height (m), ``hurst`` exponent in (0, 1], the
     short and long wavelength cut-offs ``lambda_short`` < ``lambda_long`` (m), a square map of side
     ``size`` (m) on ``n`` x ``n`` pixels, the random ``seed`` of the realisation."""
 
@@ -68,7 +70,7 @@ class RoughnessParams:
 
     def __post_init__(self):
         positive("rms", self.rms)
-        in_range("hurst", self.hurst, 0.0, 1.0, lo_open=True, hi_open=True)
+        in_range("hurst", self.hurst, 0.0, 1.0, lo_open=True)
         positive("size", self.size)
         positive_int("n", self.n, minimum=MIN_PIXELS)
         positive_int("seed", self.seed + 1)  # >= 0

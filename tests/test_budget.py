@@ -3,21 +3,18 @@
 Truths: the verdict rule (a bound never "matters", a non-finite number is undetermined); exact zeros
 where the physics has them (no kink on the sphere, a tilted sphere is the sphere, identical steels do
 not couple); MDR with the equivalent profile of the smooth sphere's own Hertz curve is the smooth sphere
-in the apparatus (its "roughness" is zero); the fillet's effect vanishes with its width; the sticking
-transition of the smooth sphere where docs/apparatus.md measures it (delta = 0.1 at 1.0 N/um for the
-sphere-like b = 10 um), moved by a softer contact; missing scenes name the command that runs them.
+in the apparatus (its "roughness" is zero); the fillet's effect vanishes with its width; a bound the paper
+states as an inequality (the tilt) never matters; missing scenes name the command that runs them. The
+roughness readings: tests/test_budget_readings.py.
 """
 import math
 import subprocess
 import sys
 from dataclasses import replace
 
-import numpy as np
 import pytest
 
-from mdr import reference as ref
 from mdr.materials import Materials
-from mdr.paper import R_INDENTER
 from validation import budget as B
 from validation.points import loop_point
 
@@ -53,6 +50,20 @@ def test_exact_zeros_on_the_sphere():
         assert c["effect"] == 0.0 and c["kind"] == "exact" and c["verdict"] == "negligible"
 
 
+def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
+    """The paper states the tilt as an inequality (< pi/3600): the change at pi/3600 is a bound, so a
+    face whose slip index moves by 0.03 there is 'undetermined', not 'matters' (a measured change of the
+    same size would matter)."""
+    from validation.scenes import TILT_BOUND
+
+    row = {"b": 600e-6, "variant": "tilt[b]", "banded": True, "levels": [{"runs": [{"slip_index": 1e-6}]}],
+           "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
+    c = B.tilt_cell(loop_point("fig6"), lambda name: {"tilt": [row]} if name == "tilt" else None)
+    assert c["kind"] == "bound" and c["verdict"] == "undetermined" and c["effect"] == 0.03
+    assert B.cell(0.03, 1e-4, "measured", "x")["verdict"] == "matters"
+    assert B.cell_text(c).startswith("<= 0.03")
+
+
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
     p = loop_point("fig6")
     wide = B.kink_cell(p)
@@ -69,57 +80,10 @@ def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
     assert abs(e05) < abs(e3)
 
 
-def _hertz_row(rms, members=3, radius=R_INDENTER, **extra):
-    """A stored roughness row whose 'rough' curves are a smooth sphere's own (Hertz, of ``radius``) and
-    whose equivalent MDR matched the half-space exactly."""
-    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
-    d = np.array([float(ref.hertz(f, radius, MAT.E_star)["d"]) for f in F])
-    curve = {"d": d.tolist(), "F": F.tolist()}
-    return {"rms": rms, "seeds": list(range(members)), "grids": [128, 256], "period": 16 * 27e-6,
-            "verdicts": {"mdr_equivalent:dissipation": {"difference": 0.0, "error": 0.0}},
-            "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members},
-            **extra}
-
-
-def _hertz_store(rms, members=3):
-    row = _hertz_row(rms, members)
-    return lambda name: {"roughness": [row]} if name == "roughness" else None
-
-
-def test_the_plastic_column_reads_the_plastic_surfaces_within_their_flattening_load():
-    """The elastic and the plastic rough rows are told apart (the plastic one here: the curves of a sphere
-    of 4 R, a flattened, stiffer contact); a point loaded beyond the plastic row's flattening load would
-    flatten it further: undetermined."""
-    rows = [_hertz_row(1e-6), _hertz_row(1e-6, radius=4 * R_INDENTER, hardness=2.1e9, preload=0.75)]
-    store = lambda name: {"roughness": rows} if name == "roughness" else None  # noqa: E731
-    p = loop_point("fig4")
-    elastic, plastic = B.roughness_cell(p, store, 1e-6), B.roughness_cell(p, store, 1e-6, plastic=True)
-    assert abs(elastic["effect"]) < 2e-3
-    assert abs(plastic["effect"]) > B.RESOLUTION and plastic["verdict"] == "matters"  # another curve, counted
-    rows[1]["preload"] = 0.9 * (p.F0 + p.dF)
-    assert B.roughness_cell(p, store, 1e-6, plastic=True)["verdict"] == "undetermined"
-    assert B.roughness_cell(p, store, 1e-6)["verdict"] == "negligible"
-
-
-def test_the_equivalent_profile_of_a_smooth_sphere_is_no_roughness_in_the_apparatus():
-    for p in (loop_point("fig4"), loop_point("fig5")):
-        c = B.roughness_cell(p, _hertz_store(1e-6), 1e-6)
-        assert abs(c["effect"]) < 2e-3 and c["verdict"] == "negligible"  # the curve's sampling: 24 forces
-
-
-def test_a_softer_contact_moves_the_sticking_transition_up():
-    from mdr.profiles import TruncatedSphere
-
-    smooth = B.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6))
-    assert smooth == pytest.approx(1.0e6, rel=0.05)  # docs/apparatus.md: 1.00 N/um
-    soft = B.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6), replace(B.Point(b=10e-6), ua=110e-9))
-    assert soft > 1.2 * smooth  # less stroke: the contact must be stiffer-driven to slip
-
-
 def test_missing_scenes_are_undetermined_and_name_their_command():
     b = B.budget("/nonexistent", mdr_cells=False)
     for r in b["rows"]:
-        for col in ("size", "curvature", "direction", "roughness"):
+        for col in ("size", "curvature", "direction"):
             c = r["cells"][col]
             if c["effect"] is None:
                 assert c["verdict"] == "undetermined"
@@ -203,119 +167,3 @@ def test_the_direction_is_measured_at_the_point_where_a_3d_scene_runs_it():
     assert B.direction_cell(p, stored.get)["verdict"] == "matters"
     c = B.direction_cell(loop_point("fig7"), stored.get)  # another point: not this row
     assert c["source"] != "direction-points" and c["verdict"] == "undetermined"
-
-
-
-def _face_row(b, rms=1e-6, members=3, **extra):
-    """A stored rough-face row whose 'rough' curves are the smooth truncated sphere's own F_N(d) (MDR's
-    normal solution of the face b, exact for the axisymmetric body) and whose equivalent MDR matched the
-    half-space exactly."""
-    from mdr.normal import approach_from_force
-    from mdr.profiles import TruncatedSphere
-
-    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
-    d = np.asarray(approach_from_force(TruncatedSphere(R_INDENTER, b), MAT, F), dtype=float)
-    curve = {"d": d.tolist(), "F": F.tolist()}
-    return {**_hertz_row(rms, members), "b": b, "period": 4 * b,
-            "curves": [curve] * members, "curves_by_grid": {"128": [curve] * members, "256": [curve] * members},
-            **extra}
-
-
-def test_a_face_reads_the_rough_row_of_its_own_b_against_its_own_smooth_face():
-    """The points of a face wider than the sphere's contact (Figs. 6-7: b = 0.6 mm) read scene
-    roughness-faces at their own b, against the smooth truncated sphere: the smooth face's own normal
-    curve is no roughness (within the 24 forces' sampling); the sphere's curve on that face's row is a far
-    softer contact, which matters; a face without a row, or without the scene, is undetermined and says
-    why; the sphere-like b = 10 um still reads the sphere's scene."""
-    p = loop_point("fig6")
-    rows = [_face_row(p.b)]
-    store = lambda name: {"roughness": rows} if name == B.ROUGH_FACES else None  # noqa: E731
-    c = B.roughness_cell(p, store, 1e-6)
-    assert abs(c["effect"]) < 2e-3 and c["verdict"] == "negligible" and "b = 600 um" in c["note"]
-    sphere_curve = _hertz_row(1e-6)["curves"][0]
-    rows[0] = {**rows[0], "curves_by_grid": {"128": [sphere_curve] * 3, "256": [sphere_curve] * 3}}
-    c = B.roughness_cell(p, store, 1e-6)
-    assert c["effect"] < -0.05 and c["verdict"] == "matters"  # the sphere's contact: far softer than the face
-    other = B.roughness_cell(B.Point(b=100e-6), store, 1e-6)
-    assert other["verdict"] == "undetermined" and "b = 100 um" in other["note"]
-    c = B.roughness_cell(p, lambda name: None, 1e-6)
-    assert c["verdict"] == "undetermined" and "roughness-faces" in c["source"]
-    sphere_like = B.roughness_cell(B.Point(b=10e-6), _hertz_store(1e-6), 1e-6)
-    assert sphere_like["verdict"] == "negligible" and "b = " not in sphere_like["note"]
-
-
-def test_each_contact_reads_its_own_rms_and_names_the_one_not_run():
-    """The roughness columns read the sphere's 1 um and the paper's combined roughness of the contacting
-    pair: 3.2 um on the sphere's contact (sphere and block), 3.6 um on a face's (turned face and block);
-    a face's 3.6 um row is read at its b, and an rms not stored leaves its cell undetermined, naming it."""
-    p6 = loop_point("fig6")
-    assert B.roughness_rms(p6) == (1e-6, 3.6e-6) and B.roughness_rms(loop_point("fig4")) == (1e-6, 3.2e-6)
-    assert B.roughness_rms(B.Point(b=10e-6)) == (1e-6, 3.2e-6)  # the face inside the sphere's contact
-    rows = [_face_row(p6.b), _face_row(p6.b, rms=3.6e-6)]
-    store = lambda name: {"roughness": rows} if name == B.ROUGH_FACES else None  # noqa: E731
-    c = B.roughness_cell(p6, store, 3.6e-6)
-    assert c["verdict"] == "negligible" and "rms 3.6 um" in c["note"]
-    gap = B.roughness_cell(loop_point("fig4"), _hertz_store(1e-6), 3.2e-6)
-    assert gap["verdict"] == "undetermined" and "rms 3.2 um not in the stored scene" in gap["note"]
-
-
-@pytest.mark.parametrize("odd", [None, float("nan"), -1.0, 1.0])
-def test_a_rough_row_of_odd_values_is_undetermined_not_a_crash(odd):
-    """A stored rough row whose curve holds a value no equivalent profile can be built from (None, NaN,
-    a negative or decreasing force) or whose period is not a length: the cell is undetermined and says
-    so, and the sticking transition of that row too; the budget does not stop."""
-    p = loop_point("fig4")
-    row = _hertz_row(1e-6)
-    bad = {k: [dict(c) for c in v] for k, v in row["curves_by_grid"].items()}
-    bad["256"][0] = {"d": bad["256"][0]["d"], "F": [odd] + bad["256"][0]["F"][1:]}
-    rows = [{**row, "curves_by_grid": bad}]
-    store = lambda name: {"roughness": rows} if name == "roughness" else None  # noqa: E731
-    c = B.roughness_cell(p, store, 1e-6)
-    assert c["verdict"] == "undetermined" and c["effect"] is None, c
-    assert all(t["kx"] is None for t in B.transitions(store)[1:])
-    if not (odd is not None and odd > 0):  # (1 m is a length)
-        rows[0] = {**row, "period": odd}
-        assert B.roughness_cell(p, store, 1e-6)["verdict"] == "undetermined"
-
-
-def _apparatus_row(p, values, eq=None, grids=(128, 256)):
-    """A stored rough row whose members drove the rough half-space by the apparatus at the point ``p``:
-    ``values`` per grid, per seed (the rough half-space's slip index), ``eq`` the equivalent MDR's."""
-    row = _face_row(p.b) if p.b else _hertz_row(1e-6)
-    from dataclasses import asdict
-    from validation.families.roughness import apparatus_points
-
-    by = {str(n): [[{"point": asdict(p), "rough_halfspace": x,
-                     "mdr_equivalent": (eq if eq is not None else x)}] for x in vals]
-          for n, vals in zip(grids, values)}
-    v = {"grids": list(grids), "seeds": list(range(len(values[-1])))}
-    return {**row, **v, "apparatus_by_grid": by, "apparatus": apparatus_points(by, v, row["period"])}
-
-
-def test_the_roughness_cell_reads_the_rough_halfspace_in_the_apparatus_where_it_ran():
-    """Where the row holds the rough half-space driven by the apparatus at the point, the cell is its
-    ensemble against the smooth face (the equivalent profile's curves, here the smooth face's own, are
-    not read): the effect its mean's difference, the error its standard error plus the grid error of the
-    mean; the note says what the equivalent MDR misses there. A seed without the point, or a value that
-    is no number, leaves the cell undetermined."""
-    p = loop_point("fig6")
-    smooth = B.point_slip_index(p)
-    vals = [[smooth - 0.30, smooth - 0.32, smooth - 0.28], [smooth - 0.31, smooth - 0.33, smooth - 0.29]]
-    row = _apparatus_row(p, vals, eq=smooth - 0.25)
-    store = lambda name: {"roughness": [row]} if name == B.ROUGH_FACES else None  # noqa: E731
-    c = B.roughness_cell(p, store, 1e-6)
-    sem = float(np.std(vals[-1], ddof=1) / np.sqrt(3))
-    assert c["effect"] == pytest.approx(-0.31, abs=1e-9)
-    assert c["error"] >= sem and c["verdict"] == "matters"
-    assert "rough half-space in the apparatus" in c["note"] and "equivalent profile +0.06" in c["note"]
-    for odd in (None, float("nan"), "0.2"):
-        bad = _apparatus_row(p, [vals[0], [vals[1][0], odd, vals[1][2]]])
-        store = lambda name: {"roughness": [bad]} if name == B.ROUGH_FACES else None  # noqa: E731
-        assert B.roughness_cell(p, store, 1e-6)["verdict"] == "undetermined"
-    other = _apparatus_row(replace(p, kx=3e6), vals)  # another point only
-    store = lambda name: {"roughness": [other]} if name == B.ROUGH_FACES else None  # noqa: E731
-    c = B.roughness_cell(p, store, 1e-6)
-    assert c["verdict"] == "undetermined" and "not run in the apparatus" in c["note"]
-    ladder = _apparatus_row(p, [[0.2, 0.21, 0.19], [0.25, 0.26, 0.24], [0.26, 0.27, 0.25]], grids=(128, 192, 256))
-    rh = ladder["apparatus"][0]["rough_halfspace"]
-    assert rh["grid"] > 0 and rh["error"] == pytest.approx(rh["sem"] + rh["grid"])  # the grids' error counted

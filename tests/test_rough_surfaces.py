@@ -45,7 +45,7 @@ def test_a_seed_is_a_realisation():
 
 @pytest.mark.parametrize("kw,word", [
     (dict(rms=-1e-6), "rms must be > 0"),
-    (dict(hurst=1.2), "hurst must be in (0, 1)"),
+    (dict(hurst=1.2), "hurst must be in (0, 1]"),
     (dict(lambda_short=4e-6), "lambda_short must be at least 2 pixels"),
     (dict(lambda_long=3e-3), "lambda_long must be in (lambda_short, size]"),
     (dict(n=4), "n must be"),

@@ -383,13 +383,14 @@ def _driven_by_the_apparatus(rows, eq_bound, smooth_above):
 
 def test_the_budget_of_the_paper_from_the_catalogue(full):
     """docs/budget.md, run as a user runs it (python -m validation.budget on the catalogue's folder):
-    negligible where docs/budget.md says so (size, coupling, the kink, the sphere's tilt), the roughness of
-    the paper's sphere matters (docs: -0.28 +- 0.08 on Figs. 4-5) and moves the sticking transition from
-    the smooth sphere's 1.0 N/um to about 2 N/um, the upper end of the paper's 1-2 N/um (plastic
-    asperities: less, to about 1.4 N/um); the tilt and the
-    plates' reading matter (docs: 0.02-0.03, 0.06-0.09 of the slip index)."""
+    negligible where docs/budget.md says so (size, coupling, the kink, the sphere's tilt); no bound
+    matters (the tilt is the paper's inequality); the roughness and the plates are ranges over the readings
+    the paper's loops admit, each admitted reading inside its range, graded by the range's far end; the
+    smooth model is admitted by its own loops (the plates' reference reading)."""
+    from validation.budget_readings import grade_range
+
     _, out, _ = full
-    r = subprocess.run([sys.executable, "-m", "validation.budget", "--out", str(out), "--json",
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--out", str(out), "--jobs", "2", "--json",
                         str(out / "budget.json")], capture_output=True, text=True,
                        cwd=Path(__file__).resolve().parent.parent, check=False)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -400,39 +401,29 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
     for key, c in cells.items():
         for col in ("size", "coupling"):
             assert c[col]["verdict"] == "negligible", (key, col)
+        for col, x in c.items():
+            if x["kind"] == "bound":
+                assert x["verdict"] != "matters", (key, col, x)
     assert cells["figs4-5"]["tilt"]["effect"] == 0.0 and cells["figs6-7"]["kink"]["verdict"] == "negligible"
-    rough = cells["figs4-5"]["roughness"]
-    assert rough["verdict"] == "matters" and -0.6 < rough["effect"] < -0.1
-    kx = {(t["rms"], t.get("plastic", False)): t["kx"] for t in b["transition"]}
-    assert 0.9e6 < kx[0.0, False] < 1.1e6 and 1.4e6 < kx[1e-6, False] < 3.5e6
-    # plastic asperities (docs: -0.13 +- 0.04 on Figs. 4-5 (Fig. 5: -0.18), the transition at 1.36 N/um): less than the
-    # elastic roughness, more than the resolution, the transition between the smooth and the elastic one's
-    plastic = cells["figs4-5"]["plastic"]
-    assert plastic["verdict"] == "matters" and rough["effect"] < plastic["effect"] < -0.05, (plastic, rough)
-    assert kx[0.0, False] < kx[1e-6, True] < kx[1e-6, False] and 1.1e6 < kx[1e-6, True] < 2.0e6
-    # the paper's combined 3.2 um (docs: 3.7 +- 0.7 N/um elastic, beyond the paper's 1-2; 1.40 plastic, inside)
-    assert kx[3.2e-6, False] > 2.0e6 and 1.1e6 < kx[3.2e-6, True] < 2.0e6
-    f45 = cells["figs4-5"]["roughness"]  # docs: -0.35 +- 0.01 at 3.2 um (Fig. 5)
-    assert "rms 3.2 um" in f45["note"] and -0.6 < f45["effect"] < -0.2, f45
-    # the flat faces (docs: their slip index falls by 0.3-0.6, Figs. 6-7 by 0.39 +- 0.07, elastic or plastic;
-    # every result matters under roughness)
+    for key in ("figs6-7", "fig8"):
+        assert cells[key]["tilt"]["kind"] == "bound" and cells[key]["tilt"]["verdict"] == "undetermined"
+    # the ranges: every admitted reading inside, the verdict the range's
     for key, c in cells.items():
-        assert c["roughness"]["verdict"] == "matters", key
-    for key in ("figs6-7", "table2"):
-        for col in ("roughness", "plastic"):
-            f = cells[key][col]
-            assert f["verdict"] == "matters" and "b = 600 um" in f["note"] and -0.9 < f["effect"] < -0.15, (key, col, f)
-    # the rough half-space itself in the apparatus decides every roughness cell (docs/budget.md), the
-    # face of 0.6 mm at 3.6 um included (docs: -0.48 +- 0.04 in Fig. 6; its force-control row undetermined)
-    for key, c in cells.items():
-        for col in ("roughness", "plastic"):
-            assert "rough half-space in the apparatus" in c[col]["note"], (key, col, c[col])
-    f6 = cells["figs6-7"]["roughness"]
-    assert "rms 3.6 um" in f6["note"] and -0.7 < f6["effect"] < -0.3 and f6["error"] < 0.1, f6
-    assert "b = 100 um" in cells["fig8"]["roughness"]["note"] and cells["fig8"]["roughness"]["effect"] < -0.2
-    # the paper's own 3.6 um on the face of 100 um (docs: -0.81 +- 0.02, slip index 0.05 against 0.86)
-    f8 = cells["fig8"]["roughness"]
-    assert "rms 3.6 um" in f8["note"] and f8["effect"] < -0.4 and f8["verdict"] == "matters", f8
+        for col in ("roughness", "plates"):
+            x = c[col]
+            if x["range"] is None:
+                assert x["verdict"] == "undetermined", (key, col, x)
+                continue
+            lo, hi = x["range"]
+            for name in x["admitted"]:
+                assert lo - 1e-12 <= x["readings"][name]["effect"] <= hi + 1e-12, (key, col, name)
+            assert x["verdict"] == grade_range(lo, hi, x["error"]), (key, col, x)
+    plates = {p["reading"]: p for p in b["plates_consistency"]}
+    assert plates["axial"]["admitted"]  # the paper's own model reproduces its loops
+    for kind in ("sphere", "face"):
+        assert len(b["consistency"][kind]) == 7 and all(len(r["surfaces"]) == 4 for r in b["consistency"][kind])
+    kx = {t["reading"]: t["kx"] for t in b["transition"]["rows"]}
+    assert 0.9e6 < kx["smooth"] < 1.1e6
     # the statements of docs/budget.md, "What it shows" (2-3x margins)
     for key, c in cells.items():
         assert abs(c["size"]["effect"]) + c["size"]["error"] < 4e-3, key  # docs: < 2e-3
@@ -449,9 +440,6 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
         cv = c["curvature"]
         assert cv["verdict"] == "negligible" and cv["kind"] == "absolute", (key, cv)
         assert abs(cv["effect"]) + cv["error"] < 4e-3, (key, cv)
-    for key in ("figs6-7", "fig8"):
-        assert cells[key]["tilt"]["verdict"] == "matters" and 0.008 < cells[key]["tilt"]["effect"] < 0.09  # 0.02-0.03
-        assert cells[key]["plates"]["verdict"] == "matters" and 0.03 < cells[key]["plates"]["effect"] < 0.25
 
 
 def test_the_half_space_shape_at_the_papers_points(full):

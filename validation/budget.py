@@ -9,56 +9,54 @@ Figs. 4-7 enclose) when the assumption is dropped, with its error bar, where it 
 verdict against the figures' resolution ``RESOLUTION``:
 
 - ``negligible``: |effect| + error <= resolution;
-- ``matters``: |effect| - error > resolution (a measured effect, not a bound);
-- ``undetermined``: in between, a bound above the resolution, or not measured at the result's
-  conditions (the cell says what would measure it).
+- ``matters``: |effect| - error > resolution (a measured effect, not a bound); a *range* over readings
+  of an input the paper leaves open matters only where all of it, with its error, lies beyond the
+  resolution on one side (``validation.budget_readings.grade_range``);
+- ``undetermined``: in between, a bound above the resolution, a range that reaches across it, or not
+  measured at the result's conditions (the cell says what would measure it).
 
 Where the cells come from (``COLUMNS``):
 
-- *half-space size*, *traction direction*, *tilt*, *roughness*: the stored results of the
-  catalogue's scenes (``validity``, ``assumptions-3d``, ``tilt``, ``roughness`` and ``roughness-faces``;
-  ``python -m validation.compare`` in the same ``--out``), measured at Table 2's loading under force
-  control, mapped to a result by its geometry. Size effects grow monotonically with the body's
-  smallness, so the row measured at the nearest smaller body is a *bound*: the true effect lies
-  between 0 and it;
+- *half-space size*, *traction direction*, *tilt*: the stored results of the catalogue's scenes
+  (``validity``, ``assumptions-3d``, ``direction-points``, ``tilt``; ``python -m validation.compare``
+  in the same ``--out``). Size effects grow monotonically with the body's smallness, so the row
+  measured at the nearest smaller body is a *bound*: the true effect lies between 0 and it. The tilt
+  the paper states as an inequality ("less than pi/3600"): its change at pi/3600 is a bound too;
 - *curvature*: measured at each point itself, the axisymmetric FE model (the cap's real sphere)
   against MDR in the apparatus there (``measured_in_apparatus``: the experiment scenes, the k_x
   series, ``halfspace-points``), a change of the slip index; where none is stored, bounded by the
   sphere's ``validity-curvature`` row at the next larger a/R;
 - *coupling*: exactly 0: the paper's indenter and block are the same steel (Dundurs' beta = 0);
 - *tilt* of the sphere: exactly 0 (a tilted sphere is the same sphere displaced);
-- *kink rounding* and *plates*: computed here with the MDR apparatus (cheap) at every point of the
-  result: the fillet of the kink (``mdr.profiles.RoundedTruncatedSphere``, width ``FILLET_MAX``, the
-  paper's bound "less than the rms roughness") against the sharp kink, a bound; the spread of the slip
-  index over the readings of the brass plates (``studies.plates.PLATE_READINGS``, the reading the
-  paper leaves open) against this project's reference reading.
+- *roughness* and *plates*: computed here (``validation.budget_readings``): ranges over the readings of
+  the paper's stated rms values (``validation.spectra``) and of its brass plates that the paper's own
+  loops admit (``validation.consistency``), MDR in the apparatus at every point (the roughness through
+  each surface's equivalent profile, its error including what that misses of the rough half-space in
+  the catalogue's scenes ``roughness`` and ``roughness-faces``);
+- *kink rounding*: computed here with the MDR apparatus at every point: the fillet of the kink
+  (``mdr.profiles.RoundedTruncatedSphere``, width ``FILLET_MAX``, the paper's bound "less than the rms
+  roughness") against the sharp kink, a bound.
 
 Assumptions of the mapping (stated in the table's notes): an effect measured under force control at
 Table 2's load is applied as the same relative change of the apparatus's dissipation, i.e. times the
 point's slip index (MDR in the apparatus, ``point_slip_index``), except the tilt's, measured as a change
-of the slip index itself (the aligned face hardly slips there), and the curvature's and the roughness's,
-changes of the slip index in the apparatus (the roughness's: the rough half-space itself driven by the
-apparatus, ``rough.law``, where the scene ran it; else MDR with each surface's equivalent profile); a
-result spanning
-a range of b (Figs. 8, 9, Table 2's two points) is "negligible" only if every b of its range is
-covered, and "matters" as soon as one measured point of it does.
+of the slip index itself (the aligned face hardly slips there), and the curvature's, the roughness's and
+the plates', changes of the slip index in the apparatus; a result spanning a range of b (Figs. 8, 9,
+Table 2's two points) is "negligible" only if every b of its range is covered, and "matters" as soon as
+one measured point of it does.
 """
 from __future__ import annotations
 
 import math
 import sys
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from common.errors import ConvergenceError, InputError
-from common.ladder import ensemble_ladder
-from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 
-from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, results, rough_row_b, same
-from .scenes import CATALOGUE, ROUGH_FACE_PAPER_RMS, ROUGH_SPHERE_PAPER_RMS, TILT_BOUND, code_version
+from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, results
+from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 
@@ -66,10 +64,10 @@ from .text import num
 FILLET_MAX = 3e-6
 #: the paper's block: the indenter's contact lies h = 19 mm above the bedding (Table 1)
 BLOCK_HEIGHT = 19e-3
-COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "plastic", "kink", "plates")
+COLUMNS = ("size", "curvature", "direction", "coupling", "tilt", "roughness", "kink", "plates")
 TITLES = {"size": "half-space size", "curvature": "curvature a/R", "direction": "traction direction",
-          "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness, elastic",
-          "plastic": "roughness, plastic asperities", "kink": "kink rounding",
+          "coupling": "coupling", "tilt": "tilt <= pi/3600", "roughness": "roughness (admitted readings)",
+          "kink": "kink rounding",
           "plates": "brass plates' reading"}
 
 
@@ -102,8 +100,8 @@ def combine(cells: list, source: str) -> dict:
     the one that matters most surely (the largest |effect| - error), else the largest |effect| + error."""
     verdicts = [c["verdict"] for c in cells]
     deciding = [c for c in cells if c["verdict"] == "matters"]
-    shown = max(deciding, key=lambda c: abs(c["effect"]) - c["error"]) if deciding else \
-        max((c for c in cells if c["effect"] is not None), key=lambda c: abs(c["effect"]) + c["error"],
+    shown = max(deciding, key=lambda c: _extent(c) - c["error"]) if deciding else \
+        max((c for c in cells if c["effect"] is not None), key=lambda c: _extent(c) + c["error"],
             default=cells[0])
     out = dict(shown)
     out["source"] = source if len(cells) > 1 else shown["source"]
@@ -112,6 +110,11 @@ def combine(cells: list, source: str) -> dict:
     gaps = sorted({c["note"] for c in cells if c["effect"] is None and c["note"]})
     out["note"] = "; ".join(([shown["note"]] if shown["note"] and shown["effect"] is not None else []) + gaps)
     return out
+
+
+def _extent(c: dict) -> float:
+    """The largest |effect| a cell holds: its range's farther end where it has one."""
+    return max(abs(c["range"][0]), abs(c["range"][1])) if c.get("range") else abs(c["effect"])
 
 
 # --------------------------------------------------------------- cells from stored scenes
@@ -242,7 +245,9 @@ def tilt_cell(p: Point, store) -> dict:
     """The flat face tilted by the paper's bound (``tilt``): the sphere exactly 0; a face of the same b at
     pi/3600 (the banded row where there is one): the change of the slip index itself (absolute: the
     aligned face hardly slips under the scene's force control, so a relative change has no meaning),
-    against the resolution of the slip index's full scale (1, gross slip)."""
+    against the resolution of the slip index's full scale (1, gross slip). The paper states the tilt
+    as an inequality ("less than pi/3600"), so the change at pi/3600 is a bound: the true change lies
+    between 0 and it (kind ``bound``: never "matters")."""
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
     res = store("tilt")
@@ -256,133 +261,9 @@ def tilt_cell(p: Point, store) -> dict:
             continue
         si = pt["aligned"]["slip_index"]
         aligned = r["levels"][-1]["runs"][0].get("slip_index")
-        return cell(si["effect"], si["error"], "absolute", "tilt",
+        return cell(si["effect"], si["error"], "bound", "tilt",
                     f"{r['variant']}: slip index {num(aligned, '.2g')} aligned, force control at Table 2's load")
-    return cell(None, None, "absolute", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
-
-
-#: the rms heights (m) the roughness columns read, by the contact (``rough_row_b``): the sphere's own 1 um
-#: (Section 2) and the pair's combined roughness, sphere 1 um with block 3 um, 3.2 um (scene roughness, on
-#: finer grids); on a flat face the same 1 um and the turned face's 2 um with the block's 3 um, 3.6 um
-#: (scene roughness-faces: b = 100 um and 0.6 mm); an rms a scene does not hold leaves its cell undetermined,
-#: naming it
-ROUGHNESS_RMS = {"sphere": (1e-6, ROUGH_SPHERE_PAPER_RMS), "face": (1e-6, ROUGH_FACE_PAPER_RMS)}
-#: the rough rows of the sticking transition: the sphere's own rms and the pair's combined one
-TRANSITION_RMS = (1e-6, ROUGH_SPHERE_PAPER_RMS)
-#: the scene of the rough flat faces (``validation.scenes``: a row per face radius b)
-ROUGH_FACES = "roughness-faces"
-
-
-def _rough_row(store, rms, plastic=False, b=0.0):
-    """The stored roughness row of the generated surfaces of ``rms`` on the indenter of face radius ``b``
-    (0: the sphere, scene ``roughness``; else scene ``ROUGH_FACES``), elastic or (``plastic``) with
-    plastic asperities, and its curves per grid, coarse to fine (each a list over the seeds), or (row or
-    None, None) where any member failed."""
-    res = store("roughness" if b == 0 else ROUGH_FACES)
-    if res is None:
-        return None, None
-    row = next((r for r in res["roughness"] if not r.get("measured") and r.get("rms") is not None
-                and abs(r["rms"] - rms) < 1e-12 and bool(r.get("hardness")) == plastic
-                and same(r.get("b", 0.0), b)), None)
-    if row is None or row.get("failed"):
-        return row, None
-    by = row.get("curves_by_grid") or {}
-    levels = [by.get(str(n)) for n in row["grids"]]
-    if any(not lv or len(lv) != len(row["seeds"]) or not all(lv) for lv in levels):
-        return row, None
-
-    def numbers(x):
-        return isinstance(x, list) and len(x) >= 4 and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in x)
-
-    if not all(isinstance(c, dict) and numbers(c.get("d")) and numbers(c.get("F")) for lv in levels for c in lv):
-        return row, None  # a curve of missing or non-finite numbers: no equivalent profile
-    period = row.get("period")
-    if not (isinstance(period, (int, float)) and math.isfinite(period) and period > 0
-            and all(isinstance(n, int) and n > 0 for n in row["grids"])):
-        return row, None  # no grid sizes: no grid error
-    return row, levels
-
-
-def _equivalent_profiles(level) -> list:
-    """The equivalent profiles (``mdr.equivalent.EquivalentProfile``) of one grid's curves; raises
-    InputError on a curve that is not one (non-finite, decreasing)."""
-    from mdr.equivalent import EquivalentProfile
-
-    return [EquivalentProfile(c["d"], c["F"], Materials()) for c in level]
-
-
-def roughness_rms(p: Point) -> tuple:
-    """The rms heights the roughness columns read at the point (``ROUGHNESS_RMS``)."""
-    return ROUGHNESS_RMS["face" if rough_row_b(p) else "sphere"]
-
-
-def roughness_cell(p: Point, store, rms: float = ROUGHNESS_RMS["sphere"][0], plastic: bool = False) -> dict:
-    """The indenter's roughness of rms ``rms`` in the apparatus: where the row ran the point in the
-    apparatus (the variant's ``apparatus``), the rough half-space itself driven by it
-    (``_apparatus_cell``); else MDR with the equivalent profile of each
-    stored rough surface's normal curve (the rough half-space's F_N(d) on every grid of its ladder,
-    ``mdr.equivalent.EquivalentProfile``) against the smooth indenter, a change of the slip index. A
-    face within half the sphere's Hertz radius (b = 1, 10 um) is the sphere's contact (scene
-    ``roughness``, against the smooth sphere); a wider face is read from the row of its own b in scene
-    ``ROUGH_FACES`` (against the smooth truncated sphere). Error: the ensemble's standard error and the
-    grid error of the ensemble mean over the ladder; with the equivalent profile also what it misses of
-    the rough half-space's own dissipation in the scene (|mean| + its error bar), as a share of the slip
-    index. ``plastic``: the surfaces with perfectly
-    plastic asperities, flattened at the row's ``preload`` and elastic after (their curves are the
-    flattened surfaces' elastic ones); a point whose largest load F0 + dF exceeds it would flatten them
-    further and is undetermined."""
-    face = rough_row_b(p)
-    scene = "roughness" if face == 0 else ROUGH_FACES
-    if store(scene) is None:
-        return missing(scene)
-    row, levels = _rough_row(store, rms, plastic, face)
-    what = (f"b = {face * 1e6:g} um, " if face else "") + f"rms {rms * 1e6:g} um" + (", plastic" if plastic else "")
-    if row is None:
-        return cell(None, None, "absolute", "roughness", f"{what} not in the stored scene")
-    if plastic and (row.get("preload") is None or p.F0 + p.dF > row["preload"] * (1 + 1e-9)):
-        return cell(None, None, "absolute", "roughness",
-                    f"F0 + dF = {p.F0 + p.dF:g} N beyond the flattening load {row.get('preload')} N")
-    if row.get("apparatus") is not None:  # the rough half-space itself in the apparatus
-        return _apparatus_cell(p, row, what, face)
-    v = row["verdicts"]["mdr_equivalent:dissipation"]
-    if levels is None or v["difference"] is None or v["error"] is None or len(row["seeds"]) < 2:
-        return cell(None, None, "absolute", "roughness", f"{what}: undetermined ensemble")
-    top = min(max(c["F"]) for lv in levels for c in lv)
-    if p.F0 + p.dF > top:
-        return cell(None, None, "absolute", "roughness", f"F0 + dF = {p.F0 + p.dF:g} N beyond the curves' {top:g} N")
-    try:
-        si = [_slip_indices(_equivalent_profiles(lv), [p] * len(lv)) for lv in levels]
-    except (InputError, ConvergenceError) as e:
-        return cell(None, None, "absolute", "roughness", f"{what}: no equivalent profile in the apparatus ({e})")
-    mean, sem, grid = ensemble_ladder(si, [row["period"] / n for n in row["grids"]])
-    if grid is None:
-        return cell(None, None, "absolute", "roughness", f"{what}: no grid error")
-    smooth = point_slip_index(replace(p, b=face))
-    err = sem + grid + (abs(v["difference"]) + v["error"]) * mean
-    return cell(mean - smooth, err, "absolute", "roughness",
-                f"{what}: slip index {mean:.2g} against {smooth:.2g} smooth, {len(si[-1])} surfaces")
-
-
-def _apparatus_cell(p: Point, row, what: str, face: float) -> dict:
-    """The roughness cell from the rough half-space driven by the apparatus (the row's ``apparatus``,
-    ``validation.families.roughness.apparatus_points``): the ensemble's slip index at the point against
-    the smooth indenter's, error the ensemble's standard error plus the grid error of its mean; the note
-    says what MDR with the equivalent profile misses of it there."""
-    hit = next((x for x in row.get("apparatus") or [] if isinstance(x, dict) and isinstance(x.get("point"), dict)
-                and set(x["point"]) == set(p.__dataclass_fields__)
-                and all(same(x["point"][k], getattr(p, k)) for k in x["point"])), None)
-    if hit is None:
-        return cell(None, None, "absolute", "roughness", f"{what}: the point not run in the apparatus")
-    rh = hit.get("rough_halfspace") or {}
-    if rh.get("mean") is None or rh.get("error") is None:
-        return cell(None, None, "absolute", "roughness", f"{what}: in the apparatus {rh.get('status', 'undetermined')}")
-    smooth = point_slip_index(replace(p, b=face))
-    eq = hit.get("equivalent_minus_rough") or {}
-    miss = "" if eq.get("mean") is None else f"; MDR with the equivalent profile {eq['mean']:+.2g}"
-    return cell(rh["mean"] - smooth, rh["error"], "absolute", "roughness",
-                f"{what}: slip index {rh['mean']:.2g} (rough half-space in the apparatus) against {smooth:.2g} smooth, "
-                f"{hit.get('surfaces')} surfaces{miss}")
+    return cell(None, None, "bound", "tilt", f"b = {p.b * 1e6:g} um at pi/3600 not measured (or not resolved)")
 
 
 # ------------------------------------------------------------------ cells computed with MDR
@@ -430,38 +311,6 @@ def kink_cell(p: Point) -> dict:
     return cell(e, err, "bound", "MDR apparatus", f"fillet {FILLET_MAX * 1e6:g} um")
 
 
-#: the readings of the brass plates the budget spans: all of ``studies.plates.PLATE_READINGS`` but
-#: ``bending``, which sticks at every point of Figs. 4-9 where the paper measured loops
-#: (docs/apparatus.md, *Readings of the brass plates*)
-EXCLUDED_READINGS = ("bending",)
-
-
-def plates_cell(p: Point) -> dict:
-    """The slip index over the readings of the brass plates (``studies.plates.PLATE_READINGS`` but
-    ``EXCLUDED_READINGS``) against this project's reference reading (axial, R_bed 5 mm): the largest
-    change of the slip index, MDR in the apparatus, all readings in one batch."""
-    from mdr.profiles import TruncatedSphere
-    from studies.paper import RES, _slip_index
-    from studies.plates import PLATE_READINGS
-
-    readings = [("axial", 5e-3)] + [r for r in PLATE_READINGS if r[0] not in EXCLUDED_READINGS + ("axial",)]
-    k = len(readings)
-    kw = {"plate_model": np.array([m for m, _ in readings]), "R_bed": np.array([rb for _, rb in readings])}
-
-    def each(n):
-        prof = TruncatedSphere(np.full(k, R_INDENTER), np.full(k, p.b))
-        si, _ = _slip_index(prof, np.full(k, p.kx), mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=kw)
-        si = np.asarray(si, dtype=float)
-        return si[1:] - si[0]
-
-    coarse, fine = each(100), each(400)
-    j = int(np.argmax(np.abs(fine)))
-    m, rb = readings[j + 1]
-    return cell(float(fine[j]), float(abs(fine[j] - coarse[j])), "spread", "MDR apparatus",
-                f"largest: {m}{f' R_bed {rb * 1e3:g} mm' if m in ('tilt', 'parallel') else ''}")
-
-
 def scaled(c: dict, slip_index: float) -> dict:
     """A cell of a relative effect on the dissipation as the change of the point's slip index: effect
     and error times ``slip_index``, the verdict taken again."""
@@ -471,61 +320,19 @@ def scaled(c: dict, slip_index: float) -> dict:
     return out
 
 
-# ------------------------------------------------------------- the sticking transition
-#: the slip index that marks the sticking transition of Fig. 9 (docs/apparatus.md: the paper's lies
-#: between 1 and 2 N/um at 0.1)
-TRANSITION_SLIP_INDEX = 0.1
-
-
-def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6, iters=12) -> float | None:
-    """The axis stiffness k_x (N/m) where the apparatus's slip index passes ``TRANSITION_SLIP_INDEX`` at
-    the point's load (Table 2's), by bisection on log k_x (the slip index grows with k_x: a stiffer
-    axis leaves more of the stroke to the contact); None where it does not pass it in [lo, hi]."""
-    def si(kx):
-        return _slip_indices([profile], [replace(p, kx=kx)])[0] - TRANSITION_SLIP_INDEX
-
-    if si(lo) > 0 or si(hi) < 0:
-        return None
-    for _ in range(iters):
-        mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if si(mid) < 0 else (lo, mid)
-    return math.sqrt(lo * hi)
-
-
-def transitions(store) -> list:
-    """The sticking transition of the smooth sphere and of the rough spheres of ``TRANSITION_RMS``, elastic
-    and with plastic asperities (MDR with each stored surface's equivalent profile, on every grid of the
-    scene's ladder): rows {rms, plastic, kx
-    (the ensemble mean on the finest grid), sem, grid (the mean's grid error), error (their sum),
-    members}."""
-    from mdr.profiles import TruncatedSphere
-
-    rows = [{"rms": 0.0, "plastic": False, "kx": sticking_transition(TruncatedSphere(R_INDENTER, 0.0)), "sem": 0.0,
-             "grid": 0.0,
-             "error": 0.0, "members": 1}]
-    for rms, plastic in [(rms, plastic) for rms in TRANSITION_RMS for plastic in (False, True)]:
-        row, levels = _rough_row(store, rms, plastic)
-        out = {"rms": rms, "plastic": plastic, "kx": None, "sem": None, "grid": None, "error": None,
-               "members": 0 if row is None else len(row["seeds"])}
-        if levels is not None and len(row["seeds"]) > 1:
-            try:
-                ks = [[sticking_transition(prof) for prof in _equivalent_profiles(lv)] for lv in levels]
-            except (InputError, ConvergenceError):
-                ks = [[None]]  # a curve without an equivalent profile: the row's transition undetermined
-            if all(k is not None for lv in ks for k in lv):
-                kx, sem, grid = ensemble_ladder(ks, [row["period"] / n for n in row["grids"]])
-                out.update(kx=kx, sem=sem, grid=grid, error=None if grid is None else sem + grid)
-        rows.append(out)
-    return rows
-
-
 # --------------------------------------------------------------------------- the table
-def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
+def budget(out="results", *, mdr_cells: bool = True, log=None, jobs: int = 1, members: list | None = None,
+           readings_dir=None) -> dict:
     """The budget from the scenes stored under the folder ``out`` (or a dict of results by scene name,
     results.json's ``scenes``; a missing scene's cells are undetermined, naming the command that
-    measures them) and, with ``mdr_cells``, the kink and plates cells and the sticking transition
-    computed here. Returns {"rows": [{key, title, slip_index, cells: {column: cell}}], "stale": [scene
-    names stored by other sources], "resolution", "transition"}."""
+    measures them) and, with ``mdr_cells``, the cells computed here: the roughness readings (their
+    surfaces' curves from ``members`` where given, else ``validation.spectra.curves`` in ``jobs``
+    processes, cached under ``out``/readings or ``readings_dir``), the paper's loops against them and against the plates'
+    readings, the kink, the plates and the sticking transition. Returns {"rows": [{key, title,
+    slip_index, cells: {column: cell}}], "stale": [scene names stored by other sources], "resolution",
+    "consistency", "plates_consistency", "transition"}."""
+    from . import budget_readings as BR
+
     log = log or (lambda msg: None)
     version, stale, cache = code_version(), [], {}
 
@@ -537,27 +344,39 @@ def budget(out="results", *, mdr_cells: bool = True, log=None) -> dict:
             cache[name] = res
         return cache[name]
 
+    result = {"stale": [], "resolution": RESOLUTION}
+    if mdr_cells:
+        if members is None:
+            from .spectra import curves
+
+            folder = readings_dir if isinstance(out, dict) else Path(out) / "readings"
+            members = curves(BR.contacts(), folder, jobs=jobs, log=log)
+        R = BR.Readings(members)
+        result["consistency"] = BR.consistency(R, log)
+        admitted = BR.admitted_names(result["consistency"])
+        result["plates_consistency"] = BR.plates_consistency(log)
+        plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}
+        eq_error = BR.equivalent_error(store)
     rows = []
     for r in results():
         log(f"budget: {r.title}")
         si = [point_slip_index(p) for p in r.points]
         cells = {}
-        for col, fun in (("size", size_cell), ("curvature", curvature_cell), ("direction", direction_cell),
-                         ("tilt", tilt_cell)):
+        for col, fun in (("size", size_cell), ("curvature", curvature_cell), ("direction", direction_cell)):
             cells[col] = combine([scaled(fun(p, store), x) for p, x in zip(r.points, si)], TITLES[col])
-        for col, plastic in (("roughness", False), ("plastic", True)):
-            cells[col] = combine([roughness_cell(p, store, rms, plastic) for p in r.points for rms in roughness_rms(p)],
-                                 TITLES[col])
+        cells["tilt"] = combine([tilt_cell(p, store) for p in r.points], TITLES["tilt"])
         cells["coupling"] = cell(0.0, 0.0, "exact", "Dundurs", "indenter and block of one steel: beta = 0")
         if mdr_cells:
+            cells["roughness"] = combine([BR.roughness_cell(p, R, admitted, eq_error) for p in r.points],
+                                         TITLES["roughness"])
             cells["kink"] = combine([kink_cell(p) for p in r.points], "MDR apparatus")
-            cells["plates"] = combine([plates_cell(p) for p in r.points], "MDR apparatus")
+            cells["plates"] = combine([BR.plates_cell(p, plates_ok) for p in r.points], "MDR apparatus")
         rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],
                      "cells": {c: cells[c] for c in COLUMNS if c in cells}})
-    result = {"rows": rows, "stale": sorted(set(stale)), "resolution": RESOLUTION}
+    result.update(rows=rows, stale=sorted(set(stale)))
     if mdr_cells:
         log("budget: the sticking transition")
-        result["transition"] = transitions(store)
+        result["transition"] = BR.transitions(R, admitted)
     return result
 
 
@@ -568,6 +387,9 @@ def cell_text(c: dict) -> str:
         body = f"<= {num(abs(c['effect']) + c['error'], '.2g')}"
     elif c["kind"] == "exact":
         body = f"{num(c['effect'], 'g')} (exact)"
+    elif c["kind"] == "range":
+        lo, hi = c["range"]
+        body = f"{num(lo, '+.2g')} to {num(hi, '+.2g')} +- {num(c['error'], '.2g')}"
     else:
         body = f"{num(c['effect'], '+.2g')} +- {num(c['error'], '.2g')}"
     verdict = {"negligible": "negligible", "matters": "**matters**"}.get(c["verdict"], "undetermined")
@@ -575,14 +397,18 @@ def cell_text(c: dict) -> str:
 
 
 def markdown(b: dict) -> list:
+    from .budget_readings import readings_markdown
+
     cols = [c for c in COLUMNS if any(c in r["cells"] for r in b["rows"])]
     lines = [f"The change of each result's slip index when an assumption of the paper's model is dropped, with "
              f"its error bar, against the figures' resolution of {b['resolution']:g} ({RESOLUTION_ORIGIN}). "
-             "'<=': a bound (the change lies between 0 and it). Effects measured on the dissipation under force "
-             "control at Table 2's load count as the same relative change of the result's slip index (its "
-             "range in the second column, MDR in the apparatus); the tilt's is a change of the slip index "
-             "itself. A result over several points shows its largest change; it is negligible only where "
-             "every point is, and matters where one measured point does.", "",
+             "'<=': a bound (the change lies between 0 and it: never 'matters'). 'lo to hi': a range over the "
+             "readings of an input the paper leaves open that its own loops admit (the roughness spectrum, the "
+             "brass plates), graded 'matters' only where all of it lies beyond the resolution on one side. "
+             "Effects measured on the dissipation under force control at Table 2's load count as the same "
+             "relative change of the result's slip index (its range in the second column, MDR in the "
+             "apparatus). A result over several points shows the point that decides; it is negligible only "
+             "where every point is, and matters where one measured point does.", "",
              "| result | slip index | " + " | ".join(TITLES[c] for c in cols) + " |",
              "|---|---|" + "---|" * len(cols)]
     for r in b["rows"]:
@@ -590,21 +416,7 @@ def markdown(b: dict) -> list:
         span = num(lo, ".2g") if abs(hi - lo) <= 1e-3 * max(abs(hi), 1e-12) else f"{num(lo, '.2g')}-{num(hi, '.2g')}"
         lines.append(f"| {r['title']} | {span} | " + " | ".join(cell_text(r["cells"][c]) if c in r["cells"] else "-"
                                                                  for c in cols) + " |")
-    if b.get("transition"):
-        lines += ["", f"The sticking transition (Fig. 9: k_x where the slip index passes {TRANSITION_SLIP_INDEX:g}; "
-                      "the paper's lies between 1 and 2 N/um), the sphere at Table 2's load in the apparatus, MDR "
-                      "with the smooth profile and with the equivalent profiles of the rough surfaces "
-                      "(the mean over the surfaces on the finest grid +- its standard error plus the mean's "
-                      "grid error over the scene's ladder):", "",
-                  "| surface | k_x (N/um) |", "|---|---|"]
-        for t in b["transition"]:
-            name = "smooth" if not t["rms"] else (f"rms {t['rms'] * 1e6:g} um{', plastic asperities' if t.get('plastic') else ''}"
-                                                  f", {t['members']} surfaces")
-            val = "undetermined" if t["kx"] is None or t["error"] is None else (
-                num(t["kx"], ".2f", 1e-6) + ("" if not t["error"] else f" +- {num(t['error'], '.2f', 1e-6)} "
-                                             f"(surfaces {num(t['sem'], '.2f', 1e-6)}, grids "
-                                             f"{num(t['grid'], '.2f', 1e-6)})"))
-            lines.append(f"| {name} | {val} |")
+    lines += readings_markdown(b)
     if b["stale"]:
         lines += ["", f"Stored by other sources than these (rerun them): {', '.join(b['stale'])}."]
     return lines
@@ -621,8 +433,11 @@ def build_parser():
                    help="the comparison's output directory (default ./results); budget.md is written there")
     p.add_argument("--json", metavar="PATH", help="also write the budget as JSON to PATH ('-' = stdout)")
     p.add_argument("--no-mdr", action="store_true",
-                   help="leave out the kink, plates and sticking-transition cells (the rest still runs MDR for "
-                        "each point's slip index)")
+                   help="leave out the cells computed here: roughness, kink, plates, the paper's loops as a check "
+                        "and the sticking transition (the rest still runs MDR for each point's slip index)")
+    p.add_argument("--jobs", type=int, default=1, metavar="N",
+                   help="processes for the rough surfaces of the roughness readings (default 1; cached under "
+                        "--out/readings, so a second run reads them)")
     return p
 
 
@@ -639,10 +454,12 @@ def main(argv=None) -> int:
                              f"--out {args.out} first")
         if args.json not in (None, "-"):
             check_output_path(args.json, "--json")
+        if args.jobs < 1:
+            raise InputError(f"--jobs must be a whole number >= 1, got {args.jobs}")
     except InputError as e:
         print(f"{p.prog}: error: {e}", file=sys.stderr)
         return 2
-    b = budget(out, mdr_cells=not args.no_mdr, log=lambda m: print(m, file=sys.stderr, flush=True))
+    b = budget(out, mdr_cells=not args.no_mdr, jobs=args.jobs, log=lambda m: print(m, file=sys.stderr, flush=True))
     text = "\n".join(["# The error budget of the paper's model", ""] + markdown(b)) + "\n"
     write_bytes_atomic(out / "budget.md", text.encode())
     print(text, file=sys.stderr if args.json == "-" else sys.stdout)  # stdout is the JSON's then

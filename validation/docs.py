@@ -59,12 +59,18 @@ def _family_table(scene: str):
     return table
 
 
+#: where the budget's roughness readings are cached (``validation.spectra.curves``): the run's folder's
+#: ``readings`` (``main`` sets it), as ``python -m validation.budget --out`` caches them
+READINGS_DIR = None
+
+
 def budget_table(scenes: dict) -> list:
-    """The error budget of the paper's model (``validation.budget``) from the run's scenes: its table and
-    the sticking transition's (the kink, plates and transition computed with MDR, about a minute)."""
+    """The error budget of the paper's model (``validation.budget``) from the run's scenes: its table, the
+    paper's loops against the readings and the sticking transition (computed with MDR; the readings'
+    surfaces read from ``READINGS_DIR`` where a budget run cached them)."""
     from . import budget
 
-    lines = budget.markdown({**budget.budget(scenes), "stale": []})  # the docs name no run's staleness
+    lines = budget.markdown({**budget.budget(scenes, readings_dir=READINGS_DIR), "stale": []})  # no run's staleness
     return lines[lines.index(next(x for x in lines if x.startswith("| "))):]
 
 
@@ -138,6 +144,8 @@ def main(argv=None) -> int:
     mode.add_argument("--check", action="store_true", help="compare them with the run; exit 1 on a difference")
     args = ap.parse_args(argv)
     path = Path(args.results) / "results.json"
+    global READINGS_DIR
+    READINGS_DIR = Path(args.results) / "readings"
     try:
         scenes = json.loads(path.read_text())["scenes"]
     except (OSError, ValueError, KeyError) as e:

@@ -91,7 +91,7 @@ MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
 #: the defaults of a variant of the roughness family (``validation.families.roughness``): 4 surfaces, grids
 #: of 128, 192, 256 pixels, a period of 16 Hertz radii, Hurst 0.8, the short cut-off at 4 pixels of the
-#: coarsest grid, the roll-off at a quarter period
+#: coarsest grid, the long cut-off at a quarter period (no power at longer wavelengths: rough.surfaces)
 ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0,
                   "long": 0.25}
 
@@ -339,8 +339,8 @@ class Scene:
                     raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
                 if not short / grids[0] < long_ <= 1.0:
                     raise bad("long", f"in ({short / grids[0]:.3g}, 1] (fractions of the period)")
-                if not 0.0 < hurst < 1.0:
-                    raise bad("hurst", "in (0, 1)")
+                if not 0.0 < hurst <= 1.0:
+                    raise bad("hurst", "in (0, 1]")
             if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
                 raise bad("grids", "at least 2 pixel counts, increasing, from 16")
             if "apparatus" in v:
@@ -635,7 +635,7 @@ def _catalogue() -> dict:
                                "preload": ROUGH_PRELOAD, "apparatus": True}),
                     notes="Table 2's normal load (F0 = 0.5 N) held, force amplitude mu F0 / 2, mu = 0.2, steel on "
                           "steel, R = 6 mm; the combined roughness of both bodies as one self-affine surface "
-                          "(Hurst 0.8, roll-off at a quarter period, cut off at 4 pixels of the coarsest grid), "
+                          "(Hurst 0.8, no power beyond a quarter period, cut off at 4 pixels of the coarsest grid), "
                           "4 realisations per rms on grids of 128, 192 and 256 pixels (the smooth sphere: one); "
                           "period 16 Hertz radii (32 at the paper's rms 1 um, its sphere's, whose contact spreads "
                           "over several). The paper's combined roughness of sphere and block, 3.2 um, touches few "
@@ -660,7 +660,7 @@ def _catalogue() -> dict:
                           "paper's results: b = 50 and 100 um (Figs. 8-9), 0.6 mm (Figs. 6-7, Table 2) and 1 mm "
                           "(Fig. 8), at the sphere's rms 1 um (Hurst 0.8), 4 realisations per face on grids of "
                           "256, 384 and 512 pixels over 4 smooth contact radii, cut off at 8 pixels of the "
-                          "coarsest grid (2 % of the period: 75 um on b = 0.6 mm) and rolled off at one contact radius. The faces "
+                          "coarsest grid (2 % of the period: 75 um on b = 0.6 mm), with no power beyond one contact radius. The faces "
                           "touch at a few asperity clusters: a grid of 128 pixels leaves single-pixel contacts "
                           "whose force-control dissipation jumps by orders of magnitude between grids. b = 100 um "
                           "and 0.6 mm again with perfectly plastic asperities, flattened at 0.75 N, and at the "

@@ -28,13 +28,13 @@ Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is t
 Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in smooth contact radii of the
 scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
 truncated where the grid can resolve it, a modelling choice the result depends on and states),
-``long`` (the long-wavelength cut-off, the roll-off, as a fraction of the period); ``hardness`` (Pa,
+``long`` (the long-wavelength cut-off as a fraction of the period: no power at longer wavelengths, no roll-off plateau); ``hardness`` (Pa,
 optional): perfectly plastic asperities, the pressure capped there (``rough.normal.saturated_pressure``;
 the paper's steel: ``rough.normal.HARDNESS_X5CRNI18_10``), flattened by a first loading to ``preload``
 (N, at least the scene's F0, default F0; ``rough.equivalent.mdr_against_rough``), elastic after;
 ``apparatus`` (bool, default false; the paper's R = 6 mm steel indenter only): each member also drives
 the rough half-space by the paper's apparatus at the points whose rough contact is its indenter
-(``in_apparatus``), the slip index the error budget reads (``validation.budget.roughness_cell``).
+(``in_apparatus``): what MDR with the equivalent profile misses of it there is the error the budget adds to its roughness readings (``validation.budget_readings.equivalent_error``).
 """
 from __future__ import annotations
 

@@ -1,0 +1,100 @@
+"""The budget's roughness over the admitted readings (validation.budget_readings).
+
+Truths: MDR with the equivalent profile of the smooth sphere's own Hertz curve is the smooth sphere in the
+apparatus (a 'reading' of such surfaces changes no slip index beyond the curve's sampling); a softer
+contact (a Hertz curve of a lower modulus) lowers the slip index and moves the sticking transition up; the
+range spans exactly the admitted readings; a range is graded 'matters' only where all of it lies beyond
+the resolution on one side.
+"""
+from dataclasses import asdict
+
+import numpy as np
+import pytest
+
+from mdr import reference as ref
+from mdr.materials import Materials
+from mdr.paper import R_INDENTER
+from validation import budget_readings as BR
+from validation import spectra as SP
+from validation.points import RESOLUTION, loop_point
+
+MAT = Materials()
+
+
+def _members(scale_by_reading, contact=SP.SPHERE, seeds=(0, 1, 2)):
+    """Members whose curves are Hertz's for E* / scale (scale per reading index; 1: the smooth sphere)."""
+    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
+    out = []
+    for i, scale in scale_by_reading.items():
+        for s in seeds:
+            for n in contact.grids:
+                k = scale * (1 + 0.02 * s)  # surfaces that differ a little
+                d = [float(ref.hertz(f, R_INDENTER, MAT.E_star / k)["d"]) for f in F]
+                out.append({"reading": i, "contact": asdict(contact), "seed": s, "n": n, "rms_window": 1e-6,
+                            "form_curvature": 0.0, "curve": {"d": d, "F": F.tolist()}})
+    return out
+
+
+@pytest.mark.parametrize("fig", ["fig4", "fig5"])
+def test_the_smooth_spheres_own_curve_is_no_roughness(fig):
+    R = BR.Readings(_members({0: 1.0}, seeds=(0,)))
+    p = loop_point(fig)
+    from validation.budget import point_slip_index
+
+    e = BR.reading_effect(R, 0.0, 0, p, point_slip_index(p), 0.0)
+    assert e is None  # one surface per grid: no spread, no effect
+    R = BR.Readings(_members({0: 1.0}, seeds=(0, 0)))
+    e = BR.reading_effect(R, 0.0, 0, p, point_slip_index(p), 0.0)
+    assert abs(e["effect"]) < 3e-3 and e["sampling"] < 3e-3 and e["surfaces_sd"] == 0.0
+
+
+def test_the_range_spans_the_admitted_readings_and_grades_by_its_far_end():
+    p = loop_point("fig5")
+    R = BR.Readings(_members({0: 1.0, 1: 3.0, 2: 10.0}))
+    names = [r.name for r in SP.READINGS]
+    admitted = {"sphere": {names[0], names[1]}, "face": set()}
+    c = BR.roughness_cell(p, R, admitted, 0.002)
+    per = {k: v for k, v in c["readings"].items() if v is not None}
+    assert set(per) == {names[0], names[1], names[2]} and c["admitted"] == sorted(admitted["sphere"])
+    lo, hi = c["range"]
+    for k in admitted["sphere"]:
+        assert lo <= per[k]["effect"] <= hi
+    assert per[names[2]]["effect"] < lo  # the stiffest exclusion is not in the range
+    assert per[names[1]]["effect"] < per[names[0]]["effect"]  # softer: less slip in the apparatus
+    assert c["verdict"] == BR.grade_range(lo, hi, c["error"])
+    assert c["error"] >= max(v["surfaces_sd"] for v in per.values() if v is not None and v is not per[names[2]])
+    # nothing admitted: undetermined, said so
+    none = BR.roughness_cell(p, R, {"sphere": set(), "face": set()}, 0.002)
+    assert none["verdict"] == "undetermined" and "excluded" in none["note"]
+
+
+@pytest.mark.parametrize("lo,hi,err,verdict", [
+    (-0.3, -0.1, 0.01, "matters"), (0.05, 0.2, 0.01, "matters"), (-0.3, 0.05, 0.01, "undetermined"),
+    (-0.3, -0.005, 0.001, "undetermined"), (-0.004, 0.003, 0.005, "negligible"), (-0.004, 0.003, 0.007, "undetermined")])
+def test_a_range_matters_only_where_all_of_it_lies_beyond_the_resolution(lo, hi, err, verdict):
+    assert RESOLUTION == 0.01
+    assert BR.grade_range(lo, hi, err) == verdict
+
+
+def test_a_softer_contact_moves_the_sticking_transition_up():
+    from dataclasses import replace
+
+    from mdr.profiles import TruncatedSphere
+
+    smooth = BR.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6))
+    assert smooth == pytest.approx(1.0e6, rel=0.05)  # docs/apparatus.md: 1.00 N/um
+    soft = BR.sticking_transition(TruncatedSphere(R_INDENTER, 10e-6), replace(BR.Point(b=10e-6), ua=110e-9))
+    assert soft > 1.2 * smooth  # less stroke: the contact must be stiffer-driven to slip
+    R = BR.Readings(_members({0: 3.0}))
+    t = BR.transitions(R, {"sphere": {SP.READINGS[0].name}})
+    assert t["rows"][1]["kx"] > 1.2 * t["rows"][0]["kx"] and t["range"][0] < t["rows"][1]["kx"] < t["range"][1]
+
+
+def test_the_equivalent_profiles_error_is_read_from_the_stored_rough_scenes():
+    row = {"apparatus": [{"equivalent_minus_rough": {"mean": -0.003, "sem": 0.001}},
+                         {"equivalent_minus_rough": {"mean": 0.002, "sem": 0.0005}}, {"equivalent_minus_rough": None}]}
+    store = lambda name: {"roughness": [row]} if name == "roughness" else None  # noqa: E731
+    assert BR.equivalent_error(store) == pytest.approx(0.004)
+    assert BR.equivalent_error(lambda name: None) is None
+    c = BR.roughness_cell(loop_point("fig4"), BR.Readings([]), {"sphere": set(), "face": set()}, None)
+    assert c["verdict"] == "undetermined" and "roughness" in c["note"]

@@ -1,0 +1,365 @@
+"""The budget's cells over readings of an input the paper leaves open, each checked against the paper's own
+loops (``validation.consistency``): the roughness and the brass plates.
+
+The roughness: each admitted reading of the paper's roughness at each point, and the range they
+span (``roughness_cell``), the paper's loops as the check that admits a reading (``admitted``), the
+sticking transition over the admitted readings (``transitions``).
+
+A reading (``validation.spectra.READINGS``) on a contact is four surfaces, each on two grids; each surface's
+normal force-approach curve gives MDR's equivalent profile (``mdr.equivalent.EquivalentProfile``), driven by
+the apparatus at the point at the paper's mu1. Per reading the change of the slip index against the smooth
+indenter is the surfaces' mean on the finer grid, and its bar, for the paper's one specimen pair, is
+
+- the standard deviation over the surfaces (``surfaces_sd``; the standard error ``sem`` is the bar of the
+  ensemble mean, named as such);
+- the grid: the change of the mean from the coarser grid;
+- the curve's sampling: the largest change of a surface's slip index when its curve is read from every
+  other load (``rough.equivalent.CURVE_FRACTIONS``: 24 loads against 12);
+- what MDR with the equivalent profile misses of the rough half-space itself in the apparatus: the largest
+  |mean difference| + its standard error over every point where the catalogue's scenes ``roughness`` and
+  ``roughness-faces`` ran both (``equivalent_error``).
+
+The cell's ``range`` is [smallest, largest] change over the readings the paper's loops admit
+(``validation.consistency``: the sphere's readings by Figs. 4-5, a face's by Figs. 6-7), its ``error`` the
+largest bar among them; it "matters" only where the whole range with that bar lies beyond the resolution
+on one side, is "negligible" where all of it lies within, and is "undetermined" otherwise. Wavelengths
+longer than a contact's grid are form the range leaves out; the cell's ``form_curvature`` is their rms
+curvature times R, the largest over the admitted readings.
+
+The brass plates (``plates_cell``): the slip index over the readings of ``studies.plates.PLATE_READINGS``
+that the paper's loops admit (``plates_consistency``, the smooth indenters), against the project's
+reference reading, itself one of them (so the range holds 0).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from common.errors import ConvergenceError, InputError
+from mdr.materials import Materials
+
+from . import spectra as SP
+from .points import RESOLUTION, Point, rough_row_b
+from .scenes import ROUGH_FACES_B
+
+R_INDENTER = SP.R_INDENTER
+
+#: the scenes whose rough half-space in the apparatus measures what the equivalent profile misses
+ROUGH_SCENES = ("roughness", "roughness-faces")
+#: the slip index that marks the sticking transition of Fig. 9 (docs/apparatus.md: the paper's lies
+#: between 1 and 2 N/um at 0.1)
+TRANSITION_SLIP_INDEX = 0.1
+
+
+def contacts() -> tuple:
+    """The rough contacts of the paper's points: the sphere's and each face's of ``ROUGH_FACES_B``."""
+    return (SP.SPHERE,) + tuple(SP.face(b) for b in ROUGH_FACES_B)
+
+
+def equivalent_error(store):
+    """The largest |equivalent MDR - rough half-space| + its standard error of the slip index over every
+    apparatus point of the stored rough scenes, or None where none is stored."""
+    worst = None
+    for name in ROUGH_SCENES:
+        for row in (store(name) or {}).get("roughness", []):
+            for x in row.get("apparatus") or []:
+                em = x.get("equivalent_minus_rough") if isinstance(x, dict) else None
+                if em and all(isinstance(em.get(k), (int, float)) and math.isfinite(em[k]) for k in ("mean", "sem")):
+                    e = abs(em["mean"]) + em["sem"]
+                    worst = e if worst is None else max(worst, e)
+    return worst
+
+
+class Readings:
+    """The equivalent profiles of every reading's surfaces on every contact (``members``: from
+    ``validation.spectra.curves``), with the slip indices they give at points computed once each."""
+
+    def __init__(self, members: list):
+        self.by = {}
+        for m in members:
+            key = (m["contact"]["b"], m["reading"])
+            self.by.setdefault(key, []).append(m)
+        self._si = {}
+
+    def members(self, b: float, reading: int):
+        """(coarser grid's, finer grid's) members of a reading on a contact, each sorted by seed; None
+        where one failed."""
+        ms = self.by.get((b, reading), [])
+        if not ms or any("failed" in m for m in ms):
+            return None
+        grids = sorted({m["n"] for m in ms})
+        return tuple(sorted((m for m in ms if m["n"] == n), key=lambda m: m["seed"]) for n in grids)
+
+    @staticmethod
+    def profile(m: dict, every: int = 1):
+        from mdr.equivalent import EquivalentProfile
+
+        d, F = np.asarray(m["curve"]["d"]), np.asarray(m["curve"]["F"])
+        return EquivalentProfile(d[::-1][::every][::-1], F[::-1][::every][::-1], Materials())
+
+    def slip_index(self, m: dict, p: Point, every: int = 1) -> float:
+        """The apparatus slip index of a member's equivalent profile at the point (its curve read from
+        every ``every``-th load, counted from the largest)."""
+        from .budget import _slip_indices
+
+        key = (id(m), p, every)
+        if key not in self._si:
+            self._si[key] = _slip_indices([self.profile(m, every)], [p])[0]
+        return self._si[key]
+
+
+def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_error: float) -> dict | None:
+    """One reading's change of the point's slip index with its bar (module docstring), or None where a
+    member failed or gives no equivalent profile, or where one grid or one surface leaves a part of the
+    bar unmeasured."""
+    levels = R.members(b, i)
+    if levels is None or len(levels) < 2 or len(levels[-1]) < 2:
+        return None  # one grid gives no grid error, one surface no spread
+    try:
+        coarse = np.array([R.slip_index(m, p) for m in levels[0]])
+        fine = np.array([R.slip_index(m, p) for m in levels[-1]])
+        half = np.array([R.slip_index(m, p, every=2) for m in levels[-1]])
+    except (InputError, ConvergenceError):
+        return None
+    sd = float(fine.std(ddof=1)) if fine.size > 1 else 0.0
+    grid, sampling = abs(fine.mean() - coarse.mean()), float(np.max(np.abs(half - fine)))
+    m0 = levels[-1][0]
+    return {"effect": float(fine.mean() - smooth), "slip_index": float(fine.mean()), "surfaces_sd": sd,
+            "sem": sd / math.sqrt(fine.size), "grid": float(grid), "sampling": sampling, "equivalent": eq_error,
+            "error": sd + grid + sampling + eq_error, "members": fine.tolist(),
+            "rms_window": m0["rms_window"], "form_curvature": m0["form_curvature"] * SP.R_INDENTER}
+
+
+def grade_range(lo: float, hi: float, err: float) -> str:
+    """The verdict of a range of effects with a bar: ``matters`` only where all of it lies beyond the
+    resolution on one side, ``negligible`` where all of it lies within."""
+    if max(abs(lo), abs(hi)) + err <= RESOLUTION:
+        return "negligible"
+    if hi + err < -RESOLUTION or lo - err > RESOLUTION:
+        return "matters"
+    return "undetermined"
+
+
+def range_cell(per: dict, admitted: set, source: str, what: str) -> dict:
+    """A cell over readings: ``per`` {name: effect dict or None}; the range over the ``admitted`` ones."""
+    ok = {k: v for k, v in per.items() if v is not None and k in admitted}
+    excluded = sorted(k for k in per if k not in admitted)
+    out = {"kind": "range", "source": source, "readings": per, "excluded": excluded, "admitted": sorted(ok)}
+    if not ok:
+        why = "every reading excluded by the paper's loops" if per and len(excluded) == len(per) else "not computed"
+        return {**out, "effect": None, "error": None, "range": None, "verdict": "undetermined",
+                "note": f"{what}: {why}"}
+    effects = [v["effect"] for v in ok.values()]
+    err = max(v["error"] for v in ok.values())
+    lo, hi = min(effects), max(effects)
+    ref = ok.get("ISO band") or next(iter(ok.values()))
+    note = (f"{what}: {len(ok)} of {len(per)} readings admitted, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
+            f"-{max(v['slip_index'] for v in ok.values()):.2g}")
+    return {**out, "effect": ref["effect"], "error": err, "range": [lo, hi], "surfaces_sd": ref["surfaces_sd"],
+            "sem": ref["sem"], "form_curvature": max(v["form_curvature"] for v in ok.values()),
+            "verdict": grade_range(lo, hi, err), "note": note}
+
+
+def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:
+    """The point's roughness cell: every reading on the point's contact (``rough_row_b``: the sphere's for
+    faces inside its contact), the range over those ``admitted`` (by contact kind: "sphere", "face")."""
+    from .budget import point_slip_index
+
+    b = rough_row_b(p)
+    what = "sphere" if not b else f"b = {b * 1e6:g} um"
+    if eq_error is None:
+        return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
+                "source": "roughness readings", "note": f"{what}: the equivalent profile's error not measured "
+                "(run python -m validation.compare --scenes roughness,roughness-faces)"}
+    smooth = point_slip_index(replace(p, b=b))
+    per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)}
+    return range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
+
+
+def consistency(R: Readings, log=None) -> dict:
+    """The paper's loops against every reading (``validation.consistency.check``) on each surface of the
+    finer grid: the sphere's readings by Figs. 4-5, the face of b = 0.6 mm's by Figs. 6-7. Returns
+    {"sphere" | "face": [{reading, surfaces: [{fig: check}], consistent_surfaces, admitted}]}; a reading is
+    admitted where at least one of its surfaces passes every check of its contact (the paper's specimen
+    may be that surface), excluded where none does."""
+    from mdr.paper import B_TABLE1
+
+    from .consistency import FIGURES, check
+
+    log = log or (lambda msg: None)
+    out = {}
+    for kind, b in (("sphere", 0.0), ("face", B_TABLE1)):
+        rows = []
+        for i, r in enumerate(SP.READINGS):
+            levels = R.members(b, i)
+            log(f"budget: the paper's loops against '{r.name}' on the {kind}")
+            surfaces = []
+            for m in (levels[-1] if levels else []):
+                try:
+                    prof = R.profile(m)
+                    surfaces.append({f: check(prof, f) for f, k in FIGURES.items() if k == kind})
+                except (InputError, ConvergenceError) as e:
+                    surfaces.append({"failed": str(e)})
+            good = sum(1 for s in surfaces if "failed" not in s and all(c["consistent"] for c in s.values()))
+            m0 = levels[-1][0] if levels else {}
+            rows.append({"reading": r.name, "surfaces": surfaces, "consistent_surfaces": good,
+                         "admitted": good > 0, "window": {"rms": m0.get("rms_window"),
+                                                          "form": m0.get("form_curvature", 0.0) * SP.R_INDENTER}})
+        out[kind] = rows
+    return out
+
+
+def admitted_names(cons: dict) -> dict:
+    return {kind: {r["reading"] for r in rows if r["admitted"]} for kind, rows in cons.items()}
+
+
+def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6, iters=12) -> float | None:
+    """The axis stiffness k_x (N/m) where the apparatus's slip index passes ``TRANSITION_SLIP_INDEX`` at
+    the point's load (Table 2's), by bisection on log k_x (the slip index grows with k_x: a stiffer
+    axis leaves more of the stroke to the contact); None where it does not pass it in [lo, hi]."""
+    from .budget import _slip_indices
+
+    def si(kx):
+        return _slip_indices([profile], [replace(p, kx=kx)])[0] - TRANSITION_SLIP_INDEX
+
+    if si(lo) > 0 or si(hi) < 0:
+        return None
+    for _ in range(iters):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if si(mid) < 0 else (lo, mid)
+    return math.sqrt(lo * hi)
+
+
+def transitions(R: Readings, admitted: dict) -> dict:
+    """The sticking transition of the smooth sphere and of every reading of the sphere's roughness (the
+    surfaces of the finer grid: mean, standard deviation), and the range over the admitted readings."""
+    from mdr.profiles import TruncatedSphere
+
+    rows = [{"reading": "smooth", "kx": sticking_transition(TruncatedSphere(SP.R_INDENTER, 0.0)), "sd": 0.0,
+             "admitted": True}]
+    for i, r in enumerate(SP.READINGS):
+        levels = R.members(0.0, i)
+        ks = None
+        if levels:
+            try:
+                ks = [sticking_transition(R.profile(m)) for m in levels[-1]]
+            except (InputError, ConvergenceError):
+                ks = None
+        ok = ks is not None and all(k is not None for k in ks)
+        rows.append({"reading": r.name, "kx": float(np.mean(ks)) if ok else None,
+                     "sd": float(np.std(ks, ddof=1)) if ok and len(ks) > 1 else None,
+                     "admitted": r.name in admitted["sphere"]})
+    ad = [x for x in rows[1:] if x["admitted"] and x["kx"] is not None]
+    rng = None if not ad else [min(x["kx"] - x["sd"] for x in ad), max(x["kx"] + x["sd"] for x in ad)]
+    return {"rows": rows, "range": rng}
+
+
+# ------------------------------------------------------------- the brass plates
+#: the readings of the brass plates the budget spans: all of ``studies.plates.PLATE_READINGS``; the paper's
+#: loops then admit or exclude each (``plates_consistency``)
+REFERENCE_READING = ("axial", 5e-3)
+
+
+def plate_readings() -> list:
+    """The readings of the brass plates, the project's reference first (each once)."""
+    from studies.plates import PLATE_READINGS
+
+    return [REFERENCE_READING] + [r for r in PLATE_READINGS if tuple(r) != REFERENCE_READING]
+
+
+def reading_name(r) -> str:
+    m, rb = r
+    return f"{m}{f' R_bed {rb * 1e3:g} mm' if m in ('tilt', 'parallel') else ''}"
+
+
+def plates_consistency(log=None) -> list:
+    """The paper's loops (``validation.consistency.check``, Figs. 4-7, the smooth indenters) against every
+    reading of the brass plates: [{reading, checks: {fig: check}, admitted}]."""
+    from mdr.profiles import TruncatedSphere
+
+    from .consistency import FIGURES, check
+    from .points import loop_point
+
+    (log or (lambda m: None))("budget: the paper's loops against the readings of the brass plates")
+    rows = []
+    for m, rb in plate_readings():
+        kw = {"plate_model": m, "R_bed": rb}
+        checks = {f: check(TruncatedSphere(R_INDENTER, loop_point(f).b), f, kw) for f in FIGURES}
+        rows.append({"reading": reading_name((m, rb)), "checks": checks,
+                     "admitted": all(c["consistent"] for c in checks.values())})
+    return rows
+
+
+def plates_cell(p: Point, admitted: set) -> dict:
+    """The slip index over the readings of the brass plates the paper's loops admit against this project's
+    reference reading (axial, R_bed 5 mm; itself a reading, so the range holds 0): MDR in the apparatus,
+    all readings in one batch; each reading's error the change from 100 to 400 spring cells."""
+    from mdr.profiles import TruncatedSphere
+    from studies.paper import RES, _slip_index
+
+    readings = plate_readings()
+    k = len(readings)
+    kw = {"plate_model": np.array([m for m, _ in readings]), "R_bed": np.array([rb for _, rb in readings])}
+
+    def each(n):
+        prof = TruncatedSphere(np.full(k, R_INDENTER), np.full(k, p.b))
+        si, _ = _slip_index(prof, np.full(k, p.kx), mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
+                            res={**RES, "n": n}, app_kw=kw)
+        return np.asarray(si, dtype=float)
+
+    coarse, fine = each(100), each(400)
+    per = {reading_name(r): {"effect": float(fine[j] - fine[0]), "slip_index": float(fine[j]),
+                             "error": float(abs(fine[j] - fine[0] - coarse[j] + coarse[0])), "surfaces_sd": 0.0,
+                             "sem": 0.0, "form_curvature": 0.0} for j, r in enumerate(readings)}
+    return range_cell(per, admitted, "MDR apparatus", "plates")
+
+
+def readings_markdown(b: dict) -> list:
+    """The budget's tables of the readings: the paper's loops against each reading of the roughness and of
+    the plates (admitted or excluded, and why), and the sticking transition per reading."""
+    from .text import num
+
+    lines = []
+    for kind, rows in (b.get("consistency") or {}).items():
+        figs = sorted({f for r in rows for s in r["surfaces"] for f in s if f != "failed"})
+        if not lines:
+            lines += ["", "The paper's loops as a check of each reading of its roughness (validation.consistency: "
+                          "mu1 fitted to the measured force amplitude mu1 F0 as the paper fitted it, within 0.02 F0; "
+                          "Figs. 6-7 in gross slip at the fitted mu1): per reading the surfaces that pass every "
+                          "check, the largest reachable amplitude over the surfaces and the fitted mu1 (N; '-' "
+                          "where unreachable). A reading is admitted where one surface passes.", "",
+                      "| contact | reading | rms in the window (um) | form curvature x R | "
+                      + " | ".join(f"{f}: reachable, mu1" for f in figs) + " | surfaces consistent | admitted |",
+                      "|---|---|---|---|" + "---|" * len(figs) + "---|---|"]
+        for r in rows:
+            ok = [s for s in r["surfaces"] if "failed" not in s]
+            cols = []
+            for f in figs:
+                reach = max((s[f]["reachable"] for s in ok if f in s), default=None)
+                mus = [s[f]["mu_fit"] for s in ok if f in s and s[f]["mu_fit"] is not None]
+                cols.append(f"{num(reach, '.3f')}, " + (f"{min(mus):.2f}-{max(mus):.2f}" if mus else "-"))
+            w = (r.get("window") or {})
+            lines.append(f"| {kind} | {r['reading']} | {num(w.get('rms'), '.2f', 1e6)} | {num(w.get('form'), '.2g')} | "
+                         + " | ".join(cols) + f" | {r['consistent_surfaces']} of {len(r['surfaces'])} | "
+                         f"{'yes' if r['admitted'] else '**no**'} |")
+    pc = b.get("plates_consistency") or []
+    if pc:
+        lines += ["", "The same check of the brass plates' readings (the smooth indenters, Figs. 4-7): "
+                      + "; ".join(f"{r['reading']} {'admitted' if r['admitted'] else 'excluded (' + '; '.join(c['why'] for c in r['checks'].values() if not c['consistent']) + ')'}"
+                                  for r in pc) + "."]
+    t = b.get("transition")
+    if t:
+        lines += ["", f"The sticking transition (Fig. 9: k_x where the slip index passes {TRANSITION_SLIP_INDEX:g}; "
+                      "the paper's lies between 1 and 2 N/um), the sphere at Table 2's load in the apparatus, MDR "
+                      "with the smooth profile and with each reading's equivalent profiles (mean +- standard "
+                      "deviation over its surfaces):", "", "| surface | k_x (N/um) | admitted |", "|---|---|---|"]
+        for x in t["rows"]:
+            val = "undetermined" if x["kx"] is None else num(x["kx"], ".2f", 1e-6) + (
+                f" +- {num(x['sd'], '.2f', 1e-6)}" if x["sd"] else "")
+            lines.append(f"| {x['reading']} | {val} | {'yes' if x['admitted'] else 'no'} |")
+        if t["range"]:
+            lines += ["", f"Over the admitted readings the transition lies in {num(t['range'][0], '.2f', 1e-6)}-"
+                          f"{num(t['range'][1], '.2f', 1e-6)} N/um (means +- one standard deviation)."]
+    return lines

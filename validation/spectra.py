@@ -1,0 +1,219 @@
+"""The readings of the paper's roughness a reviewer admits, and the normal curves of their surfaces.
+
+Willert, Machines 11 (2023) 484, Section 2 states rms roughnesses: about 1 um on the sphere, 3 um on the
+block, 2 um on the turned flat face. It does not say over which band, nor what the spectrum is. Read as
+a profilometer reads it (``rough.spectra``: Rq over ISO 4288's band of its class, form removed), each
+value still leaves the spectrum's shape open. The budget therefore runs every reading of ``READINGS``
+(the axes: where the surfaces' waviness ends, ``rolloff``, from twice the contact radius to ISO's
+lambda_c; the Hurst exponent, 0.5 to 1; asperities elastic, or perfectly plastic at the steel's
+hardness), each on the contact of the sphere (sphere on block) and of each flat face (face on block):
+the paper's own loop data then exclude the readings they contradict (``validation.consistency``).
+
+A reading on a contact is generated as the catalogue's rough surfaces are (``rough.surfaces``): on a
+periodic grid of ``period`` smooth contact radii, the window [short cut-off, period] of the pair's
+combined spectrum, scaled to its rms in that window (``rough.spectra.window_rms``; one power law of
+the reading's Hurst exponent over the window: the bodies' band ends inside it are not kept apart); the
+longer wavelengths are form the grid leaves out (``form_curvature_rms`` says how much curvature), the
+shorter ones are cut (the catalogue's stated cut-off). Each reading: ``SEEDS`` surfaces, each on two
+grids that refine one band-limited map. A member (reading, contact, seed, grid) returns the normal
+force-approach curve of the rough half-space (``rough.normal.force_approach``, elastic; plastic:
+flattened at ``ROUGH_PRELOAD`` first), the input of MDR's equivalent profile. Members run in
+processes (``curves``) and are cached by content under the output folder, so a second budget reads them.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from common.errors import ConvergenceError
+from mdr.paper import R_INDENTER
+
+#: the paper's stated rms heights (m), Section 2
+PAPER_RQ = {"sphere": 1e-6, "block": 3e-6, "face": 2e-6}
+#: surfaces per reading (realisations)
+SEEDS = (0, 1, 2, 3)
+#: the normal load the contacts' smooth radius a is taken at (N; Table 2's F0) and the curves' largest
+#: force (1.5 x: above every point's F0 + dF, 0.73 N at most)
+F_REF = 0.5
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One admissible reading of the stated rms values: the Hurst exponent, where the waviness ends
+    (``rolloff`` in smooth contact radii of the contact; None: at ISO's lambda_c, all of the
+    profilometer's band), perfectly ``plastic`` asperities (flattened at ``ROUGH_PRELOAD``) or elastic."""
+
+    name: str
+    hurst: float = 0.8
+    rolloff: float | None = None
+    plastic: bool = False
+
+    def finishes(self, contact: "Contact", a: float) -> tuple:
+        from rough.spectra import Finish
+
+        lam = None if self.rolloff is None else self.rolloff * a
+        return tuple(Finish(PAPER_RQ[body], self.hurst, lam) for body in contact.bodies)
+
+
+#: the readings every contact runs: the ISO band (H 0.8, typical of ground and turned steel; Persson,
+#: Tribology Letters 54 (2014) 99) and the axes around it one at a time
+READINGS = (Reading("ISO band"), Reading("ISO band, H 0.5", hurst=0.5), Reading("ISO band, H 1", hurst=1.0),
+            Reading("waviness ends at 8 a", rolloff=8.0), Reading("waviness ends at 2 a", rolloff=2.0),
+            Reading("ISO band, plastic", plastic=True), Reading("waviness ends at 8 a, plastic", rolloff=8.0, plastic=True))
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A rough contact of the paper's specimens: the indenter (``b`` = 0: the sphere, else the truncated
+    sphere's face radius), the bodies whose finishes meet there, the grid's side in smooth contact radii,
+    its two pixel counts and the short cut-off in pixels of the coarser."""
+
+    b: float
+    bodies: tuple
+    period: float
+    grids: tuple
+    short: float
+
+    def a(self) -> float:
+        """The smooth indenter's contact radius at ``F_REF`` (m)."""
+        from fem.axisym.normal_run import reference_radius
+        from mdr.materials import Materials
+
+        return reference_radius("truncated" if self.b else "sphere", R_INDENTER, self.b or None, F_REF,
+                                Materials().E_star)
+
+    def name(self) -> str:
+        return "sphere" if not self.b else f"b = {self.b * 1e6:g} um"
+
+
+#: the sphere's contact: 32 radii (the rough contact spreads over several), cut off at one radius
+SPHERE = Contact(0.0, ("sphere", "block"), 32.0, (256, 384), 8.0)
+
+
+def face(b: float) -> Contact:
+    """A flat face's contact: 4 radii (the catalogue's face grids), cut off at 8 pixels of 256."""
+    return Contact(float(b), ("face", "block"), 4.0, (256, 384), 8.0)
+
+
+def params(reading: Reading, contact: Contact, seed: int):
+    """The ``rough.surfaces.RoughnessParams`` of a member on the coarser grid, and the form curvature
+    (1/m) the grid leaves out."""
+    from rough.spectra import form_curvature_rms, window_rms
+    from rough.surfaces import RoughnessParams
+
+    a = contact.a()
+    P, n0 = contact.period * a, contact.grids[0]
+    short = contact.short * P / n0
+    fin = reading.finishes(contact, a)
+    long = min(P, max(f.band()[1] for f in fin))
+    rms = window_rms(fin, (short, long))
+    p = RoughnessParams(rms=rms, hurst=reading.hurst, lambda_short=short, lambda_long=long, size=P, n=n0,
+                        seed=int(seed))
+    return p, form_curvature_rms(fin, P)
+
+
+def member(task: dict) -> dict:
+    """One member (``task``: reading index, contact, seed, grid n): the rough half-space's normal
+    force-approach curve at ``F_REF`` x ``rough.equivalent.CURVE_FRACTIONS`` (plain data), or
+    ``failed`` with the reason."""
+    from mdr.materials import Materials
+    from mdr.profiles import make_profile
+    from rough.equivalent import CURVE_FRACTIONS, flattened
+    from rough.normal import HARDNESS_X5CRNI18_10, Grid, force_approach
+    from rough.surfaces import generate, resample
+
+    from .scenes import ROUGH_PRELOAD
+
+    t0 = time.perf_counter()
+    reading, contact = READINGS[task["reading"]], Contact(**task["contact"])
+    p, kappa = params(reading, contact, task["seed"])
+    heights = resample(generate(p), int(task["n"]))
+    grid, mat = Grid(p.size, int(task["n"])), Materials()
+    prof = make_profile("truncated" if contact.b else "sphere", R_INDENTER, contact.b or None)
+    out = {**task, "rms_window": p.rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
+           "period": p.size, "form_curvature": kappa}
+    try:
+        if reading.plastic:
+            heights, _ = flattened(prof, mat, grid, heights, HARDNESS_X5CRNI18_10, ROUGH_PRELOAD)
+        d, F = force_approach(prof, mat, F_REF * CURVE_FRACTIONS, grid, heights)
+        out["curve"] = {"d": d.tolist(), "F": F.tolist()}
+    except ConvergenceError as e:
+        out["failed"] = str(e)
+    out["runtime_s"] = time.perf_counter() - t0
+    return out
+
+
+def tasks(contacts) -> list:
+    """Every member of every reading on every contact, the finer grids first."""
+    out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
+           for c in contacts for i in range(len(READINGS)) for s in SEEDS for n in c.grids]
+    return sorted(out, key=lambda t: -t["n"])
+
+
+#: the sources a member's curve depends on (its cache key holds their content)
+MEMBER_SOURCES = ("rough/*.py", "validation/spectra.py", "mdr/profiles.py", "mdr/materials.py", "common/*.py")
+
+
+def member_version() -> str:
+    """A digest of ``MEMBER_SOURCES``: a cached member of other sources is computed again."""
+    root = Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    for pattern in MEMBER_SOURCES:
+        for f in sorted(root.glob(pattern)):
+            h.update(f.relative_to(root).as_posix().encode())
+            h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _key(task: dict, version: str) -> str:
+    return hashlib.sha256(json.dumps([task, version], sort_keys=True).encode()).hexdigest()[:20]
+
+
+def curves(contacts, cache_dir, *, jobs: int = 1, log=None) -> list:
+    """The members of every reading on ``contacts``, read from ``cache_dir`` where a run of the same
+    sources stored them, else computed (``jobs`` processes) and stored there (one JSON file each,
+    written atomically; ``cache_dir`` None: nothing read or stored)."""
+    from common.io import write_json
+
+    log = log or (lambda msg: None)
+    version, cache = member_version(), None if cache_dir is None else Path(cache_dir)
+    todo, done = [], {}
+    for t in tasks(contacts):
+        f = None if cache is None else cache / f"{_key(t, version)}.json"
+        if f is not None and f.is_file():
+            done[_key(t, version)] = json.loads(f.read_text())
+        else:
+            todo.append(t)
+    if todo:
+        log(f"budget: the roughness readings, {len(todo)} surfaces to solve ({len(done)} cached), {jobs} process(es)")
+    results = _run(todo, jobs, log)
+    for t, m in zip(todo, results):
+        if cache is not None:
+            write_json(cache / f"{_key(t, version)}.json", m)
+        done[_key(t, version)] = m
+    return [done[_key(t, version)] for t in tasks(contacts)]
+
+
+def _run(todo: list, jobs: int, log) -> list:
+    if jobs <= 1 or len(todo) <= 1:
+        out = []
+        for k, t in enumerate(todo, 1):
+            out.append(member(t))
+            if k % 8 == 0 or k == len(todo):
+                log(f"  roughness readings: {k} of {len(todo)} surfaces")
+        return out
+    from concurrent.futures import ProcessPoolExecutor
+
+    out = [None] * len(todo)
+    with ProcessPoolExecutor(max_workers=jobs) as ex:
+        futures = {ex.submit(member, t): k for k, t in enumerate(todo)}
+        from concurrent.futures import as_completed
+
+        for j, f in enumerate(as_completed(futures), 1):
+            out[futures[f]] = f.result()
+            if j % 8 == 0 or j == len(todo):
+                log(f"  roughness readings: {j} of {len(todo)} surfaces")
+    return out
