@@ -51,11 +51,9 @@ import math
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from mdr.paper import R_INDENTER
 
-from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, results
+from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, difference_with_grid, point_slip_index, results, slip_indices
 from .scenes import CATALOGUE, TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
@@ -267,32 +265,6 @@ def tilt_cell(p: Point, store) -> dict:
 
 
 # ------------------------------------------------------------------ cells computed with MDR
-def _slip_indices(profiles, points, app_kw=None, n=100):
-    """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``)."""
-    from studies.paper import RES, _slip_index
-
-    out = []
-    for prof, p in zip(profiles, points):
-        si, _ = _slip_index(prof, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=app_kw)
-        out.append(float(np.asarray(si).ravel()[0]))
-    return out
-
-
-def _difference_with_grid(fun, n=(100, 400)):
-    """fun(n) -> (test, reference): their difference at the finer n, error the change from the coarser
-    (MDR's spring-cell ladder)."""
-    vals = [float(np.subtract(*fun(k))) for k in n]
-    return vals[-1], abs(vals[-1] - vals[0])
-
-
-def point_slip_index(p: Point, n: int = 400) -> float:
-    """The point's slip index: MDR in the apparatus, the sharp profile, the reference plates."""
-    from mdr.profiles import TruncatedSphere
-
-    return _slip_indices([TruncatedSphere(R_INDENTER, p.b)], [p], n=n)[0]
-
-
 def kink_cell(p: Point) -> dict:
     """The kink rounded by a fillet of ``FILLET_MAX`` against the sharp kink: the slip index's change
     (MDR in the apparatus; the effect grows with the width: a bound)."""
@@ -304,10 +276,10 @@ def kink_cell(p: Point) -> dict:
         return cell(None, None, "bound", "MDR apparatus", f"b = {p.b * 1e6:g} um: the fillet would take the face")
 
     def fun(n):
-        return _slip_indices([RoundedTruncatedSphere(R_INDENTER, p.b, FILLET_MAX), TruncatedSphere(R_INDENTER, p.b)],
+        return slip_indices([RoundedTruncatedSphere(R_INDENTER, p.b, FILLET_MAX), TruncatedSphere(R_INDENTER, p.b)],
                              [p, p], n=n)
 
-    e, err = _difference_with_grid(fun)
+    e, err = difference_with_grid(fun)
     return cell(e, err, "bound", "MDR apparatus", f"fillet {FILLET_MAX * 1e6:g} um")
 
 

@@ -41,7 +41,7 @@ from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 
 from . import spectra as SP
-from .points import RESOLUTION, Point, rough_row_b
+from .points import RESOLUTION, Point, point_slip_index, rough_row_b, slip_indices
 from .scenes import ROUGH_FACES_B
 
 R_INDENTER = SP.R_INDENTER
@@ -102,11 +102,9 @@ class Readings:
     def slip_index(self, m: dict, p: Point, every: int = 1) -> float:
         """The apparatus slip index of a member's equivalent profile at the point (its curve read from
         every ``every``-th load, counted from the largest)."""
-        from .budget import _slip_indices
-
         key = (id(m), p, every)
         if key not in self._si:
-            self._si[key] = _slip_indices([self.profile(m, every)], [p])[0]
+            self._si[key] = slip_indices([self.profile(m, every)], [p])[0]
         return self._si[key]
 
 
@@ -165,8 +163,6 @@ def range_cell(per: dict, admitted: set, source: str, what: str) -> dict:
 def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:
     """The point's roughness cell: every reading on the point's contact (``rough_row_b``: the sphere's for
     faces inside its contact), the range over those ``admitted`` (by contact kind: "sphere", "face")."""
-    from .budget import point_slip_index
-
     b = rough_row_b(p)
     what = "sphere" if not b else f"b = {b * 1e6:g} um"
     if eq_error is None:
@@ -219,10 +215,8 @@ def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6
     """The axis stiffness k_x (N/m) where the apparatus's slip index passes ``TRANSITION_SLIP_INDEX`` at
     the point's load (Table 2's), by bisection on log k_x (the slip index grows with k_x: a stiffer
     axis leaves more of the stroke to the contact); None where it does not pass it in [lo, hi]."""
-    from .budget import _slip_indices
-
     def si(kx):
-        return _slip_indices([profile], [replace(p, kx=kx)])[0] - TRANSITION_SLIP_INDEX
+        return slip_indices([profile], [replace(p, kx=kx)])[0] - TRANSITION_SLIP_INDEX
 
     if si(lo) > 0 or si(hi) < 0:
         return None

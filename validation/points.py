@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, TABLE2
 
 #: the resolution of a result read from the paper's figures, as a change of the slip index (the
@@ -107,3 +109,29 @@ def results() -> tuple:
             Result("fig8", "Fig. 8: slip index against b = 1 um - 1 mm", fig8),
             Result("fig9", "Fig. 9: slip index against k_x, b = 10-100 um", fig9),
             Result("table2", "Table 2 point: b = 0.6 mm and 10 um", (Point(b=B_TABLE1), Point(b=10e-6))))
+
+
+def slip_indices(profiles, points, app_kw=None, n=100):
+    """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``)."""
+    from studies.paper import RES, _slip_index
+
+    out = []
+    for prof, p in zip(profiles, points):
+        si, _ = _slip_index(prof, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
+                            res={**RES, "n": n}, app_kw=app_kw)
+        out.append(float(np.asarray(si).ravel()[0]))
+    return out
+
+
+def difference_with_grid(fun, n=(100, 400)):
+    """fun(n) -> (test, reference): their difference at the finer n, error the change from the coarser
+    (MDR's spring-cell ladder)."""
+    vals = [float(np.subtract(*fun(k))) for k in n]
+    return vals[-1], abs(vals[-1] - vals[0])
+
+
+def point_slip_index(p: Point, n: int = 400) -> float:
+    """The point's slip index: MDR in the apparatus, the sharp profile, the reference plates."""
+    from mdr.profiles import TruncatedSphere
+
+    return slip_indices([TruncatedSphere(R_INDENTER, p.b)], [p], n=n)[0]
