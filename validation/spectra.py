@@ -205,13 +205,11 @@ def _run(todo: list, jobs: int, log) -> list:
             if k % 8 == 0 or k == len(todo):
                 log(f"  roughness readings: {k} of {len(todo)} surfaces")
         return out
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     out = [None] * len(todo)
     with ProcessPoolExecutor(max_workers=jobs) as ex:
         futures = {ex.submit(member, t): k for k, t in enumerate(todo)}
-        from concurrent.futures import as_completed
-
         for j, f in enumerate(as_completed(futures), 1):
             out[futures[f]] = f.result()
             if j % 8 == 0 or j == len(todo):
