@@ -231,7 +231,7 @@ def test_code_version_covers_every_module_a_result_depends_on(tmp_path, monkeypa
     for f in ("fem/solid3d/law.py", "fem/axisym/law.py", "validation/families/tilt.py", "common/ladder.py",
               "mdr/law.py", "meshes/half3d.py", "validation/sides.py"):
         assert f in files, f
-    assert not {"validation/report.py", "validation/compare.py"} & files
+    assert not {"validation/report.py", "validation/compare.py", "validation/budget.py", "validation/docs.py"} & files
     # a change inside a subpackage changes the version: copy the sources, edit one file, hash again
     import shutil
 
@@ -242,6 +242,21 @@ def test_code_version_covers_every_module_a_result_depends_on(tmp_path, monkeypa
     law = tmp_path / "fem" / "solid3d" / "law.py"
     law.write_text(law.read_text() + "\n# edited\n")
     assert vs.code_version() != v0
+
+
+def test_no_scene_run_imports_a_report_only_module():
+    """The report-only modules (the report, the budget, the docs' tables) are left out of the scenes'
+    code version, so no module a scene runs may import them: the runner, every scene's tasks and the
+    paper's points are imported in a fresh process and none of them is loaded."""
+    import subprocess
+    import sys
+
+    code = ("import sys; import validation.runner as r, validation.hard_cases, validation.fields; "
+            "from validation.scenes import CATALOGUE, REPORT_ONLY; [r.scene_tasks(s) for s in CATALOGUE.values()]; "
+            "print(sorted(m for m in sys.modules if m.startswith('validation.') "
+            "and m.rsplit('.', 1)[-1] + '.py' in REPORT_ONLY))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
 
 
 def test_scene_bad_input():

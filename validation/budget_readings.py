@@ -22,9 +22,15 @@ indenter is the surfaces' mean on the finer grid, and its bar, for the paper's o
 The cell's ``range`` is [smallest, largest] change over the readings the paper's loops admit
 (``validation.consistency``: the sphere's readings by Figs. 4-5, a face's by Figs. 6-7), its ``error`` the
 largest bar among them; it "matters" only where the whole range with that bar lies beyond the resolution
-on one side, is "negligible" where all of it lies within, and is "undetermined" otherwise. Wavelengths
-longer than a contact's grid are form the range leaves out; the cell's ``form_curvature`` is their rms
-curvature times R, the largest over the admitted readings.
+on one side, is "negligible" where all of it lies within, and is "undetermined" otherwise.
+
+Wavelengths longer than a contact's grid are form (``validation.spectra``). On the sphere's contact (the
+shortest of them 32 contact radii) the form is a curvature: each reading's range adds the change of the
+slip index when the sphere's curvature takes the form's two standard deviations (``form_effect``; the
+cell's ``form_curvature`` is that rms curvature times R). On a face (the grid 4 radii) a reading that
+leaves more than ``spectra.FORM_SHARE_MAX`` of its variance out is not resolved, and a cell with an
+admitted reading unresolved is undetermined; below that share, the error holds share x |effect| (the
+effect taken as proportional to the variance).
 
 The brass plates (``plates_cell``): the slip index over the readings of ``studies.plates.PLATE_READINGS``
 that the paper's loops admit (``plates_consistency``, the smooth indenters), against the project's
@@ -86,7 +92,7 @@ class Readings:
     def members(self, b: float, reading: int):
         """(coarser grid's, finer grid's) members of a reading on a contact, each sorted by seed; None
         where one failed."""
-        ms = self.by.get((b, reading), [])
+        ms = self.by.get((b, SP.canonical(reading, SP.contact_of(b))), [])
         if not ms or any("failed" in m for m in ms):
             return None
         grids = sorted({m["n"] for m in ms})
@@ -108,10 +114,32 @@ class Readings:
         return self._si[key]
 
 
+def form_effect(p: Point, kappa: float, smooth: float) -> list:
+    """The sphere's form beyond the grid: the slip index's changes [lo, hi] (0 included) when the
+    indenter's curvature 1/R takes the form's two standard deviations, 1/R -+ 2 kappa (``kappa``: the rms
+    mean curvature the grid leaves out, 1/m; MDR in the apparatus; the changes added to the roughness's:
+    the form and the asperities taken as independent)."""
+    from mdr.profiles import TruncatedSphere
+
+    if kappa <= 0:
+        return [0.0, 0.0]
+    c = 2.0 * kappa
+    if c * R_INDENTER >= 1.0:
+        raise InputError(f"the form's curvature 2 x {kappa:.3g} 1/m turns the sphere concave")
+    radii = [1.0 / (1.0 / R_INDENTER + c), 1.0 / (1.0 / R_INDENTER - c)]
+    si = slip_indices([TruncatedSphere(r, 0.0) for r in radii], [p, p])
+    return [min(0.0, *(x - smooth for x in si)), max(0.0, *(x - smooth for x in si))]
+
+
 def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_error: float) -> dict | None:
-    """One reading's change of the point's slip index with its bar (module docstring), or None where a
-    member failed or gives no equivalent profile, or where one grid or one surface leaves a part of the
-    bar unmeasured."""
+    """One reading's change of the point's slip index with its bar (module docstring) and, on the sphere,
+    the range its form beyond the grid adds (``form``); None where a member failed or gives no equivalent
+    profile, or where one grid or one surface leaves a part of the bar unmeasured; {"effect": None,
+    "unresolved": why} where the contact's grid does not resolve the reading (``spectra.resolved``)."""
+    contact = SP.contact_of(b)
+    if not SP.resolved(SP.READINGS[i], contact):
+        share = SP.form_share(SP.READINGS[i], contact)
+        return {"effect": None, "unresolved": f"{share:.0%} of its variance lies beyond the grid of {contact.period:g} a"}
     levels = R.members(b, i)
     if levels is None or len(levels) < 2 or len(levels[-1]) < 2:
         return None  # one grid gives no grid error, one surface no spread
@@ -124,9 +152,11 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
     sd = float(fine.std(ddof=1)) if fine.size > 1 else 0.0
     grid, sampling = abs(fine.mean() - coarse.mean()), float(np.max(np.abs(half - fine)))
     m0 = levels[-1][0]
-    return {"effect": float(fine.mean() - smooth), "slip_index": float(fine.mean()), "surfaces_sd": sd,
+    form = form_effect(p, m0["form_curvature"], smooth) if not b else [0.0, 0.0]
+    beyond = SP.form_share(SP.READINGS[i], contact) * abs(fine.mean() - smooth) if b else 0.0
+    return {"effect": float(fine.mean() - smooth), "form": form, "slip_index": float(fine.mean()), "surfaces_sd": sd,
             "sem": sd / math.sqrt(fine.size), "grid": float(grid), "sampling": sampling, "equivalent": eq_error,
-            "error": sd + grid + sampling + eq_error, "members": fine.tolist(),
+            "beyond_grid": beyond, "error": sd + grid + sampling + eq_error + beyond, "members": fine.tolist(),
             "rms_window": m0["rms_window"], "form_curvature": m0["form_curvature"] * SP.R_INDENTER}
 
 
@@ -142,22 +172,27 @@ def grade_range(lo: float, hi: float, err: float) -> str:
 
 def range_cell(per: dict, admitted: set, source: str, what: str) -> dict:
     """A cell over readings: ``per`` {name: effect dict or None}; the range over the ``admitted`` ones."""
-    ok = {k: v for k, v in per.items() if v is not None and k in admitted}
+    ok = {k: v for k, v in per.items() if v is not None and v["effect"] is not None and k in admitted}
+    unresolved = sorted(k for k, v in per.items() if k in admitted and v is not None and v.get("unresolved"))
     excluded = sorted(k for k in per if k not in admitted)
-    out = {"kind": "range", "source": source, "readings": per, "excluded": excluded, "admitted": sorted(ok)}
+    out = {"kind": "range", "source": source, "readings": per, "excluded": excluded, "admitted": sorted(ok),
+           "unresolved": unresolved}
     if not ok:
-        why = "every reading excluded by the paper's loops" if per and len(excluded) == len(per) else "not computed"
+        why = ("every reading excluded by the paper's loops" if per and len(excluded) == len(per) else
+               f"no admitted reading resolved ({per[unresolved[0]]['unresolved']})" if unresolved else "not computed")
         return {**out, "effect": None, "error": None, "range": None, "verdict": "undetermined",
                 "note": f"{what}: {why}"}
-    effects = [v["effect"] for v in ok.values()]
     err = max(v["error"] for v in ok.values())
-    lo, hi = min(effects), max(effects)
+    lo = min(v["effect"] + v.get("form", [0.0, 0.0])[0] for v in ok.values())
+    hi = max(v["effect"] + v.get("form", [0.0, 0.0])[1] for v in ok.values())
     ref = ok.get("ISO band") or next(iter(ok.values()))
     note = (f"{what}: {len(ok)} of {len(per)} readings admitted, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
             f"-{max(v['slip_index'] for v in ok.values()):.2g}")
+    if unresolved:
+        note += f"; {len(unresolved)} admitted not resolved by the grid ({per[unresolved[0]]['unresolved']})"
     return {**out, "effect": ref["effect"], "error": err, "range": [lo, hi], "surfaces_sd": ref["surfaces_sd"],
             "sem": ref["sem"], "form_curvature": max(v["form_curvature"] for v in ok.values()),
-            "verdict": grade_range(lo, hi, err), "note": note}
+            "verdict": "undetermined" if unresolved else grade_range(lo, hi, err), "note": note}
 
 
 def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:

@@ -699,8 +699,10 @@ def select(names=None, quick: bool = False, catalogue: dict | None = None) -> li
     return [s.quick_version() for s in chosen] if quick else chosen
 
 
-# validation modules that only assemble the report from stored scenes: editing them reruns nothing
-REPORT_ONLY = ("report.py", "compare.py", "__main__.py")
+# validation modules that only read stored scenes (the report, the budget and its readings, the docs'
+# tables; no scene imports them): editing them reruns nothing
+REPORT_ONLY = ("report.py", "compare.py", "__main__.py", "budget.py", "budget_readings.py", "spectra.py",
+               "consistency.py", "docs.py")
 
 
 #: the packages whose sources a scene result depends on (every module below them, subpackages included)

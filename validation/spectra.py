@@ -14,7 +14,12 @@ periodic grid of ``period`` smooth contact radii, the window [short cut-off, per
 combined spectrum, scaled to its rms in that window (``rough.spectra.window_rms``; one power law of
 the reading's Hurst exponent over the window: the bodies' band ends inside it are not kept apart); the
 longer wavelengths are form the grid leaves out (``form_curvature_rms`` says how much curvature), the
-shorter ones are cut (the catalogue's stated cut-off). Each reading: ``SEEDS`` surfaces, each on two
+shorter ones are cut (the catalogue's stated cut-off). On the sphere's contact the shortest wavelength
+left out is 32 contact radii, so over the contact it is a curvature, the budget's MDR sphere of another
+radius (``validation.budget_readings``); on a face's grid of 4 radii it is not, so a reading that leaves
+more than ``FORM_SHARE_MAX`` of its variance beyond a face's grid is not run there (``resolved``), and
+a reading that coincides with an earlier one on a contact (its waviness ends beyond the band) is run
+once (``canonical``). Each reading: ``SEEDS`` surfaces, each on two
 grids that refine one band-limited map. A member (reading, contact, seed, grid) returns the normal
 force-approach curve of the rough half-space (``rough.normal.force_approach``, elastic; plastic:
 flattened at ``ROUGH_PRELOAD`` first), the input of MDR's equivalent profile. Members run in
@@ -22,8 +27,10 @@ processes (``curves``) and are cached by content under the output folder, so a s
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
+import math
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -38,6 +45,8 @@ SEEDS = (0, 1, 2, 3)
 #: the normal load the contacts' smooth radius a is taken at (N; Table 2's F0) and the curves' largest
 #: force (1.5 x: above every point's F0 + dF, 0.73 N at most)
 F_REF = 0.5
+#: the largest share of a reading's variance a face's grid may leave out as form (beyond: not resolved)
+FORM_SHARE_MAX = 0.1
 
 
 @dataclass(frozen=True)
@@ -115,6 +124,36 @@ def params(reading: Reading, contact: Contact, seed: int):
     return p, form_curvature_rms(fin, P)
 
 
+@functools.lru_cache(maxsize=None)
+def form_share(reading: Reading, contact: Contact) -> float:
+    """The share of the reading's gap variance in wavelengths longer than the contact's grid."""
+    from rough.spectra import variance_fraction
+
+    a = contact.a()
+    fin = reading.finishes(contact, a)
+    beyond = sum(f.rq ** 2 * variance_fraction(f.hurst, f.band(), (contact.period * a, math.inf)) for f in fin)
+    return beyond / sum(f.rq ** 2 for f in fin)
+
+
+def resolved(reading: Reading, contact: Contact) -> bool:
+    """Whether the contact's model holds the reading: the sphere's always (the form is a curvature there),
+    a face's where its grid leaves at most ``FORM_SHARE_MAX`` of the variance out."""
+    return not contact.b or form_share(reading, contact) <= FORM_SHARE_MAX
+
+
+@functools.lru_cache(maxsize=None)
+def canonical(i: int, contact: Contact) -> int:
+    """The first reading that generates the same surfaces as reading ``i`` on the contact (the same
+    window, rms, Hurst exponent and asperities): ``i`` itself unless an earlier one coincides."""
+    key = (params(READINGS[i], contact, 0)[0], READINGS[i].plastic)
+    return next(j for j in range(i + 1) if (params(READINGS[j], contact, 0)[0], READINGS[j].plastic) == key)
+
+
+def contact_of(b: float) -> Contact:
+    """The contact of face radius ``b`` (0: the sphere's)."""
+    return SPHERE if not b else face(b)
+
+
 def member(task: dict) -> dict:
     """One member (``task``: reading index, contact, seed, grid n): the rough half-space's normal
     force-approach curve at ``F_REF`` x ``rough.equivalent.CURVE_FRACTIONS`` (plain data), or
@@ -147,9 +186,11 @@ def member(task: dict) -> dict:
 
 
 def tasks(contacts) -> list:
-    """Every member of every reading on every contact, the finer grids first."""
+    """Every member of every reading on every contact, the finer grids first: each reading once per
+    contact (``canonical``), only where the contact's grid resolves it (``resolved``)."""
     out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
-           for c in contacts for i in range(len(READINGS)) for s in SEEDS for n in c.grids]
+           for c in contacts for i in range(len(READINGS))
+           if canonical(i, c) == i and resolved(READINGS[i], c) for s in SEEDS for n in c.grids]
     return sorted(out, key=lambda t: -t["n"])
 
 
