@@ -154,24 +154,36 @@ def contact_of(b: float) -> Contact:
     return SPHERE if not b else face(b)
 
 
+def surface(task: dict) -> tuple:
+    """A member's surface (``task``: reading index, contact, seed, grid n): its ``RoughnessParams`` on the
+    coarser grid, the form curvature the grid leaves out (1/m), the ``rough.normal.Grid``, the heights
+    resampled to n pixels (one band-limited map on every grid) and the smooth indenter (as generated;
+    a plastic reading's flattening is ``member``'s)."""
+    from mdr.profiles import make_profile
+    from rough.normal import Grid
+    from rough.surfaces import generate, resample
+
+    contact = Contact(**task["contact"])
+    p, kappa = params(READINGS[task["reading"]], contact, task["seed"])
+    n = int(task["n"])
+    prof = make_profile("truncated" if contact.b else "sphere", R_INDENTER, contact.b or None)
+    return p, kappa, Grid(p.size, n), resample(generate(p), n), prof
+
+
 def member(task: dict) -> dict:
     """One member (``task``: reading index, contact, seed, grid n): the rough half-space's normal
     force-approach curve at ``F_REF`` x ``rough.equivalent.CURVE_FRACTIONS`` (plain data), or
     ``failed`` with the reason."""
     from mdr.materials import Materials
-    from mdr.profiles import make_profile
     from rough.equivalent import CURVE_FRACTIONS, flattened
-    from rough.normal import HARDNESS_X5CRNI18_10, Grid, force_approach
-    from rough.surfaces import generate, resample
+    from rough.normal import HARDNESS_X5CRNI18_10, force_approach
 
     from .scenes import ROUGH_PRELOAD
 
     t0 = time.perf_counter()
-    reading, contact = READINGS[task["reading"]], Contact(**task["contact"])
-    p, kappa = params(reading, contact, task["seed"])
-    heights = resample(generate(p), int(task["n"]))
-    grid, mat = Grid(p.size, int(task["n"])), Materials()
-    prof = make_profile("truncated" if contact.b else "sphere", R_INDENTER, contact.b or None)
+    reading = READINGS[task["reading"]]
+    p, kappa, grid, heights, prof = surface(task)
+    mat = Materials()
     out = {**task, "rms_window": p.rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
            "period": p.size, "form_curvature": kappa}
     try:
