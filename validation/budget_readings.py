@@ -235,7 +235,9 @@ def consistency(R: Readings, log=None) -> dict:
                     surfaces.append({"failed": str(e)})
             good = sum(1 for s in surfaces if "failed" not in s and all(c["consistent"] for c in s.values()))
             m0 = levels[-1][0] if levels else {}
-            rows.append({"reading": r.name, "surfaces": surfaces, "consistent_surfaces": good,
+            j = SP.canonical(i, SP.contact_of(b))
+            rows.append({"reading": r.name, "same_as": None if j == i else SP.READINGS[j].name,
+                         "surfaces": surfaces, "consistent_surfaces": good,
                          "admitted": good > 0, "window": {"rms": m0.get("rms_window"),
                                                           "form": m0.get("form_curvature", 0.0) * SP.R_INDENTER}})
         out[kind] = rows
@@ -370,7 +372,8 @@ def readings_markdown(b: dict) -> list:
                 mus = [s[f]["mu_fit"] for s in ok if f in s and s[f]["mu_fit"] is not None]
                 cols.append(f"{num(reach, '.3f')}, " + (f"{min(mus):.2f}-{max(mus):.2f}" if mus else "-"))
             w = (r.get("window") or {})
-            lines.append(f"| {kind} | {r['reading']} | {num(w.get('rms'), '.2f', 1e6)} | {num(w.get('form'), '.2g')} | "
+            name = r["reading"] + (f" (= {r['same_as']} here)" if r.get("same_as") else "")
+            lines.append(f"| {kind} | {name} | {num(w.get('rms'), '.2f', 1e6)} | {num(w.get('form'), '.2g')} | "
                          + " | ".join(cols) + f" | {r['consistent_surfaces']} of {len(r['surfaces'])} | "
                          f"{'yes' if r['admitted'] else '**no**'} |")
     pc = b.get("plates_consistency") or []
