@@ -117,8 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "Cattaneo-Mindlin), traction_angle_max (at the peak of F_x of the last cycle), "
                         "stick_center_x and "
                         "pressure_center_x (at the first peak of F_x) and "
-                        "peak_memory_bytes (every contact run has dissipation_first_cycle, the first closed "
-                        "loop +Q -> -Q -> +Q after the normal loading, and dissipation_open_path, "
+                        "peak_memory_bytes (every contact run has dissipation_first_cycle, the friction work of the "
+                        "first cycle +Q -> -Q -> +Q after the normal loading, and dissipation_open_path, "
                         "0 -> +Q -> -Q -> 0 from rest); and tilt, contact_area_fraction (contact area at the peak normal "
                         "force F0 + |dF| over the punch face's for a flat punch, over the aligned contact's "
                         "otherwise), contact_x_min, contact_x_max (the contact's extent along x there)")

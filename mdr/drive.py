@@ -15,7 +15,7 @@ from common.errors import InputError
 from .grid import DEFAULT_CELLS
 from .law import MDRContact
 from .loading import Loading
-from .loops import analyse_cycles, loop_integral, slip_index
+from .loops import analyse_cycles, slip_index
 from .materials import Materials
 from .profiles import Profile
 from .protocol import ContactLaw
@@ -75,12 +75,16 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     dW = float(cyc.dissipation[-1])
     u_amp = loading.ua if loading.ua is not None else 0.5 * float(np.ptp(H.u[last]))
     stationary = bool(cyc.last_is_stationary) or mu == 0
-    # the first closed loop after the normal loading, +Q -> -Q -> +Q (from the drive's first peak, a
-    # quarter cycle in; a Loading has steps a multiple of 4 and cycles >= 2); the open path from
-    # rest 0 -> +Q -> -Q -> 0 is cycle 0 (without coupling, at a constant normal force, the first closed
-    # loop is already the stationary one: Masing's rule)
+    # the first cycle after the normal loading, +Q -> -Q -> +Q (from the drive's first peak, a quarter
+    # cycle in; a Loading has steps a multiple of 4 and cycles >= 2): the friction work of its steps, what
+    # it dissipates whether or not its loop closes (under coupling the displacement drifts over it, and
+    # closing the loop by a segment would add Q times the drift); the open path from rest
+    # 0 -> +Q -> -Q -> 0 is cycle 0 (without coupling, at a constant normal force, the first cycle is
+    # already the stationary one: Masing's rule)
     q = steps // 4
-    first_loop = float(loop_integral(H.u[q:q + steps + 1], H.Fx[q:q + steps + 1]))
+    first_loop = float(np.sum(H.work[q + 1:q + steps + 1]))
+    seg = slice(q, q + steps + 1)  # the tangential force's work over it, the loop left open
+    first_path = float(np.sum(0.5 * (H.Fx[seg][1:] + H.Fx[seg][:-1]) * np.diff(H.u[seg])))
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {
@@ -94,6 +98,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
         "tangential_force_amplitude": 0.5 * float(np.ptp(H.Fx[last])),
         "dissipation_per_cycle": cyc.dissipation.tolist(),
         "dissipation_first_cycle": first_loop,
+        "tangential_work_first_cycle": first_path,
         "dissipation_open_path": float(cyc.dissipation[0]),
         "stationary": stationary,
         "cycle_change": cyc.last_change(),

@@ -856,17 +856,44 @@ def test_dissimilar_cycle_coupled_minus_uncoupled(law_alu):
     uncoupled, keys0 = run(law_alu.assuming(coupling=False))
     W, W0 = (np.asarray(o["dissipation_per_cycle"]) for o in (coupled, uncoupled))
     assert np.all(W > 0) and coupled["stationary"] and uncoupled["stationary"]
-    # uncoupled: the first closed loop is stationary already (Masing), to the solver's tolerance
-    assert abs(uncoupled["dissipation_first_cycle"] / W0[-1] - 1) < 0.01
+    # uncoupled: the first cycle is stationary already (Masing): its friction work the last cycle's
+    assert abs(uncoupled["dissipation_first_cycle"] / uncoupled["friction_work"] - 1) < 0.01
     # coupled minus uncoupled on one mesh
     effect = coupled["dissipation_first_cycle"] / uncoupled["dissipation_first_cycle"] - 1
-    assert 0.035 < effect < 0.14, effect  # measured +6.9 % (a/4, mu = 0.5)
+    assert 0.025 < effect < 0.11, effect  # measured +5.2 % (a/4, mu = 0.5; the friction work)
     # the pressure centre moved by the coupling: measured -1.19e-2 A_H (coupled -7.7e-3, uncoupled
     # +4.2e-3 A_H, the unstructured mesh's own offset); converged half-space codes: about -1.1e-2 a
     shift = (keys["pressure_center_x"] - keys0["pressure_center_x"]) / A_H
     assert -0.024 < shift < -0.006, shift
     dW = np.abs(np.diff(W[1:]))
     assert np.all(dW[1:] < dW[:-1])  # the coupled cycles settle monotonically
+
+
+@pytest.mark.slow  # ~15 s
+def test_the_coupled_first_cycle_against_independent_half_space_codes(shared_mesh_cache):
+    """Steel on aluminium, mu = 0.2, a constant normal force after the frictional ramp, Q = mu F_N / 2
+    (``python -m fem contact --model 3d ... --E2 70e9 --nu2 0.33``): the first cycle +Q -> -Q -> +Q does not
+    close (the displacement drifts by about 0.43 nm), so no closing segment may enter its dissipation. Its
+    tangential work over the stationary cycle's dissipation on the same mesh is 1.11-1.12 here (a/7-a/14);
+    an independent half-space boundary-element code with full coupling gives 1.12 of the uncoupled
+    stationary loop and 1.0136 for the next: 1.10-1.12. Its friction work (``dissipation_first_cycle``)
+    exceeds that tangential work: the contact settles (the normal force does work) and stores elastic
+    energy, so Q du alone is no energy balance; measured 1.19 of the stationary cycle (a/7-a/14)."""
+    from fem.solid3d.law import FEContact3D
+    from fem.contact_run import drive_3d
+    from mdr.profiles import Sphere
+
+    law = FEContact3D(Sphere(R), ALU, MU, F_max=F, h_contact=0.14, cache_dir=shared_mesh_cache)
+    out = drive_3d(law, Loading.of(F, fa=0.5 * MU * F, cycles=3, steps=40))
+    W = np.asarray(out["dissipation_per_cycle"])
+    path, work = out["tangential_work_first_cycle"], out["dissipation_first_cycle"]
+    assert 1.07 < path / W[-1] < 1.16, path / W[-1]
+    assert 1.12 < work / W[-1] < 1.30 and work > path, (work / W[-1], path / W[-1])
+    # the closed loop of the same history would add Q times the drift: 0.16 of Mindlin-Deresiewicz
+    hz = ref.hertz(F, R, ALU.E_star)
+    md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, ref.gross_slip_displacement(
+        float(hz["d"]), MU, ALU.E_star, ALU.G_star))
+    assert work / md < 1.27  # closed by a segment it read 1.30-1.32
 
 
 def test_the_coupled_newton_method_solves_what_the_alternation_solves(law_alu):
