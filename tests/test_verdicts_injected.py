@@ -108,4 +108,26 @@ def test_a_floor_that_decides_is_below_resolution():
     spread = {"error": 0.01, "status": "non-monotone", "bounded": False}
     assert metrics.verdict(1.0, 1.004, spread, bar, 0.0)["grade"] == "consistent within its spread"
     assert metrics.verdict(1.0, 1.1, spread, bar, 0.0)["grade"] == "fails"
+    # a pass that only the floor allows is below resolution whether or not the bars bound
+    assert metrics.verdict(1.0, 1.015, spread, bar, 0.001, floor=0.01)["grade"] == "below resolution"
+    assert metrics.verdict(1.0, 1.005, spread, bar, 0.001, floor=0.01)["grade"] == "consistent within its spread"
     assert metrics.scene_grade({"a": v, "b": metrics.verdict(1.0, 1.0, bar, bar, 0.0)}) == "below resolution"
+
+
+def test_the_report_tallies_the_decided_verdicts():
+    """The summary's tally: holds, below resolution and fails are decided, a spread and an undetermined
+    metric are not; scenes of other families are not counted; the report prints the sentence."""
+    from validation import report
+
+    bar = {"error": 0.0, "status": "converged", "bounded": True}
+    spread = {"error": 0.01, "status": "non-monotone", "bounded": False}
+    vs = {"a": metrics.verdict(1.0, 1.0, bar, bar, 0.01), "b": metrics.verdict(1.0, 1.004, bar, bar, 0.001, floor=0.005),
+          "c": metrics.verdict(1.0, 1.1, bar, bar, 0.01), "d": metrics.verdict(1.0, 1.004, spread, bar, 0.0),
+          "e": metrics.verdict(1.0, float("nan"), bar, bar, 0.01)}
+    assert [v["grade"] for v in vs.values()] == ["holds", "below resolution", "fails", "consistent within its spread",
+                                                 "undetermined"]
+    results = {"p": {"scene": {"family": "pair"}, "verdicts": vs}, "q": {"verdicts": {"a": vs["a"]}},
+               "r": {"scene": {"family": "tilt"}, "verdicts": {"x": vs["d"]}}}
+    t = report.tally(results, ["p", "q", "r", "missing"])
+    assert (t["decided"], t["total"], t["holds"]) == (4, 6, 2)
+    assert report.tally_text(t).startswith("Decided: 4 of 6 metric verdicts")

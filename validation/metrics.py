@@ -112,18 +112,19 @@ def grade(difference, error, tolerance, *, bounded: bool, floor: float | None = 
     """The verdict rule, once for every family: ``(holds, grade)`` of |difference| against
     ``error`` (all error bars summed) + the tolerance, the physics' ``tolerance`` raised to the
     resolution ``floor`` where one is given. ``undetermined`` (None) where a number is missing or not
-    finite; ``fails`` (False) beyond the sum; within it ``consistent within its spread`` (None) unless
-    ``bounded`` (every error bar an upper bound); ``below resolution`` (None) where the physics'
-    tolerance alone would fail and only the floor lets it pass; else ``holds`` (True)."""
+    finite; ``fails`` (False) beyond the sum; within it ``below resolution`` (None) where the physics'
+    tolerance alone would fail and only the floor lets it pass (whether or not the bars bound);
+    ``consistent within its spread`` (None) unless ``bounded`` (every error bar an upper bound); else
+    ``holds`` (True)."""
     if not _finite(difference, error, tolerance):
         return None, "undetermined"
     allowed = tolerance if floor is None else max(tolerance, floor)
     if abs(difference) > error + allowed:
         return False, "fails"
-    if not bounded:
-        return None, "consistent within its spread"
     if abs(difference) > error + tolerance:
         return None, "below resolution"
+    if not bounded:
+        return None, "consistent within its spread"
     return True, "holds"
 
 

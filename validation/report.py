@@ -90,6 +90,30 @@ def _reference(q, res):
     return abs(float(x))
 
 
+def tally(results: dict, names) -> dict:
+    """The metric verdicts of the pair scenes among ``names``, counted by grade
+    (``validation.metrics.GRADES``), with ``decided`` (holds, below resolution, fails) and ``total``."""
+    from .metrics import GRADES
+
+    out = dict.fromkeys(GRADES, 0)
+    for n in names:
+        r = results.get(n)
+        if r is None or families.of_result(r) != "pair":
+            continue
+        for v in (r.get("verdicts") or {}).values():
+            out[v.get("grade", "undetermined")] = out.get(v.get("grade", "undetermined"), 0) + 1
+    out["decided"] = out["holds"] + out["below resolution"] + out["fails"]
+    out["total"] = sum(out[g] for g in GRADES)
+    return out
+
+
+def tally_text(t: dict) -> str:
+    """One sentence of ``tally``."""
+    return (f"Decided: {t['decided']} of {t['total']} metric verdicts of the pair scenes ({t['holds']} hold, "
+            f"{t['below resolution']} below resolution, {t['fails']} fail); {t['consistent within its spread']} "
+            f"consistent within a spread, which bounds nothing; {t['undetermined']} undetermined.")
+
+
 def summary_cell(q, res) -> str:
     """MDR - FE (FE error + MDR error + tolerance) and the metric's verdict, relative to the FE
     contact radius (radii) or the FE dissipation; the slip index absolute."""
@@ -371,7 +395,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
                  f"{summary_cell('stick_radius', r)} | {summary_cell('dissipation', r)} | "
                  f"{num(r['mdr'].get('slip_index'), '.3f')} / {num(r['fem'].get('slip_index'), '.3f')} | "
                  f"{cycle_change(r['mdr'])} / {cycle_change(r['fem'])} | {num(mr, '.2g')} / {num(fr, '.2g')} | {text} |")
-    L.append("")
+    L += ["", tally_text(tally(results, names)), ""]
     for key, title in (("delta_b", "Slip index against b (geometry series)"),
                        ("delta_kx", "Slip index against k_x (apparatus)"),
                        ("pareto", "Speed against error, the dissipating scenes (slip index >= 0.01) by group")):
