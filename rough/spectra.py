@@ -15,8 +15,13 @@ is scaled to, ``rough.surfaces.RoughnessParams``); wavelengths shorter than the 
 (a stated cut-off of the model), longer ones are form: ``form_curvature_rms`` says how much mean
 curvature they add to the gap, so that a reader sees what leaving them out costs.
 
+A profile's Rq is not the surface's areal rms over the same band: filtering a profile along x to the
+band also removes the oblique waves whose wavelength along x is longer than lambda_c, so for an
+isotropic power law the profile's variance is ``profile_variance_ratio`` (0.54 at H = 0.8) of the areal
+one. A finish says which its rq is (``Finish.profile``); the spectra here are areal.
+
 Assumptions: sharp band edges (the ISO filters are Gaussian; a sharp edge moves the fractions by the
-filters' transition width), isotropic surfaces (a profile's variance is the areal one), the same Hurst
+filters' transition width), isotropic surfaces, the same Hurst
 exponent over a body's whole band, and no power beyond a finish's cut-offs (no roll-off plateau:
 exactly what ``rough.surfaces.generate`` makes).
 """
@@ -27,7 +32,7 @@ from dataclasses import dataclass
 
 from common.errors import InputError, in_range, positive
 
-#: ISO 4288 (1996) Table 3 / ISO 3274: the cut-offs (lambda_s, lambda_c) in m of a non-periodic profile by
+#: ISO 4288 (1996) Table 1 / ISO 3274: the cut-offs (lambda_s, lambda_c) in m of a non-periodic profile by
 #: its Ra class (upper bound of Ra in m, inclusive)
 ISO_BANDS = ((0.02e-6, 2.5e-6, 0.08e-3), (0.1e-6, 2.5e-6, 0.25e-3), (2e-6, 2.5e-6, 0.8e-3),
              (10e-6, 8e-6, 2.5e-3), (80e-6, 25e-6, 8e-3))
@@ -61,17 +66,28 @@ def variance_fraction(hurst: float, band: tuple, window: tuple) -> float:
     return (hi ** e - lo ** e) / (l ** e - s ** e)
 
 
+def profile_variance_ratio(hurst: float) -> float:
+    """A profile's height variance over a band of wavenumbers along it, over the areal variance of the
+    isotropic surface over the same band of |q|: Gamma(H + 1/2) / (sqrt(pi) Gamma(H + 1)) for the power
+    law C(q) ~ q^(-2 (1 + H)) (the profile's spectrum int C(sqrt(qx^2 + qy^2)) dqy ~ qx^(-1 - 2H); exact
+    for a band wide against its edges): 0.64 at H = 0.5, 0.54 at 0.8, 0.5 at 1."""
+    h = in_range("hurst", hurst, 0.0, 1.0, lo_open=True)
+    return math.gamma(h + 0.5) / (math.sqrt(math.pi) * math.gamma(h + 1.0))
+
+
 @dataclass(frozen=True)
 class Finish:
     """One body's surface (SI): the rms height ``rq`` over its profilometer band (``iso_band`` of rq:
     what the stated value means), a self-affine spectrum of Hurst exponent ``hurst`` with no power
     beyond its cut-offs: short at lambda_s, long at ``rolloff`` where given and shorter than lambda_c
     (a surface whose waviness ends there: then all of rq lies in [lambda_s, rolloff]), else at
-    lambda_c."""
+    lambda_c. ``profile``: rq is a profile's Rq (the areal rms over the band is rq over the square root
+    of ``profile_variance_ratio``), else the surface's areal rms."""
 
     rq: float
     hurst: float = 0.8
     rolloff: float | None = None
+    profile: bool = False
 
     def __post_init__(self):
         positive("rq", self.rq)
@@ -79,6 +95,10 @@ class Finish:
         in_range("hurst", self.hurst, 0.0, 1.0, lo_open=True)
         if self.rolloff is not None and not self.rolloff > self.band()[0]:
             raise InputError(f"rolloff must be longer than lambda_s = {self.band()[0]:g} m, got {self.rolloff!r}")
+
+    def areal_rq(self) -> float:
+        """The surface's areal rms height over its band (m)."""
+        return self.rq / math.sqrt(profile_variance_ratio(self.hurst)) if self.profile else self.rq
 
     def band(self) -> tuple:
         """(short, long) cut-offs of the spectrum (m)."""
@@ -89,7 +109,7 @@ class Finish:
 def window_rms(finishes, window: tuple) -> float:
     """The rms height (m) of the gap's spectrum (the bodies' ``finishes`` added) inside ``window``
     (lambda_short, lambda_long) (m): sqrt(sum rq^2 x variance_fraction)."""
-    return math.sqrt(sum(f.rq ** 2 * variance_fraction(f.hurst, f.band(), window) for f in finishes))
+    return math.sqrt(sum(f.areal_rq() ** 2 * variance_fraction(f.hurst, f.band(), window) for f in finishes))
 
 
 def form_curvature_rms(finishes, longer_than: float) -> float:
@@ -103,6 +123,6 @@ def form_curvature_rms(finishes, longer_than: float) -> float:
             continue
         e = 2.0 * f.hurst
         q1, q2, qs = 2 * math.pi / l, 2 * math.pi / max(longer_than, s), 2 * math.pi / s
-        norm = f.rq ** 2 * e / (q1 ** -e - qs ** -e)  # C(q) 2 pi q = norm q^(-1-2H)
+        norm = f.areal_rq() ** 2 * e / (q1 ** -e - qs ** -e)  # C(q) 2 pi q = norm q^(-1-2H)
         total += norm * (q2 ** (4 - e) - q1 ** (4 - e)) / (4 - e)
     return math.sqrt(total) / 2.0

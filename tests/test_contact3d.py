@@ -894,6 +894,10 @@ def test_the_coupled_first_cycle_against_independent_half_space_codes(shared_mes
     md = ref.mindlin_deresiewicz_dissipation_force(0.5 * MU * F, F, MU, ref.gross_slip_displacement(
         float(hz["d"]), MU, ALU.E_star, ALU.G_star))
     assert work / md < 1.27  # closed by a segment it read 1.30-1.32
+    # the stick zone at every cycle's peak, not only the last cycle's window (per_cycle once read 0)
+    for key in ("stick_radius_x", "stick_radius_y"):
+        per = np.asarray(out["per_cycle"][key], dtype=float)
+        assert per.size == 3 and np.all(per > 0.5 * out[key]) and per[-1] == pytest.approx(out[key], rel=1e-12), key
 
 
 def test_the_coupled_newton_method_solves_what_the_alternation_solves(law_alu):

@@ -84,3 +84,29 @@ def test_iso_bands_by_the_ra_class_and_the_window_of_a_pair():
     assert window_rms(pair, (27e-6, 219e-6)) < 0.2 * whole  # the contact scale holds little of it at H 0.8
     rolled = (Finish(1e-6, rolloff=219e-6), Finish(3e-6, rolloff=219e-6))
     assert window_rms(rolled, (27e-6, 219e-6)) > 0.9 * whole  # unless the waviness ends there
+
+
+@pytest.mark.parametrize("hurst", [0.5, 0.8, 1.0])
+def test_a_profiles_variance_is_a_fraction_of_the_areal_one(hurst):
+    """Every row of generated isotropic maps, filtered along x to the maps' band (sharp FFT band-pass on
+    |q_x|), has the variance profile_variance_ratio(H) of the maps' areal variance over that band (the
+    oblique waves longer than the band along x are filtered out; within 6 %: the band's finite upper
+    edge); a Finish of a profile's Rq has the areal rms Rq / sqrt(ratio)."""
+    from rough.spectra import profile_variance_ratio
+
+    n, short, long = 1024, 4 * P / 1024, P / 16  # the band far from the grid's longest waves
+    ratios = []
+    for s in (0, 1):
+        m = generate(RoughnessParams(rms=1e-6, hurst=hurst, lambda_short=short, lambda_long=long, size=P, n=n, seed=s))
+        rows = np.fft.fft(m.h, axis=1)
+        lam = 1.0 / np.maximum(np.abs(np.fft.fftfreq(n, d=m.pixel)), 1e-30)
+        profile = float(np.sum(np.abs(rows[:, (lam >= short) & (lam <= long)]) ** 2)) / n ** 3
+        ratios.append(profile / float(np.var(m.h)))
+    assert np.mean(ratios) == pytest.approx(profile_variance_ratio(hurst), rel=0.06)
+    assert profile_variance_ratio(hurst) < 0.65  # a profile sees well under the areal variance
+    # docs/budget.md: 0.54 at H = 0.8, an areal rms 1.36 times a profile's Rq
+    assert profile_variance_ratio(0.8) == pytest.approx(0.54, abs=0.005)
+    assert 1 / math.sqrt(profile_variance_ratio(0.8)) == pytest.approx(1.36, abs=0.005)
+    f = Finish(2e-6, hurst, profile=True)
+    assert f.areal_rq() == pytest.approx(2e-6 / math.sqrt(profile_variance_ratio(hurst)), rel=1e-12)
+    assert Finish(2e-6, hurst).areal_rq() == 2e-6

@@ -6,8 +6,9 @@ a profilometer reads it (``rough.spectra``: Rq over ISO 4288's band of its class
 value still leaves the spectrum's shape open. The budget therefore runs every reading of ``READINGS``
 (the axes: where the surfaces' waviness ends, ``rolloff``, from twice the contact radius to ISO's
 lambda_c; the Hurst exponent, 0.5 to 1; asperities elastic, or perfectly plastic at the steel's
-hardness), each on the contact of the sphere (sphere on block) and of each flat face (face on block):
-the paper's own loop data then exclude the readings they contradict (``validation.consistency``).
+hardness; the values the surfaces' areal rms, or a profile's Rq, whose areal rms is larger), each on
+the contact of the sphere (sphere on block) and of each flat face (face on block): the paper's own loop
+data then exclude the readings they contradict (``validation.consistency``).
 
 A reading on a contact is generated as the catalogue's rough surfaces are (``rough.surfaces``): on a
 periodic grid of ``period`` smooth contact radii, the window [short cut-off, period] of the pair's
@@ -53,25 +54,29 @@ FORM_SHARE_MAX = 0.1
 class Reading:
     """One admissible reading of the stated rms values: the Hurst exponent, where the waviness ends
     (``rolloff`` in smooth contact radii of the contact; None: at ISO's lambda_c, all of the
-    profilometer's band), perfectly ``plastic`` asperities (flattened at ``ROUGH_PRELOAD``) or elastic."""
+    profilometer's band), perfectly ``plastic`` asperities (flattened at ``ROUGH_PRELOAD``) or elastic,
+    the values a profile's Rq (``profile``: the areal rms larger, ``rough.spectra.Finish``) or the
+    surfaces' areal rms."""
 
     name: str
     hurst: float = 0.8
     rolloff: float | None = None
     plastic: bool = False
+    profile: bool = False
 
     def finishes(self, contact: "Contact", a: float) -> tuple:
         from rough.spectra import Finish
 
         lam = None if self.rolloff is None else self.rolloff * a
-        return tuple(Finish(PAPER_RQ[body], self.hurst, lam) for body in contact.bodies)
+        return tuple(Finish(PAPER_RQ[body], self.hurst, lam, self.profile) for body in contact.bodies)
 
 
 #: the readings every contact runs: the ISO band (H 0.8, typical of ground and turned steel; Persson,
 #: Tribology Letters 54 (2014) 99) and the axes around it one at a time
 READINGS = (Reading("ISO band"), Reading("ISO band, H 0.5", hurst=0.5), Reading("ISO band, H 1", hurst=1.0),
             Reading("waviness ends at 8 a", rolloff=8.0), Reading("waviness ends at 2 a", rolloff=2.0),
-            Reading("ISO band, plastic", plastic=True), Reading("waviness ends at 8 a, plastic", rolloff=8.0, plastic=True))
+            Reading("ISO band, plastic", plastic=True), Reading("waviness ends at 8 a, plastic", rolloff=8.0, plastic=True),
+            Reading("ISO band, profile Rq", profile=True))
 
 
 @dataclass(frozen=True)
@@ -131,8 +136,8 @@ def form_share(reading: Reading, contact: Contact) -> float:
 
     a = contact.a()
     fin = reading.finishes(contact, a)
-    beyond = sum(f.rq ** 2 * variance_fraction(f.hurst, f.band(), (contact.period * a, math.inf)) for f in fin)
-    return beyond / sum(f.rq ** 2 for f in fin)
+    beyond = sum(f.areal_rq() ** 2 * variance_fraction(f.hurst, f.band(), (contact.period * a, math.inf)) for f in fin)
+    return beyond / sum(f.areal_rq() ** 2 for f in fin)
 
 
 def resolved(reading: Reading, contact: Contact) -> bool:
