@@ -34,13 +34,42 @@ OUTPUT_DIR_FLAGS = ("out",)
 NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf$|^-nan$", re.IGNORECASE)
 
 
+#: what to cite, printed by every command's ``--version`` (CITATION.cff holds the same)
+CITE = ("Cite this software (CITATION.cff) and the experiment and model it follows: Willert, E., Influence of "
+        "Profile Geometry on Frictional Energy Dissipation in a Dry, Compliant Steel-on-Steel Fretting "
+        "Contact: Macroscopic Modeling and Experiment, Machines 11 (2023) 484, doi:10.3390/machines11040484; "
+        "the method: Popov, V. L. and Hess, M., Method of Dimensionality Reduction in Contact Mechanics and "
+        "Friction, Springer (2015).")
+
+
+def version_text() -> str:
+    """The installed package's name and version (its metadata: pyproject.toml's ``version``) and what
+    to cite."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        v = version("fretting-mdr-fem")
+    except PackageNotFoundError:
+        v = "(not installed: pip install -e .)"
+    return f"fretting-mdr-fem {v}\n{CITE}"
+
+
+class _Version(argparse.Action):
+    """``--version``: ``version_text`` as it is (argparse's own action reflows it), exit 0."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        sys.stdout.write(version_text() + "\n")
+        parser.exit(0)
+
+
 class OneLineParser(argparse.ArgumentParser):
-    """argparse parser whose errors are one line on stderr and exit code 2, and which reads a
-    negative number (``-6e-3``) as a value, not as an option."""
+    """argparse parser whose errors are one line on stderr and exit code 2, which reads a negative
+    number (``-6e-3``) as a value, not as an option, and whose ``--version`` says what to cite."""
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         self._negative_number_matcher = NEGATIVE_NUMBER
+        self.add_argument("--version", action=_Version, nargs=0, help="print the version and what to cite, and exit")
 
     def error(self, message):
         sys.stderr.write(f"{self.prog}: error: {message}\n")
