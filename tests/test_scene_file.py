@@ -73,8 +73,11 @@ def test_a_file_of_tiny_ladders_runs_and_its_sphere_is_hertz(tmp_path):
     path = tmp_path / "tiny.toml"
     path.write_text(TINY)
     (s,) = load_scene_file(path).values()
-    rc = compare.main(["--scene-file", str(path), "--out", str(tmp_path / "out"), "--no-hard-cases", "--no-fields"])
+    rc = compare.main(["--scene-file", str(path), "--out", str(tmp_path / "out"), "--no-fields"])
     assert rc == 0
+    # a scene file runs its own scenes only: no hard case unless --hard-cases asks for them
+    assert not (tmp_path / "out" / "hard_cases.json").exists()
+    assert "## Hard cases" not in (tmp_path / "out" / "report.md").read_text()
     r = json.loads((tmp_path / "out" / "results.json").read_text())["scenes"]["alu-sphere-tiny"]
     E_star = materials_of(s).E_star
     a = ref.hertz(s.F0, s.R, E_star)["a"]

@@ -342,6 +342,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-fields", action="store_true", help="skip the pyvista field plots")
     p.add_argument("--no-hard-cases", action="store_true",
                    help="do not run the hard cases (the report keeps the last stored table, marked as not rerun)")
+    p.add_argument("--hard-cases", action="store_true",
+                   help="with --scene-file: also run the hard cases (the numerical stability checks of the "
+                        "models, none about your scenes; without --scene-file they always run)")
     p.add_argument("--witness", action="store_true",
                    help="also run an independent FE code, CalculiX, on the same finite bodies (five block/cap "
                         "sizes, normal contact; about 6 minutes; needs apt-get install calculix-ccx) and add its "
@@ -382,6 +385,10 @@ def main(argv=None) -> int:
 def compare(args) -> int:
     """Run the selected scenes and write the report (the body of :func:`main`); returns the exit code."""
     jobs = check_choice(args.jobs, args.scheduler)
+    if args.hard_cases and args.no_hard_cases:
+        raise InputError("give at most one of --hard-cases and --no-hard-cases")
+    # a user's scene file runs its own scenes only, unless the hard cases are asked for
+    run_hard = not args.no_hard_cases and (not args.scene_file or args.hard_cases)
     catalogue = None
     if args.scene_file:
         from .scene_file import load_scene_file
@@ -420,7 +427,7 @@ def compare(args) -> int:
         hard_running = None
         with executor_for(jobs, args.scheduler) as (executor, label):
             say(f"executor: {label}")
-            if executor is not None and not args.no_hard_cases:
+            if executor is not None and run_hard:
                 # this process only waits on the workers: it runs the hard cases meanwhile (their own
                 # results, independent of the scenes'), so no core idles at the scenes' tail; a daemon
                 # thread, so that an interrupted run exits at once (their table is written atomically)
@@ -428,13 +435,13 @@ def compare(args) -> int:
             status = run_all(scenes, out, executor=executor, jobs=jobs, force=args.force,
                              fields=not args.no_fields, log=say)
 
-        hard_note = None
+        hard_note, hard = None, None  # a scene file's report holds its own scenes only (unless --hard-cases)
         if args.no_hard_cases:  # keep the last table, said to be not rerun
             hard, code = stored_hard_cases(out, args.quick)
             if hard is not None:
                 hard_note = (f"Not rerun by this run (--no-hard-cases): the table of the last run that computed it "
                              f"(sources {code}{'' if code != code_version() else ', the same as this run'}).")
-        else:
+        elif run_hard:
             hard = hard_running.result() if hard_running is not None else hard_cases()
         witness = None
         if args.witness:
