@@ -94,6 +94,7 @@ def test_a_file_of_tiny_ladders_runs_and_its_sphere_is_hertz(tmp_path):
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ndF = 0.6\n', "dF must be in [0, F0)"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ncycles = 2\n', "cycles must be an integer >= 3"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfe_levels = [0.0125, 0.05]\n', "fe_levels must be"),
+    ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\nfe_levels = [4e-9, 2e-9]\n', "in [0.001, 0.25] (the axisym"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "cone"\n', "profile must be one of"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "truncated"\nb = 0.01\n', "b must be in [0, R)"),
     ('[[scene]]\nname = "x"\ntitle = "t"\nprofile = "sphere"\ndrive = "apparatus"\n', "kx must be > 0"),

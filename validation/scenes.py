@@ -405,9 +405,15 @@ class Scene:
             check(e, lambda v: fin(v) and v > 0, "> 0 (Pa)")
         for n in ("nu1", "nu2"):
             check(n, lambda v: fin(v) and -1 < v < 0.5, "in (-1, 0.5)")
-        # non-increasing: a banded tilt row refines its band at one coarse size (0.3, 0.3)
-        check("fe_levels", lambda v: len(v) >= 1 and all(fin(x) and 0 < x <= 0.5 for x in v)
-              and all(a >= b for a, b in zip(v, v[1:])), "a non-increasing list of element sizes / a in (0, 0.5]")
+        # non-increasing: a banded tilt row refines its band at one coarse size (0.3, 0.3); each size in the
+        # range the scene's FE model meshes (checked here, before any work)
+        from meshes.axisym import H_CONTACT_RANGE
+        from meshes.half3d import H_CONTACT_3D_RANGE
+
+        lo, hi = H_CONTACT_3D_RANGE if self.fe_model == "3d" else H_CONTACT_RANGE
+        check("fe_levels", lambda v: len(v) >= 1 and all(fin(x) and lo <= x <= hi for x in v)
+              and all(a >= b for a, b in zip(v, v[1:])),
+              f"a non-increasing list of element sizes / a in [{lo:g}, {hi:g}] (the {self.fe_model} model's range)")
         check("mdr_cells", lambda v: len(v) >= 1 and all(isinstance(x, int) and x >= 4 for x in v)
               and all(a < b for a, b in zip(v, v[1:])), "an increasing list of integers >= 4 (MDR cells)")
 
