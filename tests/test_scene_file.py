@@ -77,7 +77,10 @@ def test_a_file_of_tiny_ladders_runs_and_its_sphere_is_hertz(tmp_path):
     assert rc == 0
     # a scene file runs its own scenes only: no hard case unless --hard-cases asks for them
     assert not (tmp_path / "out" / "hard_cases.json").exists()
-    assert "## Hard cases" not in (tmp_path / "out" / "report.md").read_text()
+    text = (tmp_path / "out" / "report.md").read_text()
+    assert "## Hard cases" not in text
+    # the report echoes the file's materials and says what both models leave out for a dissimilar pair
+    assert "block E2 = 70 GPa, nu2 = 0.33" in text and "leave out the normal-tangential coupling" in text
     r = json.loads((tmp_path / "out" / "results.json").read_text())["scenes"]["alu-sphere-tiny"]
     E_star = materials_of(s).E_star
     a = ref.hertz(s.F0, s.R, E_star)["a"]

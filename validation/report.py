@@ -90,6 +90,23 @@ def _reference(q, res):
     return abs(float(x))
 
 
+def materials_text(s: dict) -> str:
+    """The scene's materials (a stored scene's fields E1, nu1, E2, nu2, the steel's where absent) and, for
+    a dissimilar pair, the assumption MDR and the axisymmetric FE model share: no normal-tangential
+    coupling (Dundurs' beta taken as 0; the 3D model has it)."""
+    from fem.solid3d.model import dundurs_beta
+    from mdr.materials import Materials
+
+    m = Materials(*(float(s.get(k, d)) for k, d in zip(("E1", "nu1", "E2", "nu2"), Materials().as_dict().values())))
+    text = f"Indenter E1 = {m.E1 / 1e9:g} GPa, nu1 = {m.nu1:g}; block E2 = {m.E2 / 1e9:g} GPa, nu2 = {m.nu2:g}."
+    beta = dundurs_beta(m)
+    if abs(beta) > 1e-12:
+        text += (f" A dissimilar pair (Dundurs' beta = {beta:+.3f}): MDR"
+                 + (" and the axisymmetric FE model leave" if s.get("fe_model", "axisym") == "axisym" else " leaves")
+                 + " out the normal-tangential coupling (docs/fem3d.md measures it with the 3D model).")
+    return text
+
+
 def tally(results: dict, names) -> dict:
     """The metric verdicts of the pair scenes among ``names``, counted by grade
     (``validation.metrics.GRADES``), with ``decided`` (holds, below resolution, fails) and ``total``."""
@@ -412,7 +429,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
               f"(amplitude {s['amplitude']:g} {'N' if s['drive'] == 'force' else 'm'}"
               + (f", k_x = {s['kx'] / 1e6:g} N/um, mu2 = {s['mu2']:g}" if s["drive"] == "apparatus" else "")
               + f"), {s['cycles']} cycles x {s['steps']} steps; FE model {s['fe_model']}"
-              + (f"; computed on worker `{r['worker']}`" if r.get("worker") else "") + ".", ""]
+              + (f"; computed on worker `{r['worker']}`" if r.get("worker") else "") + ". " + materials_text(s), ""]
         if s.get("notes"):
             L += [s["notes"], ""]
         fam = families.of_result(r)
