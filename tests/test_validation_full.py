@@ -114,10 +114,16 @@ def test_mdr_holds_for_every_large_body_scene(full):
     bad = {n: [q for q, v in r["verdicts"].items() if v["grade"] in ("fails", "undetermined")]
            for n, r in _large_body_scenes(sc).items()}
     assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
-    # docs/comparison.md: 64 of the 141 verdicts hold, 76 are consistent within a spread, 1 fails, none undetermined
+    # docs/comparison.md, README: of the 141 verdicts 69 decided (64 hold, 4 below resolution, 1 fails), 72
+    # consistent within a spread, none undetermined; the report's tally says the same
     grades = [v["grade"] for r in _large_body_scenes(sc).values() for v in r["verdicts"].values()]
     assert len(grades) == 141 and grades.count("fails") == 1 and grades.count("undetermined") == 0
-    assert 32 <= grades.count("holds") <= 100 and 38 <= grades.count("consistent within its spread") <= 109
+    assert 32 <= grades.count("holds") <= 100 and 36 <= grades.count("consistent within its spread") <= 109
+    assert 2 <= grades.count("below resolution") <= 8
+    from validation.report import tally
+
+    t = tally(sc, list(_large_body_scenes(sc)))
+    assert t["decided"] == len(grades) - grades.count("consistent within its spread") and t["total"] == 141
     for name in ("geom-flat", "flat-md", "exp-fig6", "exp-fig7"):  # docs/comparison.md: graded "holds" throughout
         assert sc[name]["holds"] is True, name
     du = sc["geom-b600um"]["verdicts"]["loop_du"]
@@ -255,8 +261,8 @@ def test_mindlin_assumptions_in_3d(full):
     sphere's stationary dissipation by 0.49 +- 0.04 % (a half-space boundary-element solution without
     Mindlin's approximation: -0.2 +- 0.4 %), within the tolerance: the assumption holds; the largest
     traction angle is 0.10 (half-space: ~0.1). The coupling of steel on aluminium (beta = +0.11)
-    leaves the stationary cycle within its error (-0.5 +- 2 %) but raises the first closed loop
-    after the normal loading by 36 +- 5 %: there MDR's uncoupled answer does not hold. The 3D pressure at F0
+    leaves the stationary cycle within its error (-0.5 +- 2 %) but raises the friction work of the first
+    cycle after the normal loading by 30 +- 2 %: there MDR's uncoupled answer does not hold. The 3D pressure at F0
     with the assumptions imposed holds MDR's (pressure radius within 0.1 %). Bounds 2x."""
     _, _, sc = full
     rows = {r["variant"].split("[", 1)[1].rstrip("]"): r for r in sc["assumptions-3d"]["assumptions3d"]}
@@ -266,10 +272,10 @@ def test_mindlin_assumptions_in_3d(full):
     assert -0.0094 < d["effect"] < -0.0019 and d["error"] < 0.0026 and d["grade"] in not_failed
     assert 0.06 < sphere["traction_angle_max"] < 0.25 and sphere["grade"] in not_failed
     assert coupling["verdicts"]["dissipation"]["grade"] in not_failed
-    # the first closed loop after the normal loading, coupled against uncoupled on each mesh (docs/fem3d.md:
-    # +36 +- 5 %; Table 2's varying normal force; at constant F_N half-space codes give +12-14 %)
+    # the first cycle's friction work after the normal loading, coupled against uncoupled on each mesh
+    # (docs/fem3d.md: +30 +- 2 %; Table 2's varying normal force)
     first = coupling["verdicts"]["dissipation_first_cycle"]
-    assert 0.18 < first["effect"] < 0.72 and first["holds"] is False and coupling["holds"] is False
+    assert 0.15 < first["effect"] < 0.6 and first["holds"] is False and coupling["holds"] is False
     # the 3D pressure against MDR's, by the pressure radius of the imposed runs (docs/fem3d.md: -0.04 +- 0.44,
     # -0.10 +- 0.23, -0.04 +- 0.44 %; a/5 0.16-0.41 % off, the finer levels within 0.1 %): it holds on
     # every variant
@@ -426,12 +432,12 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
     kx = {t["reading"]: t["kx"] for t in b["transition"]["rows"]}
     assert 0.9e6 < kx["smooth"] < 1.1e6
     # docs/budget.md, "What it shows": the loops exclude the elastic readings whose waviness ends near the
-    # sphere's contact (2.7-3.1 um in its window) and admit the ISO ones (1.5-2.0 um) and every face reading
+    # sphere's contact (2.7-3.1 um in its window) and admit the ISO ones (1.5-2.2 um) and every face reading
     cons = {r["reading"]: r for r in b["consistency"]["sphere"]}
     for name in ("waviness ends at 8 a", "waviness ends at 2 a"):
         assert not cons[name]["admitted"] and 2.2e-6 < cons[name]["window"]["rms"] < 3.6e-6, name
-    for name in ("ISO band", "ISO band, H 0.5", "ISO band, H 1", "ISO band, plastic"):
-        assert cons[name]["admitted"] and 1.2e-6 < cons[name]["window"]["rms"] < 2.4e-6, name
+    for name in ("ISO band", "ISO band, H 0.5", "ISO band, H 1", "ISO band, plastic", "ISO band, profile Rq"):
+        assert cons[name]["admitted"] and 1.2e-6 < cons[name]["window"]["rms"] < 2.6e-6, name
     assert all(r["admitted"] for r in b["consistency"]["face"])
     # roughness matters whatever the admitted spectrum (lowering the slip index by about 0.08-0.45), is
     # undetermined on Fig. 9's small faces (unresolved readings); the transition 1.1-2.6 N/um
