@@ -29,7 +29,6 @@ from mdr.loading import Loading, gross_slip_work
 
 from fem.options import FEOptions
 from fem.solid3d import runs
-from fem.solid3d.model import dundurs_beta
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions = FEOptions(), *, vtu=None,
@@ -86,10 +85,10 @@ def check_paired(materials, options: FEOptions, vtu=None) -> None:
     if options.tilt != 0.0:
         raise InputError(f"paired (--paired) needs the aligned face (tilt 0: MDR knows no tilt), "
                          f"got tilt={options.tilt!r}")
-    if abs(dundurs_beta(materials)) > PAIRED_BETA_MAX:
+    if abs(materials.dundurs_beta) > PAIRED_BETA_MAX:
         raise InputError(f"paired (--paired) needs bodies without normal-tangential coupling (Dundurs' beta = 0, "
                          f"as for identical elastic constants: where MDR is exact under Mindlin's assumption), "
-                         f"got beta = {dundurs_beta(materials):+.3g}")
+                         f"got beta = {materials.dundurs_beta:+.3g}")
     if options.displacement != "contact":
         raise InputError("paired (--paired) needs displacement 'contact' (the half-space comparable measure MDR uses), "
                          f"got {options.displacement!r}")

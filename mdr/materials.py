@@ -51,5 +51,12 @@ class Materials:
         """Effective tangential modulus G* (Pa)."""
         return 1.0 / ((2.0 - self.nu1) / (4.0 * self.G1) + (2.0 - self.nu2) / (4.0 * self.G2))
 
+    @property
+    def dundurs_beta(self) -> float:
+        """Dundurs' second constant of the pair, signed positive when the block (body 2) is the more
+        compressible one: 0 for one material (no normal-tangential coupling)."""
+        G1, G2 = self.G1, self.G2
+        return 0.5 * ((1 - 2 * self.nu2) / G2 - (1 - 2 * self.nu1) / G1) / ((1 - self.nu2) / G2 + (1 - self.nu1) / G1)
+
     def as_dict(self) -> dict:
         return {"E1": self.E1, "nu1": self.nu1, "E2": self.E2, "nu2": self.nu2}

@@ -163,3 +163,5 @@ def test_readings_that_coincide_on_a_contact_are_run_once():
     assert not np.allclose(s0, s3, atol=0.1 * np.abs(s0).std())
     tasks = SP.tasks([big])
     assert {t["reading"] for t in tasks} == {0, 1, 2, 4, 5, 7}
+    # docs/speed.md: 176 surfaces over the budget's five contacts (320 with every reading everywhere)
+    assert len(SP.tasks(BR.contacts())) == 176 and len(SP.READINGS) * 4 * 2 * len(BR.contacts()) == 320

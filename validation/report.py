@@ -94,12 +94,11 @@ def materials_text(s: dict) -> str:
     """The scene's materials (a stored scene's fields E1, nu1, E2, nu2, the steel's where absent) and, for
     a dissimilar pair, the assumption MDR and the axisymmetric FE model share: no normal-tangential
     coupling (Dundurs' beta taken as 0; the 3D model has it)."""
-    from fem.solid3d.model import dundurs_beta
     from mdr.materials import Materials
 
     m = Materials(*(float(s.get(k, d)) for k, d in zip(("E1", "nu1", "E2", "nu2"), Materials().as_dict().values())))
     text = f"Indenter E1 = {m.E1 / 1e9:g} GPa, nu1 = {m.nu1:g}; block E2 = {m.E2 / 1e9:g} GPa, nu2 = {m.nu2:g}."
-    beta = dundurs_beta(m)
+    beta = m.dundurs_beta
     if abs(beta) > 1e-12:
         text += (f" A dissimilar pair (Dundurs' beta = {beta:+.3f}): MDR"
                  + (" and the axisymmetric FE model leave" if s.get("fe_model", "axisym") == "axisym" else " leaves")

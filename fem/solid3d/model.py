@@ -156,13 +156,6 @@ def _vertex_sets(mesh, mi) -> dict:
     return {"plane": plane, "rays": rays, "ys": ys, "adj": adj, "rim": rim}
 
 
-def dundurs_beta(m: Materials) -> float:
-    """Dundurs' second constant of the pair, signed positive when the block (body 2) is the more
-    compressible one."""
-    G1, G2 = m.G1, m.G2
-    return 0.5 * ((1 - 2 * m.nu2) / G2 - (1 - 2 * m.nu1) / G1) / ((1 - m.nu2) / G2 + (1 - m.nu1) / G1)
-
-
 def build_model3d(profile: Profile, materials: Materials, *, F_max, h_contact, contact_extent, block_size,
                   refinement: Refinement, displacement: str, cache_dir=None, backend=None) -> Model3D:
     """The 3D half model of ``profile`` on ``materials`` (parameters checked by the caller, the law's
@@ -206,7 +199,7 @@ def build_model3d(profile: Profile, materials: Materials, *, F_max, h_contact, c
             f = np.asarray(profile.f(mi.nodes.r), dtype=float)
     plate = Model3D(profile=profile, materials=m, flat=flat, F_max=F_max, a_ref=a_ref, refinement=refinement,
                     hmesh=hmesh, mi=mi, rf=rf, Dt_plate=rf.Dt, bulk=_bulk_rows(hmesh, mi, m, zp, R_blk, R_ind),
-                    c_bulk=float("nan"), beta=dundurs_beta(m),
+                    c_bulk=float("nan"), beta=m.dundurs_beta,
                     gap0_aligned=mi.B @ f,  # the profile in the P2 space, weighted by the P1 hats
                     gap_tilt=mi.B @ mi.nodes.x,  # the weighted gap of a unit tilt, theta x (exact in the P2 space)
                     **_vertex_sets(mesh, mi), displacement=displacement, backend=blk.params.backend, ndofs=ndofs,
