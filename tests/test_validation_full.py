@@ -424,7 +424,9 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
             lo, hi = x["range"]
             for name in x["admitted"]:
                 assert lo - 1e-12 <= x["readings"][name]["effect"] <= hi + 1e-12, (key, col, name)
-            assert x["verdict"] == grade_range(lo, hi, x["error"]), (key, col, x)
+            # an admitted reading the contact's grid does not resolve leaves the cell undetermined
+            expected = "undetermined" if x.get("unresolved") else grade_range(lo, hi, x["error"])
+            assert x["verdict"] == expected, (key, col, x)
     plates = {p["reading"]: p for p in b["plates_consistency"]}
     assert plates["axial"]["admitted"]  # the paper's own model reproduces its loops
     for kind in ("sphere", "face"):
