@@ -131,3 +131,22 @@ def test_the_report_tallies_the_decided_verdicts():
     t = report.tally(results, ["p", "q", "r", "missing"])
     assert (t["decided"], t["total"], t["holds"]) == (4, 6, 2)
     assert report.tally_text(t).startswith("Decided: 4 of 6 metric verdicts")
+
+
+def test_each_scene_opens_with_a_bottom_line():
+    """A pair scene's bottom line: MDR - FE of each scalar metric relative to the FE value (the slip index
+    absolute), the decided verdicts counted as the tally counts them, and the models' shared assumptions
+    (Mindlin's traction along x only for the axisymmetric FE model)."""
+    from validation import report
+
+    bar = {"error": 0.0, "status": "converged", "bounded": True}
+    spread = {"error": 0.01, "status": "non-monotone", "bounded": False}
+    vs = {"contact_radius": metrics.verdict(1.0, 1.002, bar, bar, 0.01),
+          "dissipation": metrics.verdict(2.0, 2.1, spread, bar, 0.1),
+          "slip_index": metrics.verdict(0.2, 0.19, bar, bar, 0.001)}
+    res = {"scene": {"fe_model": "axisym"}, "verdicts": vs, "fem": {"contact_radius": 1.002}}
+    line = report.bottom_line(res)
+    assert "contact radius -0.2 %" in line and "slip index +0.01" in line
+    assert "2 of 3 verdicts decided (1 hold, 0 below resolution, 1 fail)" in line and "dissipation -4.8 %" in line
+    assert "the traction along x" in line
+    assert "the traction along x" not in report.bottom_line({**res, "scene": {"fe_model": "3d"}})

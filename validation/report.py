@@ -90,6 +90,28 @@ def _reference(q, res):
     return abs(float(x))
 
 
+def bottom_line(res: dict) -> str:
+    """A pair scene's plain bottom line: MDR - FE of each scalar metric (radii and dissipation relative to
+    the FE values, the slip index absolute), how many of its verdicts are decided, and what both models
+    assume."""
+    v = res.get("verdicts") or {}
+    parts = []
+    for q in ("contact_radius", "stick_radius", "dissipation", "slip_index"):
+        if q not in v or v[q].get("difference") is None or not math.isfinite(float(v[q]["difference"])):
+            continue
+        ref = _reference(q, res)
+        d = float(v[q]["difference"])
+        parts.append(f"{LABELS.get(q, q).split(' (')[0]} {num(d, '+.2g', 100.0 / ref)} %" if ref else
+                     f"{LABELS.get(q, q).split(' (')[0]} {num(d, '+.2g')}")
+    t = tally({"_": res}, ["_"])
+    s = res.get("scene") or {}
+    shared = "linear elasticity, small strains, Coulomb friction with one coefficient" + (
+        ", the traction along x (Mindlin)" if s.get("fe_model", "axisym") == "axisym" else "")
+    return (f"**Bottom line.** MDR - FE: {', '.join(parts) if parts else 'no scalar metric'}; {t['decided']} of "
+            f"{t['total']} verdicts decided ({t['holds']} hold, {t['below resolution']} below resolution, "
+            f"{t['fails']} fail). Both models assume {shared}.")
+
+
 def materials_text(s: dict) -> str:
     """The scene's materials (a stored scene's fields E1, nu1, E2, nu2, the steel's where absent) and, for
     a dissimilar pair, the assumption MDR and the axisymmetric FE model share: no normal-tangential
@@ -439,6 +461,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
                 L += [f"![{mod.TITLE}]({d}/{r['files'][mod.KEY]})", ""]
             continue
         ok, why = verdict(r)
+        L += [bottom_line(r), ""]
         L += [f"Verdict: **{grade_text({'grade': scene_grade(r.get('verdicts') or {})}).strip('*')}** ({why}).", ""]
         L += _error_parts_lines(r)
         L += _scene_table(r) + [""]
