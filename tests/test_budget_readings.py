@@ -165,3 +165,15 @@ def test_readings_that_coincide_on_a_contact_are_run_once():
     assert {t["reading"] for t in tasks} == {0, 1, 2, 4, 5, 7}
     # docs/speed.md: 176 surfaces over the budget's five contacts (320 with every reading everywhere)
     assert len(SP.tasks(BR.contacts())) == 176 and len(SP.READINGS) * 4 * 2 * len(BR.contacts()) == 320
+
+
+def test_the_loops_check_each_surface_once_in_any_number_of_processes():
+    """consistency: the same rows from one process and from two; a reading that coincides with another
+    on a contact shares its surfaces' checks (the same objects' results)."""
+    members = _members({0: 1.0}, seeds=(0, 1))
+    one = BR.consistency(BR.Readings(members), jobs=1)
+    two = BR.consistency(BR.Readings(members), jobs=2)
+    assert one == two
+    iso = one["sphere"][0]
+    assert iso["reading"] == SP.READINGS[0].name and len(iso["surfaces"]) == 2 and iso["admitted"]
+    assert all(not r["surfaces"] for r in one["face"])  # no face member given: nothing checked

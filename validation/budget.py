@@ -324,7 +324,7 @@ def budget(out="results", *, mdr_cells: bool = True, log=None, jobs: int = 1, me
             folder = readings_dir if isinstance(out, dict) else Path(out) / "readings"
             members = curves(BR.contacts(), folder, jobs=jobs, log=log)
         R = BR.Readings(members)
-        result["consistency"] = BR.consistency(R, log)
+        result["consistency"] = BR.consistency(R, log, jobs)
         admitted = BR.admitted_names(result["consistency"])
         result["plates_consistency"] = BR.plates_consistency(log)
         plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}

@@ -209,32 +209,51 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:
     return range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
 
 
-def consistency(R: Readings, log=None) -> dict:
-    """The paper's loops against every reading (``validation.consistency.check``) on each surface of the
-    finer grid: the sphere's readings by Figs. 4-5, the face of b = 0.6 mm's by Figs. 6-7. Returns
+def surface_checks(m: dict, kind: str) -> dict:
+    """The paper's loops of a contact ``kind`` ("sphere": Figs. 4-5, "face": Figs. 6-7) against one
+    surface (a member's equivalent profile): {fig: check}, or {"failed": why}."""
+    from .consistency import FIGURES, check
+
+    try:
+        prof = Readings.profile(m)
+        return {f: check(prof, f) for f, k in FIGURES.items() if k == kind}
+    except (InputError, ConvergenceError) as e:
+        return {"failed": str(e)}
+
+
+def consistency(R: Readings, log=None, jobs: int = 1) -> dict:
+    """The paper's loops against every reading (``surface_checks``) on each surface of the finer grid: the
+    sphere's readings by Figs. 4-5, the face of b = 0.6 mm's by Figs. 6-7; each surface once (a reading
+    that coincides with another on a contact shares its surfaces), in ``jobs`` processes. Returns
     {"sphere" | "face": [{reading, surfaces: [{fig: check}], consistent_surfaces, admitted}]}; a reading is
     admitted where at least one of its surfaces passes every check of its contact (the paper's specimen
     may be that surface), excluded where none does."""
     from mdr.paper import B_TABLE1
 
-    from .consistency import FIGURES, check
-
     log = log or (lambda msg: None)
+    contacts = (("sphere", 0.0), ("face", B_TABLE1))
+    levels = {(kind, i): R.members(b, i) for kind, b in contacts for i in range(len(SP.READINGS))}
+    todo = {}
+    for (kind, _), lv in levels.items():
+        for m in (lv[-1] if lv else []):
+            todo.setdefault((kind, id(m)), (m, kind))
+    log(f"budget: the paper's loops against {len(todo)} surfaces, {jobs} process(es)")
+    keys = list(todo)
+    if jobs > 1 and len(keys) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(max_workers=jobs) as ex:
+            done = dict(zip(keys, ex.map(surface_checks, *zip(*(todo[k] for k in keys)))))
+    else:
+        done = {k: surface_checks(*todo[k]) for k in keys}
     out = {}
-    for kind, b in (("sphere", 0.0), ("face", B_TABLE1)):
+    for kind, b in contacts:
         rows = []
         for i, r in enumerate(SP.READINGS):
-            levels = R.members(b, i)
-            log(f"budget: the paper's loops against '{r.name}' on the {kind}")
-            surfaces = []
-            for m in (levels[-1] if levels else []):
-                try:
-                    prof = R.profile(m)
-                    surfaces.append({f: check(prof, f) for f, k in FIGURES.items() if k == kind})
-                except (InputError, ConvergenceError) as e:
-                    surfaces.append({"failed": str(e)})
-            good = sum(1 for s in surfaces if "failed" not in s and all(c["consistent"] for c in s.values()))
-            m0 = levels[-1][0] if levels else {}
+            lv = levels[(kind, i)]
+            surfaces = [done[(kind, id(m))] for m in (lv[-1] if lv else [])]
+            good = sum(1 for x in surfaces if "failed" not in x and all(c["consistent"] for c in x.values()))
+            m0 = lv[-1][0] if lv else {}
             j = SP.canonical(i, SP.contact_of(b))
             rows.append({"reading": r.name, "same_as": None if j == i else SP.READINGS[j].name,
                          "surfaces": surfaces, "consistent_surfaces": good,
