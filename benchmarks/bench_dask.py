@@ -27,7 +27,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout without installing
 
 from validation import compare
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 
 def timed(argv):

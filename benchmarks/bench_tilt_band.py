@@ -18,7 +18,8 @@ import warnings
 
 def main(argv=None):
     from validation import runner
-    from validation.scenes import CATALOGUE, TILT_BOUND
+    from validation.catalogue import CATALOGUE
+    from validation.scenes import TILT_BOUND
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--h-contact", type=float, default=0.3, help="element size on the face elsewhere / b")

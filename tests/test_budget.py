@@ -115,7 +115,7 @@ def test_the_curvature_is_measured_at_the_point_where_a_scene_runs_it():
     """A point that a stored apparatus scene runs (the experiment of Fig. 6; a row of halfspace-points)
     takes its FE - MDR there, a change of the slip index; an injected 0.05 between the models matters;
     a non-finite one falls back to the sphere's bound (here: its scene missing, undetermined)."""
-    from validation.scenes import CATALOGUE
+    from validation.catalogue import CATALOGUE
 
     p6, p2 = loop_point("fig6"), B.Point(b=10e-6)
     i = next(i for i, v in enumerate(CATALOGUE["halfspace-points"].variants) if B.Point(**v) == p2)
@@ -139,7 +139,7 @@ def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
     """The budget's curvature column is measured, not bounded, at every point of a truncated sphere: each
     is run by an apparatus scene of the catalogue (experiments, k_x series, halfspace-points)."""
     from validation.families.points import point_variant
-    from validation.scenes import CATALOGUE
+    from validation.catalogue import CATALOGUE
 
     hs = CATALOGUE["halfspace-points"]
     runs = [s for s in CATALOGUE.values() if s.family == "pair" and s.drive == "apparatus"]
@@ -154,7 +154,7 @@ def test_the_direction_is_measured_at_the_point_where_a_3d_scene_runs_it():
     """A point that the stored 3D scene direction-points runs takes its free - along x there, a change of
     the slip index; an injected 0.05 matters; without the scene the force-control row of assumptions-3d
     is read (here missing: undetermined)."""
-    from validation.scenes import CATALOGUE
+    from validation.catalogue import CATALOGUE
 
     s = CATALOGUE["direction-points"]
     p = loop_point("fig6")

@@ -9,7 +9,8 @@ import sys
 import time
 
 from validation import compare, report
-from validation.scenes import CATALOGUE, code_version
+from validation.catalogue import CATALOGUE
+from validation.scenes import code_version
 
 
 def _dead_pid() -> int:

@@ -23,7 +23,7 @@ import pytest
 from common.errors import InputError
 from common.executors import check_choice, executor_for, worker_id
 from validation import compare
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 distributed = pytest.importorskip("distributed")
 

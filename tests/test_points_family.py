@@ -13,7 +13,7 @@ import pytest
 
 from validation.budget import Point, point_slip_index
 from validation.families import points
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 
 @pytest.fixture(scope="module")

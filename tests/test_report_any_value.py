@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from common.io import dumps_json
 from validation import report, runner
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 # the tiny ladders are coarse on purpose; the warning that says so is for a user, not this test
 pytestmark = pytest.mark.filterwarnings("ignore:coarse contact mesh:RuntimeWarning")

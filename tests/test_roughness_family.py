@@ -15,7 +15,8 @@ import pytest
 from common.errors import InputError
 from validation.compare import run_all
 from validation.families import roughness as R
-from validation.scenes import CATALOGUE, Scene
+from validation.catalogue import CATALOGUE
+from validation.scenes import Scene
 from validation.store import load_scene
 
 pytest.importorskip("tamaas")

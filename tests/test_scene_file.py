@@ -142,7 +142,7 @@ def test_every_catalogue_scene_and_variant_passes_the_checks():
     """The range checks a user's scene meets hold for every built-in scene and every scene a family
     derives from its variants (a banded tilt row refines its band at one size: levels (0.3, 0.3))."""
     from validation.families import assumptions3d, curvature, tilt
-    from validation.scenes import CATALOGUE
+    from validation.catalogue import CATALOGUE
 
     derive = {"tilts": tilt.tilt_variant, "a_over_R": curvature.curvature_variant,
               "relax": assumptions3d.assumption_variant}

@@ -18,7 +18,8 @@ from mdr.profiles import TruncatedSphere
 from validation import compare, metrics, runner, sides, store
 from validation.families import assumptions3d, tilt
 from validation.fields import image_is_blank
-from validation.scenes import CATALOGUE, Scene, code_version, select
+from validation.catalogue import CATALOGUE, select
+from validation.scenes import Scene, code_version
 from mdr.drive import run_mdr_contact
 from mdr.loading import Loading
 
@@ -252,7 +253,7 @@ def test_no_scene_run_imports_a_report_only_module():
     import sys
 
     code = ("import sys; import validation.runner as r, validation.hard_cases, validation.fields; "
-            "from validation.scenes import CATALOGUE, REPORT_ONLY; [r.scene_tasks(s) for s in CATALOGUE.values()]; "
+            "from validation.catalogue import CATALOGUE; from validation.scenes import REPORT_ONLY; [r.scene_tasks(s) for s in CATALOGUE.values()]; "
             "print(sorted(m for m in sys.modules if m.startswith('validation.') "
             "and m.rsplit('.', 1)[-1] + '.py' in REPORT_ONLY))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
@@ -465,7 +466,8 @@ def test_tilt_scene_tiny(tmp_path):
 def test_tilt_family_in_the_catalogue():
     """The catalogue's tilt family: the flat punch b = 100 um and the truncated spheres b = 20 um and
     0.6 mm, every tilt up to the paper's bound pi/3600, which is the last."""
-    from validation.scenes import CATALOGUE, TILT_BOUND
+    from validation.catalogue import CATALOGUE
+    from validation.scenes import TILT_BOUND
 
     s = CATALOGUE["tilt"]
     assert s.fe_model == "3d" and s.drive == "force" and (s.F0, s.dF, s.mu, s.amplitude) == (0.5, 0.1, 0.2, 0.06)

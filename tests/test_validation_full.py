@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 from validation import compare, metrics
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("catalogue")]  # one worker runs the catalogue once
 

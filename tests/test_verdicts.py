@@ -217,7 +217,7 @@ def test_time_step_error_explains_the_gap_to_mindlin_deresiewicz():
     0.103 %, order 2.5): it does not cancel in MDR - FE; on geom-b20um (quick, a/20) the two even
     have opposite signs (measured MDR -0.125 %, FE +0.140 %)."""
     from validation.sides import closed_forms, run_fe, run_mdr, time_step_error
-    from validation.scenes import CATALOGUE
+    from validation.catalogue import CATALOGUE
 
     s = CATALOGUE["sphere-md"].quick_version()
     ts = time_step_error(s, run_mdr(s, s.mdr_cells[-1]), n=s.mdr_cells[-1])

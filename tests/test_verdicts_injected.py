@@ -19,7 +19,7 @@ import pytest
 
 from validation import metrics, sides
 from validation.families import pair
-from validation.scenes import CATALOGUE
+from validation.catalogue import CATALOGUE
 
 SCALARS = ("contact_radius", "stick_radius", "dissipation", "slip_index")
 

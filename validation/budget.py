@@ -54,7 +54,8 @@ from pathlib import Path
 from mdr.paper import R_INDENTER
 
 from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, difference_with_grid, point_slip_index, results, slip_indices
-from .scenes import CATALOGUE, TILT_BOUND, code_version
+from .catalogue import CATALOGUE
+from .scenes import TILT_BOUND, code_version
 from .store import load_scene
 from .text import num
 

@@ -45,7 +45,8 @@ from common.executors import check_choice, executor_for, worker_id
 
 from .runner import scene_tasks
 from .store import install_scene_files, load_scene, scene_files, write_scene
-from .scenes import CATALOGUE, code_version, select
+from .catalogue import CATALOGUE, select
+from .scenes import code_version
 
 
 #: after this many seconds without a message ``main`` says what it is still doing (mesh
