@@ -10,7 +10,7 @@ import time
 
 from validation import compare, report
 from validation.catalogue import CATALOGUE
-from validation.scenes import code_version
+from validation.sources import code_version
 
 
 def _dead_pid() -> int:

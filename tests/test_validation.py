@@ -19,7 +19,8 @@ from validation import compare, metrics, runner, sides, store
 from validation.families import assumptions3d, tilt
 from validation.fields import image_is_blank
 from validation.catalogue import CATALOGUE, select
-from validation.scenes import Scene, code_version
+from validation.scenes import Scene
+from validation.sources import code_version
 from mdr.drive import run_mdr_contact
 from mdr.loading import Loading
 
@@ -225,7 +226,7 @@ def test_code_version_covers_every_module_a_result_depends_on(tmp_path, monkeypa
     in ``common``), and not when only the report is re-rendered."""
     from pathlib import Path
 
-    import validation.scenes as vs
+    import validation.sources as vs
 
     root = Path(vs.__file__).resolve().parent.parent
     files = {p.relative_to(root).as_posix() for p in vs.source_files()}
@@ -238,7 +239,7 @@ def test_code_version_covers_every_module_a_result_depends_on(tmp_path, monkeypa
 
     for pkg in vs.SOURCE_PACKAGES:
         shutil.copytree(root / pkg, tmp_path / pkg, ignore=shutil.ignore_patterns("__pycache__"))
-    monkeypatch.setattr(vs, "__file__", str(tmp_path / "validation" / "scenes.py"))
+    monkeypatch.setattr(vs, "__file__", str(tmp_path / "validation" / "sources.py"))
     v0 = vs.code_version()
     law = tmp_path / "fem" / "solid3d" / "law.py"
     law.write_text(law.read_text() + "\n# edited\n")
@@ -253,7 +254,7 @@ def test_no_scene_run_imports_a_report_only_module():
     import sys
 
     code = ("import sys; import validation.runner as r, validation.hard_cases, validation.fields; "
-            "from validation.catalogue import CATALOGUE; from validation.scenes import REPORT_ONLY; [r.scene_tasks(s) for s in CATALOGUE.values()]; "
+            "from validation.catalogue import CATALOGUE; from validation.sources import REPORT_ONLY; [r.scene_tasks(s) for s in CATALOGUE.values()]; "
             "print(sorted(m for m in sys.modules if m.startswith('validation.') "
             "and m.rsplit('.', 1)[-1] + '.py' in REPORT_ONLY))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

@@ -55,7 +55,8 @@ from mdr.paper import R_INDENTER
 
 from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, difference_with_grid, point_slip_index, results, slip_indices
 from .catalogue import CATALOGUE
-from .scenes import TILT_BOUND, code_version
+from .scenes import TILT_BOUND
+from .sources import code_version
 from .store import load_scene
 from .text import num
 

@@ -46,7 +46,7 @@ from common.executors import check_choice, executor_for, worker_id
 from .runner import scene_tasks
 from .store import install_scene_files, load_scene, scene_files, write_scene
 from .catalogue import CATALOGUE, select
-from .scenes import code_version
+from .sources import code_version
 
 
 #: after this many seconds without a message ``main`` says what it is still doing (mesh
@@ -151,7 +151,7 @@ def _remote(scene, fingerprint, version, fields):
     a temporary directory local to the worker and return ``(summary, files)``, the scene
     directory as {relative path: bytes}; the caller stores it (``store.install_scene_files``),
     so the output directory need not be shared with the workers. Refuses to run if the
-    worker's sources differ from the caller's (``version``, ``scenes.code_version``): its
+    worker's sources differ from the caller's (``version``, ``sources.code_version``): its
     result would be stored under the wrong fingerprint."""
     import tempfile
 

@@ -21,7 +21,8 @@ from common.io import json_bytes, write_files_atomic
 from . import families, figures
 from .metrics import scene_grade
 from .store import load_scene
-from .scenes import TOLERANCE_ORIGINS, TOLERANCES, code_version
+from .scenes import TOLERANCE_ORIGINS, TOLERANCES
+from .sources import code_version
 from .text import LABELS, grade_text, num, pct, sig
 
 #: the report's summary figures (key: file name in the output folder)

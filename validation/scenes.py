@@ -93,14 +93,10 @@ DRIVES = ("force", "displacement", "apparatus")
 #: coarsest grid, the long cut-off at a quarter period (no power at longer wavelengths: rough.surfaces)
 ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0,
                   "long": 0.25}
-
-
 #: the catalogue's plastic rough surfaces are flattened by a first loading to this normal force (N):
 #: above the largest of the paper's experiments (F0 + dF = 1.2 F0 = 0.73 N in Fig. 5; the budget checks
 #: every point against it) and within the rough scene's force-approach curves (to 1.5 F0 = 0.75 N)
 ROUGH_PRELOAD = 0.75
-
-
 #: the rough flat faces (scene ``roughness-faces``): the face radii run (the budget's points with a face
 #: beyond the sphere's contact), those run with plastic asperities too, and their grids: a period of 4
 #: smooth contact radii (b = 100 um: the ensemble mean at 8 radii is the same within its spread, 0.148
@@ -481,41 +477,6 @@ def tilt_sweep(b, ratios, F0=0.5) -> tuple:
 
     thc = tilt_critical(F0, b, Materials(**STEEL).E_star)
     return tuple(sorted({float(r * thc) for r in ratios if r * thc < TILT_BOUND} | {TILT_BOUND}))
-
-
-# validation modules that only read stored scenes (the report, the budget and its readings, the docs'
-# tables; no scene imports them): editing them reruns nothing
-REPORT_ONLY = ("report.py", "compare.py", "__main__.py", "budget.py", "budget_readings.py", "spectra.py",
-               "consistency.py", "docs.py")
-
-
-#: the packages whose sources a scene result depends on (every module below them, subpackages included)
-SOURCE_PACKAGES = ("common", "mdr", "meshes", "fem", "rough", "studies", "validation")
-
-
-def source_files() -> list:
-    """The sources a scene result depends on: every ``.py`` below ``SOURCE_PACKAGES`` (subpackages
-    included), without the report-only modules of ``validation``; sorted by their path from the
-    repository root."""
-    root = Path(__file__).resolve().parent.parent
-    out = []
-    for pkg in SOURCE_PACKAGES:
-        for p in (root / pkg).rglob("*.py"):
-            if p.parent.name == "validation" and p.name in REPORT_ONLY:
-                continue
-            out.append(p)
-    return sorted(out, key=lambda p: p.relative_to(root).as_posix())
-
-
-def code_version() -> str:
-    """Hash of the sources a scene result depends on (``source_files``, by path and content): results of
-    other code are rerun."""
-    root = Path(__file__).resolve().parent.parent
-    h = hashlib.sha256()
-    for p in source_files():
-        h.update(p.relative_to(root).as_posix().encode())
-        h.update(p.read_bytes())
-    return h.hexdigest()[:16]
 
 
 def a_ref(scene: Scene, b: float | None = None) -> float:

@@ -11,7 +11,9 @@ from pathlib import Path
 
 from common.io import DIR_MODE, write_json
 
-from .scenes import Scene, code_version
+from .scenes import Scene
+
+from .sources import code_version
 
 
 def scene_dir(out_root, name) -> Path:
@@ -106,7 +108,7 @@ def stored(path, key: str):
 
 def cached(path, key: str, compute, *, what: str, force: bool = False, log=print):
     """``compute()``'s value, stored under ``key`` in ``path`` with the code version
-    (``validation.scenes.code_version``): a rerun with unchanged code reads it back (saying so
+    (``validation.sources.code_version``): a rerun with unchanged code reads it back (saying so
     through ``log``, naming ``what``), unless ``force``."""
     value, code = stored(path, key)
     version = code_version()
