@@ -166,7 +166,8 @@ def _contact(args) -> dict:
     options = fe_options(args, model=args.model, displacement=args.displacement or "contact")
     loading = Loading.of(args.F0, args.dF, args.alpha, ua=args.ua, fa=args.fa, cycles=args.cycles, steps=args.steps)
     out = run_fem_contact(profile_from_args(args), materials_from_args(args), args.mu, loading, options, vtu=args.vtu,
-                          paired=args.paired)
+                          paired=args.paired, log=lambda msg: print(f"python -m fem contact: {msg}", file=sys.stderr,
+                                                                    flush=True))
     if args.paired:
         from fem.contact_run import paired_note
 

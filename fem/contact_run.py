@@ -32,7 +32,7 @@ from fem.solid3d import runs
 
 
 def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions = FEOptions(), *, vtu=None,
-                    return_law=False, paired=False):
+                    return_law=False, paired=False, log=None):
     """FE fretting run under ``loading`` (the contact driven directly: ``Loading.of``) with the FE side
     of ``options`` (``fem.options.FEOptions``: the axisymmetric model ``fem.axisym.law.FEContact`` or
     the 3D model ``fem.solid3d.law.FEContact3D``); returns the result dict (and the law if
@@ -42,16 +42,20 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
     components, contact pressure, shear traction, stick/slip status and slip), of the 3D model the
     contact disk (``fem.solid3d.output``: pressure, both shear traction components, stick/slip
     status, slip; without ``per_cycle``, the run being cut at that step). ``paired`` (3D only): also
-    run the twin along x on the same set-up and add the key ``paired`` (:func:`paired_keys`)."""
+    run the twin along x on the same set-up and add the key ``paired`` (:func:`paired_keys`). ``log``:
+    called with a progress line before the set-up and before the cycles."""
     loading.check_friction(mu)  # before the costly set-up (the load itself is checked: a Loading)
     if paired:
         check_paired(materials, options, vtu)
+    log = log or (lambda msg: None)
+    log(f"the {options.model} model: mesh and set-up (cached meshes and condensations are read back)")
     if options.model == "3d":
-        return _run_3d(profile, materials, mu, loading, options, return_law, vtu, paired)
+        return _run_3d(profile, materials, mu, loading, options, return_law, vtu, paired, log)
     t0 = time.perf_counter()
     F0 = loading.F0
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
+    log(f"set-up {t1 - t0:.1f} s; {loading.cycles} cycles of {loading.steps} steps")
     k, FN_peak = loading.last_peak()
     res = run_contact(law, loading, state_at=k if vtu is not None else None)  # the state at the peak: the fields
     out, st = res if vtu is not None else (res, None)
@@ -144,12 +148,15 @@ def paired_note(paired: dict) -> str | None:
             "paired estimate cancels a shared error only to first order; refine --h-contact")
 
 
-def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None, paired=False):
+def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu=None, paired=False, log=None):
     import resource
 
     t0 = time.perf_counter()
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
+    (log or (lambda msg: None))(f"set-up {t1 - t0:.1f} s ({law.model.n} vertices); the frictional normal ramp of "
+                                f"{RAMP_STEPS} steps, then {loading.cycles} cycles of {loading.steps} steps"
+                                + (" (and the paired run, its traction along x)" if paired else ""))
     if paired:
         out, out_x = drive_3d_together([law, law.assuming(traction="x")], loading, t_setup=t1 - t0)
         fine = replace(loading, steps=PAIRED_MDR_STEP_FACTOR * loading.steps)

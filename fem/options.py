@@ -7,6 +7,7 @@ An option of the other model is an error naming it, never silently ignored.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+from pathlib import Path
 
 import numpy as np
 
@@ -64,6 +65,8 @@ class FEOptions:
                              f"/ a_ref, finite), got {ce!r}")
         if self.block_size is not None:
             positive("block_size", self.block_size)
+        if self.cache_dir is not None and Path(self.cache_dir).exists() and not Path(self.cache_dir).is_dir():
+            raise InputError(f"cache_dir must be a directory (mesh cache), got the file {str(self.cache_dir)!r}")
         if not isinstance(self.refinement, Refinement):
             raise InputError(f"refinement must be a meshes.half3d.Refinement, got {self.refinement!r}")
         if self.model == "axisym":

@@ -248,6 +248,9 @@ def test_cli_writes_the_mdr_keys_plus_fe_keys(cache, tmp_path):
     assert mdr_keys <= d.keys() and {"dofs", "mesh"} <= d.keys()
     assert set(d["runtime_s"]) >= {"setup", "cycles"} and set(d["loop"]) == {"t", "du", "Fx", "FN"}
     assert d["dofs"] > 0 and d["inputs"]["law"]["law"] == "fem"
+    # progress on stderr before the set-up and before the cycles, the result alone in the JSON
+    lines = p.stderr.strip().splitlines()
+    assert any("set-up" in x and "cycles of 40 steps" in x for x in lines), p.stderr
     assert abs(d["contact_radius"] / hertz(F, R, MAT.E_star)["a"] - 1) < 0.01
 
 

@@ -5,7 +5,7 @@ Truths: a geometric sequence's limit (closed form); a continued history equals o
 stationary cycle of a coupled dissimilar 3D pair, approximated by running many more cycles."""
 import numpy as np
 import pytest
-from hypothesis import assume, example, given, settings, strategies as st
+from hypothesis import HealthCheck, assume, example, given, settings, strategies as st
 
 from common.ladder import SETTLED, SETTLING_RATIO_MAX, settling_error
 from mdr.loading import Loading
@@ -15,7 +15,9 @@ def geometric(x_star, C, r, n):
     return [x_star + C * r ** k for k in range(1, n + 1)]
 
 
-@settings(max_examples=200, deadline=None)
+# the assume() below keeps changes above round-off; hypothesis's many tiny floats make it filter a lot,
+# which is the intended domain, not a slow strategy
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
 @given(r=st.floats(-SETTLING_RATIO_MAX, SETTLING_RATIO_MAX), C=st.floats(-1.0, 1.0),
        n=st.integers(3, 40), x_star=st.floats(-1.0, 1.0))
 # a ratio at the bound read from changes of 6e-8 of the values: decided by their last bits (found with
