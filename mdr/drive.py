@@ -15,7 +15,7 @@ from common.errors import InputError
 from .grid import DEFAULT_CELLS
 from .law import MDRContact
 from .loading import Loading
-from .loops import analyse_cycles, slip_index
+from .loops import analyse_cycles, path_integral, slip_index
 from .materials import Materials
 from .profiles import Profile
 from .protocol import ContactLaw
@@ -83,8 +83,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     # already the stationary one: Masing's rule)
     q = steps // 4
     first_loop = float(np.sum(H.work[q + 1:q + steps + 1]))
-    seg = slice(q, q + steps + 1)  # the tangential force's work over it, the loop left open
-    first_path = float(np.sum(0.5 * (H.Fx[seg][1:] + H.Fx[seg][:-1]) * np.diff(H.u[seg])))
+    first_path = float(path_integral(H.u[q:q + steps + 1], H.Fx[q:q + steps + 1]))  # the loop left open
     delta = float(slip_index(dW, mu, u_amp, F0))
     runtime = time.perf_counter() - t_start
     out = {

@@ -29,9 +29,16 @@ from .loading import gross_slip_work
 ZERO_FRACTION = 1e-10
 
 
+def path_integral(du, Fx):
+    """integral F_x d(du) along the path (the last axis), by the trapezoid rule, signed and open: the
+    tangential force's work over it."""
+    du, Fx = np.asarray(du, dtype=float), np.asarray(Fx, dtype=float)
+    return np.sum(0.5 * (Fx[..., 1:] + Fx[..., :-1]) * np.diff(du, axis=-1), axis=-1)
+
+
 def _trapezoid_area(du, Fx):
     """|closed integral F_x d(du)| along the last axis, 0 below ``ZERO_FRACTION`` of the loop's box."""
-    W = np.abs(np.sum(0.5 * (Fx[..., 1:] + Fx[..., :-1]) * np.diff(du, axis=-1), axis=-1))
+    W = np.abs(path_integral(du, Fx))
     box = np.max(np.abs(Fx), axis=-1) * np.ptp(du, axis=-1)
     return np.where(W <= ZERO_FRACTION * box, 0.0, W)
 
