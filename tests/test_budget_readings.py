@@ -177,3 +177,21 @@ def test_the_loops_check_each_surface_once_in_any_number_of_processes():
     iso = one["sphere"][0]
     assert iso["reading"] == SP.READINGS[0].name and len(iso["surfaces"]) == 2 and iso["admitted"]
     assert all(not r["surfaces"] for r in one["face"])  # no face member given: nothing checked
+
+
+def test_the_sphere_form_widens_the_sticking_transition_range():
+    """The form beyond the sphere's grid moves the transition as it moves the smooth sphere's at
+    1/R -+ 2 kappa: a flatter sphere (stiffer contact) sticks at a lower k_x; the range over the admitted
+    readings holds those factors (without form, the factors are 1 and the range is means -+ sd)."""
+    from mdr.profiles import TruncatedSphere
+
+    smooth = BR.sticking_transition(TruncatedSphere(R_INDENTER, 0.0))
+    lo, hi = BR.form_factors(0.15 / R_INDENTER, smooth)
+    assert lo < 1.0 < hi and BR.form_factors(0.0, smooth) == [1.0, 1.0]
+    members = _members({0: 3.0})
+    plain = BR.transitions(BR.Readings(members), {"sphere": {SP.READINGS[0].name}})
+    for m in members:
+        m["form_curvature"] = 0.15 / R_INDENTER
+    formed = BR.transitions(BR.Readings(members), {"sphere": {SP.READINGS[0].name}})
+    assert formed["range"][0] == pytest.approx(plain["range"][0] * lo, rel=1e-9)
+    assert formed["range"][1] == pytest.approx(plain["range"][1] * hi, rel=1e-9)

@@ -442,7 +442,7 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
         assert cons[name]["admitted"] and 1.2e-6 < cons[name]["window"]["rms"] < 2.6e-6, name
     assert all(r["admitted"] for r in b["consistency"]["face"])
     # roughness matters whatever the admitted spectrum (lowering the slip index by about 0.08-0.45), is
-    # undetermined on Fig. 9's small faces (unresolved readings); the transition 1.1-2.6 N/um
+    # undetermined on Fig. 9's small faces (unresolved readings); the transition 1.0-2.6 N/um
     for key in ("figs4-5", "figs6-7", "fig8", "table2"):
         x = cells[key]["roughness"]
         assert x["verdict"] == "matters" and -0.9 < x["range"][0] and x["range"][1] < -0.04, (key, x["range"])

@@ -282,13 +282,29 @@ def sticking_transition(profile, p: Point = Point(b=0.0), *, lo=0.05e6, hi=100e6
     return math.sqrt(lo * hi)
 
 
-def transitions(R: Readings, admitted: dict) -> dict:
-    """The sticking transition of the smooth sphere and of every reading of the sphere's roughness (the
-    surfaces of the finer grid: mean, standard deviation), and the range over the admitted readings."""
+def form_factors(kappa: float, smooth: float) -> list:
+    """The sphere's form beyond the grid on the sticking transition: [lo, hi] factors (1 included) of the
+    smooth sphere's transition when its curvature takes the form's two standard deviations, 1/R -+ 2 kappa
+    (``form_effect``'s reading of the form, applied as the same relative change to a rough reading's)."""
     from mdr.profiles import TruncatedSphere
 
-    rows = [{"reading": "smooth", "kx": sticking_transition(TruncatedSphere(SP.R_INDENTER, 0.0)), "sd": 0.0,
-             "admitted": True}]
+    if kappa <= 0:
+        return [1.0, 1.0]
+    c = 2.0 * kappa
+    ks = [sticking_transition(TruncatedSphere(1.0 / (1.0 / R_INDENTER + s * c), 0.0)) for s in (1.0, -1.0)]
+    ratios = [k / smooth for k in ks if k is not None]
+    return [min(1.0, *ratios), max(1.0, *ratios)]
+
+
+def transitions(R: Readings, admitted: dict) -> dict:
+    """The sticking transition of the smooth sphere and of every reading of the sphere's roughness (the
+    surfaces of the finer grid: mean, standard deviation, and the factors its form beyond the grid adds,
+    ``form_factors``), and the range over the admitted readings: means -+ one standard deviation, times
+    the form's factors."""
+    from mdr.profiles import TruncatedSphere
+
+    smooth = sticking_transition(TruncatedSphere(SP.R_INDENTER, 0.0))
+    rows = [{"reading": "smooth", "kx": smooth, "sd": 0.0, "form": [1.0, 1.0], "admitted": True}]
     for i, r in enumerate(SP.READINGS):
         levels = R.members(0.0, i)
         ks = None
@@ -298,11 +314,13 @@ def transitions(R: Readings, admitted: dict) -> dict:
             except (InputError, ConvergenceError):
                 ks = None
         ok = ks is not None and all(k is not None for k in ks)
+        form = form_factors(levels[-1][0]["form_curvature"], smooth) if ok else [1.0, 1.0]
         rows.append({"reading": r.name, "kx": float(np.mean(ks)) if ok else None,
-                     "sd": float(np.std(ks, ddof=1)) if ok and len(ks) > 1 else None,
+                     "sd": float(np.std(ks, ddof=1)) if ok and len(ks) > 1 else None, "form": form,
                      "admitted": r.name in admitted["sphere"]})
     ad = [x for x in rows[1:] if x["admitted"] and x["kx"] is not None]
-    rng = None if not ad else [min(x["kx"] - x["sd"] for x in ad), max(x["kx"] + x["sd"] for x in ad)]
+    rng = None if not ad else [min((x["kx"] - (x["sd"] or 0.0)) * x["form"][0] for x in ad),
+                               max((x["kx"] + (x["sd"] or 0.0)) * x["form"][1] for x in ad)]
     return {"rows": rows, "range": rng}
 
 
@@ -412,5 +430,6 @@ def readings_markdown(b: dict) -> list:
             lines.append(f"| {x['reading']} | {val} | {'yes' if x['admitted'] else 'no'} |")
         if t["range"]:
             lines += ["", f"Over the admitted readings the transition lies in {num(t['range'][0], '.2f', 1e-6)}-"
-                          f"{num(t['range'][1], '.2f', 1e-6)} N/um (means +- one standard deviation)."]
+                          f"{num(t['range'][1], '.2f', 1e-6)} N/um (means +- one standard deviation, widened by "
+                          "the form beyond the grid: the smooth sphere's transition at 1/R -+ 2 kappa)."]
     return lines
