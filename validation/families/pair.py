@@ -20,7 +20,7 @@ from common.ladder import settling_error
 from mdr.loops import STATIONARY_TOL
 from mdr.loading import gross_slip_work
 
-from .. import metrics
+from .. import error_models, metrics
 from ..scenes import Scene, a_ref
 from ..sides import closed_forms, run_fe, run_mdr, time_step_error, u_amp
 
@@ -85,18 +85,26 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
     from ..scenes import DISSIPATION_FLOOR
 
     tol = s.tolerances()
-    fe_h = [float(x["h_contact"]) for x in fe_ladder]
-    md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
     a = float(fe["contact_radius"])
+    # the sizes in the units of the calibrated bounds (``validation.error_models``): element size / a, 1 / cells
+    fe_h = [float(x["h_contact"]) * a_ref(s) / a for x in fe_ladder]
+    md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
     scale_W = float(gross_slip_work(s.mu, s.F0, u_amp(fe)))
+    cls = error_models.profile_class(s.profile, s.b, a_ref(s))
     V = {}
 
-    def scalar(q, scale, tolerance, unit, extra=None, floor=None):
+    def bars(q, fv, mv, scale, floor, bound_of=None):
+        """Each side's error bar of metric q (``error_models.ladder``: its calibrated bound in units of
+        ``scale``, that of ``bound_of`` where given, else the ladder's own error)."""
+        key = bound_of or q
+        return (error_models.ladder("fem", key, cls, fe_h, fv, scale=scale, floor=floor),
+                error_models.ladder("mdr", key, cls, md_h, mv, scale=scale, floor=floor))
+
+    def scalar(q, scale, tolerance, unit, extra=None, floor=None, bound_of=None):
         fv = [_zero(x.get(q), scale) for x in fe_ladder]
         mv = [_zero(x.get(q), scale) for x in mdr_ladder]
-        fl = metrics.ladder_error(fe_h, fv, floor=ZERO * scale)
-        ml = metrics.ladder_error(md_h, mv, floor=ZERO * scale)
+        fl, ml = bars(q, fv, mv, scale, ZERO * scale, bound_of)
         V[q] = metrics.verdict(mv[-1], fv[-1], fl, ml, tolerance, unit=unit, extra=extra, floor=floor)
 
     # each side's settling ("cycles"): ``common.ladder.settling_error`` of the finest level's dissipation
@@ -128,7 +136,8 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
     scalar("stick_radius", a, tol["stick_radius"] * a, "m")
     dW = abs(float(fe["dissipation"]))
     floor_W = DISSIPATION_FLOOR * scale_W
-    scalar("dissipation", scale_W, tol["dissipation"] * dW, "J", extra=step_bars(1.0), floor=floor_W)
+    scalar("dissipation", scale_W, tol["dissipation"] * dW, "J", extra=step_bars(1.0), floor=floor_W,
+           bound_of="slip_index")  # the dissipation in units of 4 mu F0 u_A is the slip index
     # the slip index is dW / (4 mu u_A F0) (u_A the drive's amplitude): its tolerance is relative, the
     # dissipation's, with the same floor; its time-step bar is the dissipation's over that scale
     si = fe.get("slip_index")
@@ -138,8 +147,7 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
     d_fe = [_distances(s, mdr, x) for x in fe_ladder]
     d_md = [_distances(s, x, fe) for x in mdr_ladder]
     for q, dist in d_fe[-1].items():
-        fl = metrics.ladder_error(fe_h, [d.get(q) for d in d_fe], floor=ZERO)
-        ml = metrics.ladder_error(md_h, [d.get(q) for d in d_md], floor=ZERO)
+        fl, ml = bars(q, [d.get(q) for d in d_fe], [d.get(q) for d in d_md], 1.0, ZERO)
         V[q] = metrics.verdict(_zero(dist, 1.0), None, fl, ml, tol[q], signed=False,
                                unit="relative L2" if q.endswith("profile") else ("mu F0" if q == "loop_Fx" else "u_A"))
     return V

@@ -124,7 +124,7 @@ def member(s: Scene, task: dict) -> dict:
     out = {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
            "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
            "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"]}
-    if v.get("apparatus"):
+    if v.get("apparatus") and n == max(v["grids"]):  # the finest grid: what the budget reads
         out["apparatus"] = in_apparatus(s, v, Grid(P, n), heights, res["curve"], start=(s.F0, res["pressure"]))
     return {**out, "runtime_s": time.perf_counter() - t0}
 
@@ -242,7 +242,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                                       "members": values.tolist(),
                                       "grid_status": sorted({x["status"] for x in lads})}
     by_grid = {str(n): [m.get("apparatus") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
-               for n in v["grids"]} if v.get("apparatus") else None
+               for n in v["grids"][-1:]} if v.get("apparatus") else None
     areas = [r["contact_area"] for r in per_seed if r is not None]
     smooth_area = np.pi * a ** 2  # the smooth indenter's contact (Hertz's on the sphere)
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
@@ -270,17 +270,18 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
 
 def apparatus_points(by_grid: dict, v: dict, period: float) -> list:
     """Per point run in the apparatus (``in_apparatus``; ``by_grid``: per grid, per seed, the member's
-    points) the ensemble on the grid ladder: the rough half-space's slip index (``rough_halfspace``: the
-    mean at the finest grid, its standard error, the grid error of the mean, ``error`` their sum; None
-    with a ``status`` where a seed lacks the point on a grid, failed there, or holds no finite number)
-    and what MDR with the equivalent profile misses of it at the finest grid (``equivalent_minus_rough``:
-    mean and standard error; None where the curve did not reach the point's force)."""
+    points; the catalogue runs the finest grid only) the ensemble: the rough half-space's slip index
+    (``rough_halfspace``: the mean at the finest grid, its standard error, the grid error of the mean where
+    coarser grids ran too, else None with the status ``finest grid only``, ``error`` their sum; None with a
+    ``status`` where a seed lacks the point on a grid, failed there, or holds no finite number) and what
+    MDR with the equivalent profile misses of it at the finest grid (``equivalent_minus_rough``: mean and
+    standard error; None where the curve did not reach the point's force)."""
     from common.ladder import ensemble_ladder
 
     def number(x):
         return isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
 
-    seeds, grids = list(v["seeds"]), list(v["grids"])
+    seeds, grids = list(v["seeds"]), [n for n in v["grids"] if str(n) in by_grid]
     points = []
     for runs in by_grid.get(str(grids[-1])) or []:
         for r in runs or []:
@@ -302,10 +303,15 @@ def apparatus_points(by_grid: dict, v: dict, period: float) -> list:
             rough.append([float(h["rough_halfspace"]) for h in hits])
             eq.append([float(h["mdr_equivalent"]) if number(h.get("mdr_equivalent")) else None for h in hits])
         rh, em = {"mean": None, "sem": None, "grid": None, "error": None, "status": status}, None
-        if status is None:
+        if status is None and len(grids) == 1:
+            fine = np.asarray(rough[-1])
+            sem = float(fine.std(ddof=1) / np.sqrt(fine.size)) if fine.size > 1 else 0.0
+            rh = {"mean": float(fine.mean()), "sem": sem, "grid": None, "error": None, "status": "finest grid only"}
+        elif status is None:
             mean, sem, grid = ensemble_ladder(rough, [period / n for n in grids])
             rh = {"mean": mean, "sem": sem, "grid": grid, "error": None if grid is None else sem + grid,
                   "status": "measured" if grid is not None else "no grid error"}
+        if status is None:
             if all(x is not None for x in eq[-1]):
                 diff = np.subtract(eq[-1], rough[-1])
                 em = {"mean": float(diff.mean()),
@@ -410,7 +416,8 @@ def apparatus_table(rows: list) -> list:
                 continue
             seen[key] = True
             rh, em = x.get("rough_halfspace") or {}, x.get("equivalent_minus_rough")
-            rough = "undetermined" if rh.get("mean") is None or rh.get("error") is None else \
+            rough = "undetermined" if rh.get("mean") is None else \
+                f"{num(rh['mean'], '.3f')} +- {num(rh['sem'], '.3f')} (finest grid)" if rh.get("error") is None else \
                 f"{num(rh['mean'], '.3f')} +- {num(rh['error'], '.3f')}"
             eq = "-" if not em else f"{num(em['mean'], '+.3f')} +- {num(em['sem'], '.3f')}"
             plastic = ", plastic" if r.get("hardness") else ""
@@ -421,8 +428,8 @@ def apparatus_table(rows: list) -> list:
         return []
     return ["", "In the apparatus (rough.law): the rough half-space driven by the paper's apparatus at the "
             "points whose contact each row's indenter is (validation.points.rough_points; 3 cycles of 120 "
-            "steps, F_N = F0 (1 + 0.2 sin)), its slip index as the ensemble's mean +- (standard error + the "
-            "grid error of the mean); the smooth indenter's (MDR, the paper's model) and what MDR with each "
+            "steps, F_N = F0 (1 + 0.2 sin)) on the finest grid of the ladder, its slip index as the ensemble's "
+            "mean +- standard error; the smooth indenter's (MDR, the paper's model) and what MDR with each "
             "surface's equivalent profile misses of the rough half-space (mean +- standard error).", "",
             "| indenter | rms | F0 (N) | k_x (N/um) | slip index: rough half-space | smooth MDR | "
             "equivalent MDR - rough |", "|---|---|---|---|---|---|---|"] + lines
