@@ -40,7 +40,8 @@ from mdr.law_types import StepResult
 from mdr.protocol import check_loads
 
 from .boxqp import solve_box_free_dense
-from .normal import Grid, _rigid_surface, among_cells, contact_approach, dense_elastic_pressure, elastic_pressure
+from .halfspace import among_cells
+from .normal import Grid, _rigid_surface, contact_approach, dense_elastic_pressure, elastic_pressure
 from .surfaces import HeightMap
 from .tangential import TOLERANCE, cerruti_pixel_kernel
 

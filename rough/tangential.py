@@ -34,7 +34,8 @@ from common.assumptions import check_traction
 from common.errors import InputError, nonnegative, positive
 
 from .boxqp import COMPILED, numba, solve_box, solve_disk
-from .normal import Grid, PixelConvolution, among_cells
+from .halfspace import PixelConvolution, among_cells
+from .normal import Grid
 
 #: the projected CG's tolerance (``rough.boxqp.solve_box``): the largest slip increment of a free cell,
 #: relative to the range of the elastic displacement K q
@@ -158,7 +159,7 @@ def cerruti_pixel_kernel(n: int, pixel: float, materials, component: str = "xx")
 
 @functools.lru_cache(maxsize=8)
 def _cerruti_pixel_kernel(n: int, pixel: float, materials, component: str) -> np.ndarray:
-    from .normal import inverse_r_kernel
+    from .halfspace import inverse_r_kernel
 
     k = np.arange(-n + 1, n) * pixel
     X, Y = np.meshgrid(k, k, indexing="ij")

@@ -797,7 +797,7 @@ def test_dundurs_beta(law_alu, law3d):
 def test_frictionless_dissimilar_pair_is_hertz(law_alu):
     """mu = 0: no tangential traction, so the coupling does nothing and the pressure is Hertz's with
     the pair's E*."""
-    from fem.solid3d.contact import solve_coupled3d
+    from fem.solid3d.coupled import solve_coupled3d
 
     mi = law_alu.model.mi
     p, d, res, it = solve_coupled3d(law_alu.model.rf, law_alu.gap0, mi.A, 0.0, np.zeros((mi.n, 2)), mi.on_plane,
@@ -907,7 +907,8 @@ def test_the_coupled_newton_method_solves_what_the_alternation_solves(law_alu):
     displacement and slip within 1e-7 (both solve to about 1e-9; measured 8e-11), each by its own method (no
     fallback to the alternation); the coupling they both solve is no round-off (the solve with K off
     differs by over 1e3 times that)."""
-    from fem.solid3d.contact import RelativeFlexibility, solve_coupled3d
+    from fem.solid3d.contact import RelativeFlexibility
+    from fem.solid3d.coupled import solve_coupled3d
 
     m, mi = law_alu.model, law_alu.model.mi
     st = law_alu.rest_state()
@@ -1004,11 +1005,11 @@ def test_stick_ellipse_fit_recovers_cattaneo_mindlin_slack():
 
 
 def test_reduced_operators_are_formed_once_and_freed_with_their_flexibility():
-    """``fem.solid3d.contact._reduced``: the same (Dt, plane set) gives the same read-only arrays (formed
+    """``fem.solid3d.newton_blocks._reduced``: the same (Dt, plane set) gives the same read-only arrays (formed
     once per law, not per step), another plane set others, and the entry goes when Dt does."""
     import gc
 
-    from fem.solid3d import contact
+    from fem.solid3d import newton_blocks as contact
 
     n = 6
     rng = np.random.default_rng(1)

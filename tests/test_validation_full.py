@@ -114,16 +114,18 @@ def test_mdr_holds_for_every_large_body_scene(full):
     bad = {n: [q for q, v in r["verdicts"].items() if v["grade"] in ("fails", "undetermined")]
            for n, r in _large_body_scenes(sc).items()}
     assert {n: q for n, q in bad.items() if q} == {"geom-b600um": ["loop_du"]}, bad
-    # docs/comparison.md, README: of the 141 verdicts 69 decided (64 hold, 4 below resolution, 1 fails), 72
-    # consistent within a spread, none undetermined; the report's tally says the same
+    # issue 47's bar: at least 90 % of the 141 verdicts decided (README and docs quote the report's tally,
+    # generated: python -m validation.docs), none undetermined; the anchors decided on every metric
     grades = [v["grade"] for r in _large_body_scenes(sc).values() for v in r["verdicts"].values()]
     assert len(grades) == 141 and grades.count("fails") == 1 and grades.count("undetermined") == 0
-    assert 32 <= grades.count("holds") <= 100 and 36 <= grades.count("consistent within its spread") <= 109
     assert 2 <= grades.count("below resolution") <= 8
     from validation.report import tally
 
     t = tally(sc, list(_large_body_scenes(sc)))
     assert t["decided"] == len(grades) - grades.count("consistent within its spread") and t["total"] == 141
+    assert t["decided"] >= 0.9 * t["total"], t
+    for name in ("sphere-md", "flat-md"):
+        assert all(v["grade"] != "consistent within its spread" for v in sc[name]["verdicts"].values()), name
     for name in ("geom-flat", "flat-md", "exp-fig6", "exp-fig7"):  # docs/comparison.md: graded "holds" throughout
         assert sc[name]["holds"] is True, name
     du = sc["geom-b600um"]["verdicts"]["loop_du"]

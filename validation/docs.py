@@ -74,10 +74,45 @@ def budget_table(scenes: dict) -> list:
     return lines[lines.index(next(x for x in lines if x.startswith("| "))):]
 
 
+def bars_table(scenes: dict) -> list:
+    """How each error bar of the large-body pair scenes bounds (``validation.error_models``): per metric,
+    the count of bars by their ladder's status on each side (calibrated, asymptotic, converged; a spread
+    or an undetermined bar bounds nothing), then the calibrated bounds in use."""
+    from . import error_models
+
+    order = ("calibrated", "asymptotic", "converged")
+    counts = {}
+    for r in scenes.values():
+        if families.of_result(r) != "pair":
+            continue
+        for q, v in r.get("verdicts", {}).items():
+            for side in ("fem", "mdr"):
+                st = (v.get(f"{side}_ladder") or {}).get("status")
+                key = st if st in order else "no bound"
+                counts.setdefault(q, {}).setdefault(side, {}).setdefault(key, 0)
+                counts[q][side][key] += 1
+    lines = ["| metric | FE bars: " + ", ".join(order) + ", no bound | MDR bars: the same |", "|---|---|---|"]
+    for q, c in counts.items():
+        lines.append(f"| {q.replace('_', ' ')} | "
+                     + " | ".join(" / ".join(str(c.get(side, {}).get(k, 0)) for k in order + ("no bound",))
+                                  for side in ("fem", "mdr")) + " |")
+    return lines + [""] + error_models.table()
+
+
+def tally_line(scenes: dict) -> list:
+    """The report's tally of the decided verdicts of the pair scenes (``validation.report.tally``), as the
+    README and the docs quote it."""
+    from .report import tally, tally_text
+
+    return [tally_text(tally(scenes, list(scenes)))]
+
+
+#: the tables read from the run's scenes of one family each (their scene must be in the run)
+SCENE_TABLES = ("assumptions-3d", "validity", "validity-curvature", "halfspace-points", "direction-points",
+                "roughness", "roughness-faces")
 #: the generated tables: name -> function of results.json's ``scenes``
-TABLES = {"catalogue": catalogue_table, "budget": budget_table,
-          **{n: _family_table(n) for n in ("assumptions-3d", "validity", "validity-curvature", "halfspace-points",
-                                                   "direction-points", "roughness", "roughness-faces")}}
+TABLES = {"catalogue": catalogue_table, "budget": budget_table, "bars": bars_table, "tally": tally_line,
+          **{n: _family_table(n) for n in SCENE_TABLES}}
 
 
 def blocks(text: str) -> list:
@@ -124,10 +159,17 @@ def differences(old: str, new: str) -> list:
     return out
 
 
+def pages(docs=DOCS) -> list:
+    """The pages with generated blocks: ``docs/*.md``, and the README beside the project's own docs."""
+    out = sorted(Path(docs).glob("*.md"))
+    readme = Path(docs).parent / "README.md"
+    return out + [readme] if Path(docs) == DOCS and readme.exists() else out
+
+
 def check(scenes: dict, docs=DOCS) -> list:
     """Every generated block of every page against ``scenes``: a list of differences (empty: current)."""
     out = []
-    for page in sorted(Path(docs).glob("*.md")):
+    for page in pages(docs):
         text = page.read_text()
         new = render(text, scenes)
         for (name, i, j), (_, k, l) in zip(blocks(text), blocks(new)):
@@ -140,7 +182,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m validation.docs", description=__doc__.split("\n\n")[0])
     ap.add_argument("--results", default="results", help="output folder of a full catalogue run (default ./results)")
     mode = ap.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--write", action="store_true", help="rewrite the generated tables of docs/*.md")
+    mode.add_argument("--write", action="store_true", help="rewrite the generated tables of docs/*.md and the README")
     mode.add_argument("--check", action="store_true", help="compare them with the run; exit 1 on a difference")
     args = ap.parse_args(argv)
     path = Path(args.results) / "results.json"
@@ -153,7 +195,7 @@ def main(argv=None) -> int:
               f"of a catalogue run ({type(e).__name__}); run python -m validation.compare --jobs 2 first",
               file=sys.stderr)
         return 2
-    missing = [n for n in TABLES if n not in ("catalogue", "budget") and n not in scenes]
+    missing = [n for n in SCENE_TABLES if n not in scenes]
     if missing:
         print(f"python -m validation.docs: error: {path} lacks the scenes {', '.join(missing)}: a full catalogue "
               "run is needed", file=sys.stderr)
@@ -167,7 +209,7 @@ def main(argv=None) -> int:
     from common.io import write_files_atomic
 
     files = {}
-    for page in sorted(DOCS.glob("*.md")):
+    for page in pages():
         text = page.read_text()
         new = render(text, scenes)
         if new != text:

@@ -42,3 +42,29 @@ def grade_text(v: dict) -> str:
     """A metric's grade (``validation.metrics.GRADES``) as the report shows it."""
     g = grade_of(v)
     return {"holds": "**holds**", "fails": "**fails**"}.get(g, g)
+
+
+#: the report's "How to read a verdict" paragraph
+HOW_TO_READ = ("How to read a verdict: each metric compares MDR and FE at the finest level of their ladders. "
+             "Each side's *error* is its error bar: extrapolated over its refinement ladder (Richardson with "
+             "the observed order p and Roache's safety factor 1.25 where the three finest levels converge "
+             "monotonically with 0.5 <= p <= 4: an upper bound; *calibrated* where a bound C h^p of the "
+             "model's error, calibrated on the anchors and validated on held-out scenes "
+             "(`validation.error_models`), contains every level of the ladder: the bound at the finest level, "
+             "or Richardson's bar where larger; the spread of the levels where neither holds: "
+             "no bound), plus, on the dissipation and the slip index, the time step's error bar (the finest "
+             "level at 1, 2 and 4 times the steps) and the cycles' settling towards the stationary cycle "
+             "(`common.ladder.settling_error`). The *tolerance* is what \"MDR holds\" claims beyond both "
+             "error bars (`validation/scenes.py`, `TOLERANCES`; marked *floor* where the resolution floor "
+             "of the dissipation, 1e-4 x 4 mu F0 u_A, exceeds it). Grades: **holds** when "
+             "|MDR - FE| <= FE error + MDR error + tolerance and every error bar is an upper bound; "
+             "*consistent within its spread* when the inequality holds but a ladder is neither in its asymptotic "
+             "range (non-monotone, or an order outside 0.5-4) nor within a calibrated bound: an error injected into one level could hide "
+             "in its spread, so this is no evidence that MDR holds; *below resolution* when it holds only "
+             "thanks to the floor; **fails** when the inequality fails; *undetermined* when a number or a ladder "
+             "level is not finite. The FE displacement is the half-space comparable one (`fem.axisym.law`, "
+             "`displacement=\"contact\"`). Summary cells: MDR - FE (FE error + MDR error + tolerance), "
+             "radii in % of the FE contact radius, dissipation in % of the FE dissipation, slip index absolute. "
+             "*Last-cycle change*: how much the reported (last) cycle differs from the one before, the larger "
+             "of the loop's change (F_x in mu F0, or du in its amplitude) and the dissipation's (relative); "
+             "the cycle counts as stationary at or below 1e-3 (`mdr.loops.analyse_cycles`).")

@@ -28,7 +28,7 @@ Model (assumptions, each stated where it lives):
 - any pair of isotropic elastic materials: for identical ones (Dundurs' beta = 0) the
   normal-tangential coupling of the two bodies cancels exactly and the normal contact is
   solved once per load; for a dissimilar pair the two are solved together at every step
-  (``fem.solid3d.contact.solve_coupled3d``), so a tangential load moves the pressure and a normal
+  (``fem.solid3d.coupled.solve_coupled3d``), so a tangential load moves the pressure and a normal
   load with friction locks tangential traction in (Spence 1975, J. Elasticity 5, 297);
 - small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
 
@@ -75,8 +75,8 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.solid3d import estimators as est
 from fem.solid3d import runs
-from fem.solid3d.contact import (RelativeFlexibility, predict, solve_coupled3d, solve_tangential3d,
-                                 tangential_slope)
+from fem.solid3d.contact import RelativeFlexibility, predict, solve_tangential3d, tangential_slope
+from fem.solid3d.coupled import solve_coupled3d
 from fem.solid3d.model import BLOCK_SIZE_DEFAULT, SECTOR, Model3D, build_model3d, normal_solution
 from fem.stepping import frozen as _frozen, step_history
 from fem.solvers import blas_threads
@@ -208,7 +208,7 @@ class FEContact3D:
 
     stick_onset = est.STICK_ONSET
     batch = ()
-    #: how a dissimilar pair's coupled increment is solved (``fem.solid3d.contact.solve_coupled3d``):
+    #: how a dissimilar pair's coupled increment is solved (``fem.solid3d.coupled.solve_coupled3d``):
     #: "newton" (one Newton method on both problems) or "alternate" (the two solves in turn); the same
     #: equations to the solvers' tolerances
     coupled_method = "newton"

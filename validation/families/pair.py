@@ -22,14 +22,12 @@ from mdr.loading import gross_slip_work
 
 from .. import error_models, metrics
 from ..scenes import Scene, a_ref
-from ..sides import closed_forms, run_fe, run_mdr, time_step_error, u_amp
+from ..sides import ZERO, closed_forms, run_fe, run_mdr, time_step_error, u_amp
 
 #: the result key of the family's table (None: the report's default scene table)
 KEY = None
 
 
-#: a number below this fraction of its natural scale is a numerical zero (reported as 0)
-ZERO = 1e-9
 
 
 def _zero(x, scale):
