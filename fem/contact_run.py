@@ -25,7 +25,7 @@ from dataclasses import replace
 from common.errors import InputError
 
 from mdr.drive import run_contact, run_mdr_contact
-from mdr.loading import Loading, gross_slip_work
+from mdr.loading import HARDLY_DISSIPATES, Loading, gross_slip_work
 
 from fem.options import FEOptions
 from fem.solid3d import runs
@@ -178,10 +178,6 @@ def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu
 #: ``mdr.drive.run_contact`` runs (so a run may end one cycle past ``max_cycles``)
 SETTLE_BLOCK = 2
 
-
-#: a loop dissipating less than this fraction of 4 mu F0 u_A hardly dissipates (a sticking punch): its
-#: settling is measured in that unit, not relative to its own dissipation (``settled``)
-HARDLY_DISSIPATES = 0.01
 
 
 def settled(W, tol, gross=0.0) -> bool:

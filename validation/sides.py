@@ -15,7 +15,7 @@ import numpy as np
 from mdr.apparatus import Apparatus, apparatus_result
 from mdr.drive import run_contact
 from mdr.law import MDRContact
-from mdr.loading import gross_slip_work
+from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
 from mdr.materials import Materials
 from mdr.normal import approach_from_force, pressure
 from mdr.profiles import make_profile
@@ -140,7 +140,7 @@ def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | N
                                floor=ZERO * float(gross_slip_work(s.mu, s.F0, u_A)))
     shift = None if lad["extrapolated"] is None else \
         metrics.dissipation_error(lad["extrapolated"], W[0], s.mu, s.F0, u_A)
-    small = abs(W[0]) < 0.01 * float(gross_slip_work(s.mu, s.F0, u_A))
+    small = abs(W[0]) < HARDLY_DISSIPATES * float(gross_slip_work(s.mu, s.F0, u_A))
     # the ladder's own error is that of its finest level (4x the steps); the scene's step is the
     # coarsest: its error is the distance to the extrapolation (with the GCI's safety factor) where
     # the ladder is asymptotic, else the spread, which bounds nothing

@@ -70,7 +70,7 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
     ``mdr.loops.analyse_cycles``, in u_A as ``loop_du``; a ratcheting loop drifts in du while its
     dissipation has settled), which bound nothing; the contact area is no quantity of the cycles
     (None)."""
-    from fem.contact_run import HARDLY_DISSIPATES
+    from mdr.loading import HARDLY_DISSIPATES
     from common.ladder import SETTLING_RATIO_MAX as r
 
     W = list(run.get("dissipation_per_cycle") or [])[1:]
