@@ -259,7 +259,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     if loading.drive != "apparatus":
         raise InputError(f"the apparatus is driven by its piezo (Loading.apparatus), got drive {loading.drive!r}")
     mu = loading.check_friction(law.mu)
-    F0, ua, steps = loading.F0, loading.amplitude, loading.steps
+    F0 = loading.F0
     batch = law.batch
     t = loading.times()
     if state_at is not None and not 0 <= int(state_at) < t.size:
@@ -355,19 +355,21 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
             # moment about the bedding plane for the next step's sphere loads (A4):
             # sum_j F_j z_j - F_x h = zbar (F_x + F_bed) - J theta - F_x h
             M = -res.Fx * app.h + (res.Fx + Fbed) * zbar - pt["J"] * th
-        out["Fx"][..., k] = res.Fx
-        out["FN"][..., k] = res.FN
-        out["u1"][..., k] = cx * res.Fx
-        out["u2"][..., k] = u2
-        out["du"][..., k] = du
-        out["Fbed"][..., k] = Fbed
-        out["ub"][..., k] = ub
-        out["tilt"][..., k] = th
-        out["a"][..., k] = res.a
-        out["c"][..., k] = res.c
+        for key, x in (("Fx", res.Fx), ("FN", res.FN), ("u1", cx * res.Fx), ("u2", u2), ("du", du), ("Fbed", Fbed),
+                       ("ub", ub), ("tilt", th), ("a", res.a), ("c", res.c)):
+            out[key][..., k] = x
         if k >= first and res.slack is not None:
             window.append((res.slack, res.slipping))
-    cyc = analyse_cycles(out["du"], out["Fx"], steps, mu, F0, driven="displacement")  # u3 prescribed, F_x free
+    return _finished(out, window, law, loading, mu, u3, first, iters)
+
+
+def _finished(out: dict, window: list, law, loading: Loading, mu, u3, first: int, iters: int) -> dict:
+    """``run_apparatus``'s result from its per-step arrays ``out``: the cycle analysis (the piezo's u3
+    prescribed, F_x free), the stick radius of the last cycle (from the nodes' slack and slip state in
+    ``window`` where the law has them, else the smallest instantaneous one), the slip index and the
+    dissipation of the last cycle, the evaluations per step."""
+    t = loading.times()
+    cyc = analyse_cycles(out["du"], out["Fx"], loading.steps, mu, loading.F0, driven="displacement")
     last_a = out["a"][..., first:]
     if window and len(window) == last_a.shape[-1]:
         out["stick_radius"] = stick_radius(law.stick_nodes, np.stack([w[0] for w in window], axis=-2),
@@ -377,7 +379,7 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     out["t"] = t
     out["u3"] = u3
     out["cycles"] = cyc
-    out["slip_index"] = slip_index(cyc.dissipation[..., -1], mu, ua, F0)
+    out["slip_index"] = slip_index(cyc.dissipation[..., -1], mu, loading.amplitude, loading.F0)
     out["dissipation"] = cyc.dissipation[..., -1]
     out["evaluations_per_step"] = iters / t.size
     return out

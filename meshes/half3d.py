@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -296,17 +296,56 @@ def _classify(p: Half3DMeshParams, bb):
     return "sides"
 
 
-def _generate(p: Half3DMeshParams):
-    """Run gmsh; return (points (3, n), tets (4, m), {group: boundary triangles (k, 3)}) in
-    gmsh node order (compacted to the used nodes).
+def _size_field(gmsh, p: Half3DMeshParams, contact) -> None:
+    """The element size as gmsh's background field: ``h_min`` on the ``contact`` surfaces growing to
+    ``h_max``, the finer of that and the refined ball around (``refine_x``, 0, 0) and the rim's band."""
+    fm = gmsh.model.mesh.field
+    dist = fm.add("Distance")
+    fm.setNumbers(dist, "SurfacesList", contact)
+    fm.setNumber(dist, "Sampling", int(2 * p.r_contact / p.h_min) + 20)
+    thr = fm.add("Threshold")
+    fm.setNumber(thr, "InField", dist)
+    fm.setNumber(thr, "SizeMin", p.h_min)
+    fm.setNumber(thr, "SizeMax", p.h_max)
+    fm.setNumber(thr, "DistMin", 0.0)
+    fm.setNumber(thr, "DistMax", (p.h_max - p.h_min) / p.growth)
+    if p.refine_x is not None:  # the refined ball around (refine_x, 0, 0), the finer size wins
+        ball = fm.add("MathEval")
+        fm.setString(ball, "F", f"Sqrt((x - ({p.refine_x!r}))^2 + y^2 + z^2)")
+        thr2 = fm.add("Threshold")
+        fm.setNumber(thr2, "InField", ball)
+        fm.setNumber(thr2, "SizeMin", p.refine_h)
+        fm.setNumber(thr2, "SizeMax", p.h_max)
+        fm.setNumber(thr2, "DistMin", p.refine_radius)
+        fm.setNumber(thr2, "DistMax", p.refine_radius + (p.h_max - p.refine_h) / p.growth)
+        both = fm.add("Min")
+        fm.setNumbers(both, "FieldsList", [thr, thr2])
+        thr = both
+    if p.band_h is not None:  # the band along the arc |phi - pi| <= band_angle of the circle r = rb
+        rb = p.band_r if p.band_r is not None else p.edge if p.edge is not None else p.contact_extent
+        band = fm.add("MathEval")  # distance to the arc: radial, normal and (beyond its ends) along it
+        fm.setString(band, "F", f"Sqrt((Sqrt(x^2 + y^2) - {rb!r})^2 + z^2 + ({rb!r} * Max(0, "
+                                f"Acos(-x / (Sqrt(x^2 + y^2) + 1e-12)) - {p.band_angle!r}))^2)")
+        thr3 = fm.add("Threshold")
+        fm.setNumber(thr3, "InField", band)
+        fm.setNumber(thr3, "SizeMin", p.band_h)
+        fm.setNumber(thr3, "SizeMax", p.h_max)
+        fm.setNumber(thr3, "DistMin", p.band_width)
+        gb = p.growth if p.band_growth is None else p.band_growth
+        fm.setNumber(thr3, "DistMax", p.band_width + (p.h_max - p.band_h) / gb)
+        both = fm.add("Min")
+        fm.setNumbers(both, "FieldsList", [thr, thr3])
+        thr = both
+    fm.setAsBackgroundMesh(thr)
 
-    gmsh runs in units of ``a_ref`` and the points are scaled back to metres: OpenCASCADE pads
+
+def _generate(p: Half3DMeshParams):
+    """Run gmsh; return (points (3, n), tets (4, m), {group: boundary triangles (k, 3)}) in gmsh node
+    order (compacted to the used nodes). gmsh runs in units of ``a_ref`` and the points are scaled back to metres: OpenCASCADE pads
     bounding boxes by an absolute tolerance (about 1e-7), larger than a micrometre contact
     would allow the surface classification."""
     unit = p.a_ref
-    p = Half3DMeshParams(1.0, p.h_contact, p.contact_extent, p.shape, p.size / unit, p.height / unit, p.growth,
-                         p.h_max / unit, p.edge, p.refine_x, p.refine_h, p.refine_radius, p.band_h, p.band_width,
-                         p.band_angle, p.band_growth, p.band_r)
+    p = replace(p, a_ref=1.0, size=p.size / unit, height=p.height / unit, h_max=p.h_max / unit)
     try:
         import gmsh
     except OSError as exc:  # pragma: no cover - depends on the machine image
@@ -348,44 +387,7 @@ def _generate(p: Half3DMeshParams):
             for g, tags in groups.items():
                 gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, tags), g)
             gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, [vols[0][1]]), "block")
-            fm = gmsh.model.mesh.field
-            dist = fm.add("Distance")
-            fm.setNumbers(dist, "SurfacesList", groups["contact"])
-            fm.setNumber(dist, "Sampling", int(2 * rc / p.h_min) + 20)
-            thr = fm.add("Threshold")
-            fm.setNumber(thr, "InField", dist)
-            fm.setNumber(thr, "SizeMin", p.h_min)
-            fm.setNumber(thr, "SizeMax", p.h_max)
-            fm.setNumber(thr, "DistMin", 0.0)
-            fm.setNumber(thr, "DistMax", (p.h_max - p.h_min) / p.growth)
-            if p.refine_x is not None:  # the refined ball around (refine_x, 0, 0), the finer size wins
-                ball = fm.add("MathEval")
-                fm.setString(ball, "F", f"Sqrt((x - ({p.refine_x!r}))^2 + y^2 + z^2)")
-                thr2 = fm.add("Threshold")
-                fm.setNumber(thr2, "InField", ball)
-                fm.setNumber(thr2, "SizeMin", p.refine_h)
-                fm.setNumber(thr2, "SizeMax", p.h_max)
-                fm.setNumber(thr2, "DistMin", p.refine_radius)
-                fm.setNumber(thr2, "DistMax", p.refine_radius + (p.h_max - p.refine_h) / p.growth)
-                both = fm.add("Min")
-                fm.setNumbers(both, "FieldsList", [thr, thr2])
-                thr = both
-            if p.band_h is not None:  # the band along the arc |phi - pi| <= band_angle of the circle r = rb
-                rb = p.band_r if p.band_r is not None else p.edge if p.edge is not None else p.contact_extent
-                band = fm.add("MathEval")  # distance to the arc: radial, normal and (beyond its ends) along it
-                fm.setString(band, "F", f"Sqrt((Sqrt(x^2 + y^2) - {rb!r})^2 + z^2 + ({rb!r} * Max(0, "
-                                        f"Acos(-x / (Sqrt(x^2 + y^2) + 1e-12)) - {p.band_angle!r}))^2)")
-                thr3 = fm.add("Threshold")
-                fm.setNumber(thr3, "InField", band)
-                fm.setNumber(thr3, "SizeMin", p.band_h)
-                fm.setNumber(thr3, "SizeMax", p.h_max)
-                fm.setNumber(thr3, "DistMin", p.band_width)
-                gb = p.growth if p.band_growth is None else p.band_growth
-                fm.setNumber(thr3, "DistMax", p.band_width + (p.h_max - p.band_h) / gb)
-                both = fm.add("Min")
-                fm.setNumbers(both, "FieldsList", [thr, thr3])
-                thr = both
-            fm.setAsBackgroundMesh(thr)
+            _size_field(gmsh, p, groups["contact"])
             for opt, val in (("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeFromPoints", 0),
                              ("Mesh.MeshSizeFromCurvature", 0), ("Mesh.Algorithm", 6),
                              ("Mesh.Algorithm3D", 1), ("Mesh.ElementOrder", 1),

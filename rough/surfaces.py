@@ -188,3 +188,10 @@ def resample(m: HeightMap, n: int) -> HeightMap:
     # the real part splits an even map's Nyquist coefficient between +- its wavenumber, as it should
     fine = np.real(np.fft.ifft2(np.fft.ifftshift(big))) * (n / n0) ** 2
     return HeightMap(h=fine, pixel=m.pixel * n0 / n)
+
+
+def band_limited(p: RoughnessParams, n: int) -> HeightMap:
+    """The realisation of ``p`` generated on its own grid (``p.n`` pixels) and resampled to ``n``
+    (``resample``): one band-limited surface on every grid of a ladder, the one home of that pairing
+    (the roughness family's members, the budget's readings)."""
+    return resample(generate(p), n)

@@ -117,7 +117,7 @@ def test_measured_maps_are_the_surfaces_they_hold(members, tmp_path):
     from rough.surfaces import RoughnessParams, generate
 
     v = SMALL.variants[0]
-    P = R._period(SMALL, R.variant_params(v))
+    P = R.variant(SMALL, 0).size
     paths = []
     for seed in (0, 1):
         m = generate(RoughnessParams(rms=v["rms"], hurst=0.8, lambda_short=v["short"] * P / 48,
@@ -131,7 +131,7 @@ def test_measured_maps_are_the_surfaces_they_hold(members, tmp_path):
         assert got["relative"]["mdr_equivalent"][q] == pytest.approx(ref["relative"]["mdr_equivalent"][q],
                                                                      rel=1e-6, abs=1e-9)
     assert got["rms"] == pytest.approx(v["rms"], rel=1e-9)
-    assert R.variant_params({"maps": paths, "pixel": P / 48})["grids"] == (48, 72, 96)
+    assert R.variant(replace(SMALL, variants=({"maps": paths, "pixel": P / 48},)), 0).grids == (48, 72, 96)
 
 
 @pytest.mark.parametrize("bad,word", [("nan", "non-finite"), ("oblong", "square"), ("pixel", "pixel size"),
@@ -234,13 +234,15 @@ def test_the_smooth_face_driven_by_the_apparatus_is_mdr_at_the_papers_points():
     from mdr.profiles import TruncatedSphere
     from validation.budget import point_slip_index
     from validation.points import Point, rough_points
+    from validation.rough_variant import RoughVariant
     from validation.scenes import a_ref
 
     s = CATALOGUE["roughness-faces"]
     b = 0.6e-3
     grid = Grid(4 * a_ref(s, b), 24)
     d, F = force_approach(TruncatedSphere(s.R, b), Materials(), s.F0 * CURVE_FRACTIONS, grid)
-    rows = R.in_apparatus(s, {"b": b, "rms": 0.0}, grid, None, {"d": d.tolist(), "F": F.tolist()})
+    v = RoughVariant.of({"b": b, "rms": 0.0}, s, a_ref)
+    rows = R.in_apparatus(s, v, grid, None, {"d": d.tolist(), "F": F.tolist()})
     assert [Point(**r["point"]) for r in rows] == list(rough_points(b)) and len(rows) == 3
     for r in rows:
         smooth = point_slip_index(Point(**r["point"]))

@@ -88,11 +88,6 @@ TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 MDR_CELLS = (25, 100, 400, 1600)
 MDR_CELLS_QUICK = (100, 400, 1600)
 DRIVES = ("force", "displacement", "apparatus")
-#: the defaults of a variant of the roughness family (``validation.families.roughness``): 4 surfaces, grids
-#: of 128, 192, 256 pixels, a period of 16 Hertz radii, Hurst 0.8, the short cut-off at 4 pixels of the
-#: coarsest grid, the long cut-off at a quarter period (no power at longer wavelengths: rough.surfaces)
-ROUGH_DEFAULTS = {"seeds": (0, 1, 2, 3), "grids": (128, 192, 256), "period": 16.0, "hurst": 0.8, "short": 4.0,
-                  "long": 0.25}
 #: the catalogue's plastic rough surfaces are flattened by a first loading to this normal force (N):
 #: above the largest of the paper's experiments (F0 + dF = 1.2 F0 = 0.73 N in Fig. 5; the budget checks
 #: every point against it) and within the rough scene's force-approach curves (to 1.5 F0 = 0.75 N)
@@ -115,11 +110,6 @@ ROUGH_FACE_PAPER_RMS = 3.6e-6
 ROUGH_SPHERE_PAPER_RMS = 3.2e-6
 ROUGH_SPHERE_PAPER_GRIDS, ROUGH_SPHERE_PAPER_SHORT = (384, 512, 768), 12.0
 ROUGH_FACE_PERIOD, ROUGH_FACE_GRIDS, ROUGH_FACE_SHORT = 4.0, (256, 384, 512), 8.0
-
-
-def maps_grids(n_map: int) -> tuple:
-    """The default grid ladder of measured maps of n_map pixels: theirs, 1.5x and 2x (resampled)."""
-    return (n_map, 3 * n_map // 2, 2 * n_map)
 
 
 #: the scene families (``Scene.family``), each a module of ``validation.families`` (how it runs, its
@@ -265,100 +255,19 @@ class Scene:
                              f"valid: {', '.join(TOLERANCES)}")
 
     def _check_rough(self):
-        """The roughness family's variants (``validation.families.roughness``, its ``DEFAULTS``): the sphere
-        or the truncated sphere (a variant's ``b``, m, the face radius: 0 the sphere) under force control
-        at constant F_N; generated surfaces: rms >= 0 (m), at least 2 seeds where rms > 0, a period of at
-        least 4 smooth contact radii, the cut-offs inside the grid; measured ones: at
-        least 2 readable square maps of one size with their pixel size, the coarsest grid their pixels;
-        at least 2 grids increasing from 16 pixels."""
+        """The roughness family's variants (``validation.rough_variant.RoughVariant.of`` checks each: the
+        sphere or the truncated sphere under force control at constant F_N, the surface's keys in range)."""
         rough = [v for v in self.variants if "rms" in v or "maps" in v]
         if not rough:
             return
-        from rough.surfaces import load_height_map
+        from .rough_variant import RoughVariant
 
-        DEFAULTS = ROUGH_DEFAULTS
         if self.family != "roughness" or len(rough) != len(self.variants) \
                 or self.profile not in ("sphere", "truncated") or self.drive != "force" or self.dF != 0.0:
             raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere' or "
                              "'truncated', drive 'force' and dF = 0 on every variant")
         for v in rough:
-            def bad(key, rng):
-                return InputError(f"scene {self.name}: rough variant {v!r}: {key} must be {rng}")
-
-            if "b" in v:
-                try:
-                    ok = not isinstance(v["b"], bool) and 0.0 <= float(v["b"]) < 0.5 * self.R
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok:
-                    raise bad("b", f"in [0, {0.5 * self.R:g}) (m; the face radius, 0 the sphere)")
-
-            if "maps" in v:
-                maps = v["maps"]
-                if isinstance(maps, str) or not isinstance(maps, (list, tuple)) or len(maps) < 2:
-                    raise bad("maps", "a list of at least 2 height-map files (one realisation is no answer)")
-                read = [load_height_map(f, v.get("pixel"), square=True) for f in maps]
-                if len({m.h.tobytes() for m in read}) != len(read):
-                    raise bad("maps", "distinct maps (the same map twice is one realisation)")
-                sizes = {m.h.shape[0] for m in read}
-                if len(sizes) != 1:
-                    raise bad("maps", f"maps of one size, got {sorted(sizes)} pixels")
-                n_map = sizes.pop()
-                grids = [int(x) for x in v.get("grids", maps_grids(n_map))]
-                if len(grids) < 2 or grids[0] != n_map:
-                    raise bad("grids", f"at least 2 pixel counts, a ladder from the maps' {n_map} pixels")
-                a = a_ref(self, rough_face(self, v))
-                if not read[0].pixel * n_map >= 4.0 * a:
-                    raise bad("maps", f"maps of at least 4 smooth contact radii ({4.0 * a:.3g} m) on a side: the "
-                                      f"contact overlaps its periodic images on {read[0].pixel * n_map:.3g} m")
-            else:
-                try:
-                    if isinstance(v["rms"], bool):
-                        raise TypeError
-                    rms, seeds = float(v["rms"]), [int(x) for x in v.get("seeds", DEFAULTS["seeds"])]
-                    grids = [int(x) for x in v.get("grids", DEFAULTS["grids"])]
-                    period, short = float(v.get("period", DEFAULTS["period"])), float(v.get("short", DEFAULTS["short"]))
-                    long_, hurst = float(v.get("long", DEFAULTS["long"])), float(v.get("hurst", DEFAULTS["hurst"]))
-                except (TypeError, ValueError):
-                    raise bad("rms, seeds, grids, period, short, long, hurst", "numbers (seeds and grids lists of "
-                              "integers)") from None
-                if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
-                    raise bad("grids", "at least 2 pixel counts, increasing, from 16")
-                if not (math.isfinite(rms) and rms >= 0):
-                    raise bad("rms", ">= 0 (m)")
-                if rms > 0 and (len(set(seeds)) != len(seeds) or len(seeds) < 2 or min(seeds) < 0):
-                    raise bad("seeds", "at least 2 distinct integers >= 0, none twice (one realisation is no answer)")
-                if not period >= 4.0:
-                    raise bad("period", ">= 4 (smooth contact radii)")
-                if not 2.0 <= short <= grids[0] / 2:
-                    raise bad("short", f"in [2, {grids[0] // 2}] (pixels of the coarsest grid)")
-                if not short / grids[0] < long_ <= 1.0:
-                    raise bad("long", f"in ({short / grids[0]:.3g}, 1] (fractions of the period)")
-                if not 0.0 < hurst <= 1.0:
-                    raise bad("hurst", "in (0, 1]")
-            if len(grids) < 2 or grids[0] < 16 or any(b <= a for a, b in zip(grids, grids[1:])):
-                raise bad("grids", "at least 2 pixel counts, increasing, from 16")
-            if "apparatus" in v:
-                if not isinstance(v["apparatus"], bool):
-                    raise bad("apparatus", "true or false")
-                if v["apparatus"] and (self.R != R_INDENTER or any(getattr(self, k) != x for k, x in STEEL.items())):
-                    raise bad("apparatus", f"false on this indenter: the paper's points are the steel sphere of "
-                                           f"R = {R_INDENTER:g} m on steel")
-            if "hardness" in v:
-                try:
-                    ok = float(v["hardness"]) > 0 and math.isfinite(float(v["hardness"]))
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok:
-                    raise bad("hardness", "> 0 (Pa; perfectly plastic asperities)")
-            if "preload" in v:
-                try:
-                    ok = "hardness" in v and math.isfinite(float(v["preload"])) and float(v["preload"]) >= self.F0
-                except (TypeError, ValueError):
-                    ok = False
-                if not ok:
-                    raise bad("preload", f">= F0 = {self.F0:g} N, with a hardness (the largest load the plastic "
-                                         "asperities saw)")
+            RoughVariant.of(v, self, a_ref)
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene

@@ -166,13 +166,13 @@ def surface(task: dict) -> tuple:
     a plastic reading's flattening is ``member``'s)."""
     from mdr.profiles import make_profile
     from rough.normal import Grid
-    from rough.surfaces import generate, resample
+    from rough.surfaces import band_limited
 
     contact = Contact(**task["contact"])
     p, kappa = params(READINGS[task["reading"]], contact, task["seed"])
     n = int(task["n"])
     prof = make_profile("truncated" if contact.b else "sphere", R_INDENTER, contact.b or None)
-    return p, kappa, Grid(p.size, n), resample(generate(p), n), prof
+    return p, kappa, Grid(p.size, n), band_limited(p, n), prof
 
 
 def member(task: dict) -> dict:

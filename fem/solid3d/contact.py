@@ -409,3 +409,16 @@ def predict(state, A, g, u, Fx):
         return q, state.u
     f = ahead / last
     return project_disk(q + f * dq, g), state.u + f * state.du
+
+
+def coulomb_increment(Dt, A, g, P_old, on_plane, state, *, u=None, Fx=None) -> TangentialResult:
+    """The Coulomb increment of an uncoupled pair at fixed slip limits ``g`` = mu p: displacement-driven
+    (``u``) or force-driven (``Fx``, the whole model's: the half model carries half), started from the
+    last step's state moved by ``predict``; without any slip limit the contact takes the displacement."""
+    if not np.any(g > 0):
+        return solve_tangential3d(Dt, A, g, P_old, on_plane, u=float(state.u if u is None else u))
+    if u is not None:
+        q0, _ = predict(state, A, g, u, None)
+        return solve_tangential3d(Dt, A, g, P_old, on_plane, u=u, q0=q0)
+    q0, u0 = predict(state, A, g, None, Fx)
+    return solve_tangential3d(Dt, A, g, P_old, on_plane, force=Fx / 2, q0=q0, u0=u0)

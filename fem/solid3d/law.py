@@ -32,30 +32,26 @@ Model (assumptions, each stated where it lives):
   load with friction locks tangential traction in (Spence 1975, J. Elasticity 5, 297);
 - small sliding, quasi-static, rate-independent Coulomb friction with constant mu.
 
-Displacement measure (``displacement``), as in ``fem.axisym.law``: "contact" (the command's default) the half-space
-comparable tangential displacement, the plate displacement minus the bodies' series compliance
-c_bulk F_x read at axis probes in both bodies and put back with Cerruti's half-space solution
-(``fem.bulk``; here the probes' responses to every traction vertex, ``_bulk_rows``); "plate" the
-displacement of the indenter's clamped top against the block's clamped bottom (the law's
-default, as ``fem.axisym.law.FEContact``'s). Under force
-control the loop area (dissipation), the stick zone and the force history do not depend on it
-(a series spring is a shear of the loop plane). The approach ``d`` is the plate approach in
-both; ``indentation`` (a result key) is its half-space comparable counterpart (Boussinesq).
+Displacement measure (``displacement``), as in ``fem.axisym.law``: "contact" (the command's default) the
+half-space comparable tangential displacement, the plate displacement minus the bodies' series compliance
+c_bulk F_x read at axis probes in both bodies and put back with Cerruti's half-space solution (``fem.bulk``;
+here the probes' responses to every traction vertex, ``_bulk_rows``); "plate" the displacement of the
+indenter's clamped top against the block's clamped bottom (the law's default). Under force control the
+loop area, the stick zone and the force history do not depend on it (a series spring shears the loop).
+The approach ``d`` is the plate approach in both; ``indentation`` its half-space counterpart (Boussinesq).
 The probes see the finite block's bending under F_x, which no half-space has. Measured (the
 sphere, full stick, h = a/4): the contact measure's stiffness is 0.977, 0.980, 0.981 of
 Mindlin's 2 G* a on blocks of 10, 20, 40 a (the rest is the mesh error), the plate measure's
 0.908, 0.943, 0.962 (``tests/test_contact3d.py``: 10 a and 20 a).
 
-Stick zone (``mdr.stick``, onset 1/2 as for any traction; ``fem.solid3d.estimators``): along the
-x axis from the vertices on the symmetry plane (+x and -x separately), along y from the vertices
-within ``SECTOR`` of the y axis; ``stick_nodes`` are the +x vertices (the protocol's one stick
-radius is the extent along +x).
+Stick zone (``mdr.stick``, onset 1/2 as for any traction; ``fem.solid3d.estimators``): along x from the
+vertices on the symmetry plane (+x and -x separately), along y from those within ``SECTOR`` of the y axis;
+``stick_nodes`` are the +x vertices (the protocol's one stick radius is the extent along +x).
 
-Layout: the model (mesh, condensed bodies, probes, gaps: built once, read only) is
-``fem.solid3d.model``; what the vertex fields say (contact radius, area, extent, stick zone) is
-``fem.solid3d.estimators``; the keys read from a run's recorded fields are ``fem.solid3d.runs``;
-this module holds the law: the assumptions of a run (friction, traction direction, coupling, tilt)
-and its step.
+Layout: the model (mesh, condensed bodies, probes, gaps: built once, read only) is ``fem.solid3d.model``;
+what the vertex fields say (contact radius, area, extent, stick zone) ``fem.solid3d.estimators``; the keys
+of a run's recorded fields ``fem.solid3d.runs``; this module the law: the assumptions of a run (friction,
+traction direction, coupling, tilt) and its step.
 """
 from __future__ import annotations
 
@@ -75,7 +71,7 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.solid3d import estimators as est
 from fem.solid3d import runs
-from fem.solid3d.contact import RelativeFlexibility, predict, solve_tangential3d, tangential_slope
+from fem.solid3d.contact import RelativeFlexibility, coulomb_increment, predict, tangential_slope
 from fem.solid3d.coupled import solve_coupled3d
 from fem.solid3d.model import BLOCK_SIZE_DEFAULT, SECTOR, Model3D, build_model3d, normal_solution
 from fem.stepping import frozen as _frozen, step_history
@@ -405,19 +401,9 @@ class FEContact3D:
             m.check_rim(p)
             return p, self._normal3d(p, float(dd), 0, not self.tilted), res
         p = nr.p if nr is not None else np.zeros(self.n)
-        g = self.mu * p
         self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
-        if not np.any(g > 0):
-            uu = float(state.u if u is None else u)
-            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, u=uu)
-        elif u is not None:
-            q0, _ = predict(state, mi.A, g, u, None)
-            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero, u=u, q0=q0)
-        else:
-            q0, u0 = predict(state, mi.A, g, None, Fx)
-            res = solve_tangential3d(m.rf.Dt, mi.A, g, np.asarray(state.P), self._qy_zero,
-                                     force=Fx / 2, q0=q0, u0=u0)
-        return p, nr, res
+        return p, nr, coulomb_increment(m.rf.Dt, mi.A, self.mu * p, np.asarray(state.P), self._qy_zero, state, u=u,
+                                        Fx=Fx)
 
     def _tangential(self, ctx, u, Fx):
         """The tangential part of a step from :meth:`_normal_part`: returns (StepResult, FE3DState,

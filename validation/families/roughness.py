@@ -23,7 +23,7 @@ side, its coarsest level their pixels, finer levels resampled).
 The indenter: the scene's sphere or truncated sphere; a variant's ``b`` (m) sets the face radius (0: the
 sphere), so one scene holds the faces of several results (``roughness-faces``).
 
-Surface parameters (a variant's keys, defaults ``DEFAULTS``): ``rms`` (m; 0 is the smooth indenter),
+Surface parameters (a variant's keys, checked and converted once by ``validation.rough_variant.RoughVariant``, defaults ``DEFAULTS`` there): ``rms`` (m; 0 is the smooth indenter),
 ``hurst`` (0.8: most engineering surfaces, ground and turned steel among them, have H = 0.7-0.9;
 Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in smooth contact radii of the
 scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
@@ -47,49 +47,30 @@ from common.errors import ConvergenceError, InputError
 from common.ladder import ladder_error
 
 from .. import metrics
-from ..scenes import ROUGH_DEFAULTS, Scene, a_ref, maps_grids, rough_face
+from ..rough_variant import RoughVariant
+from ..scenes import Scene, a_ref
 from ..text import grade_text, num
 from . import members_of, result_of_members
 
 KEY = "roughness"
 TITLE = "roughness"
-#: a variant's defaults (see the module docstring; their one home is ``validation.scenes``)
-DEFAULTS = ROUGH_DEFAULTS
 #: the compared quantities and the catalogue tolerance each is judged by: the stiffness 2 G* a is
 #: the contact radius's (relative), the dissipation the dissipation's
 QUANTITIES = {"dissipation": "dissipation", "stiffness": "contact_radius"}
 MODELS = ("mdr_equivalent", "mdr_smooth")
 
 
-def variant_params(v: dict) -> dict:
-    """A variant's parameters: its keys over ``DEFAULTS`` (a smooth variant has one seed; a variant of
-    measured ``maps`` one seed per map, its period the maps' side, its coarsest grid their pixels)."""
-    out = {**DEFAULTS, **v}
-    if "maps" in v:
-        out["rms"] = None  # measured: each map's own
-        out["seeds"] = tuple(range(len(v["maps"])))
-        if "grids" not in v:
-            out["grids"] = maps_grids(measured_map(v, 0).h.shape[0])
-    elif float(out["rms"]) == 0.0:
-        out["seeds"] = (0,)
-    out["seeds"], out["grids"] = tuple(int(x) for x in out["seeds"]), tuple(int(x) for x in out["grids"])
-    return out
-
-
-def measured_map(v: dict, k: int):
-    """The k-th measured map of a variant (``rough.surfaces.load_height_map``: square, finite, its pixel
-    size stated in the variant's ``pixel``, m)."""
-    from rough.surfaces import load_height_map
-
-    return load_height_map(v["maps"][k], v.get("pixel"), square=True)
+def variant(s: Scene, i: int) -> RoughVariant:
+    """The scene's i-th variant, checked and converted (``validation.rough_variant.RoughVariant``)."""
+    return RoughVariant.of(s.variants[i], s, a_ref)
 
 
 def tasks(s: Scene) -> list:
     """The scene's independent tasks: one per (variant, seed, grid), the finest grids first (the longest
     first keeps every worker busy to the end)."""
-    params = [variant_params(v) for v in s.variants]  # once each: a measured variant reads a map
-    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(params) for seed in v["seeds"]
-           for n in v["grids"]]
+    params = [variant(s, i) for i in range(len(s.variants))]  # once each: a measured variant reads its maps
+    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(params) for seed in v.seeds
+           for n in v.grids]
     return sorted(out, key=lambda t: -t["n"])
 
 
@@ -97,39 +78,27 @@ def member(s: Scene, task: dict) -> dict:
     """One task of ``tasks``: the three models on one realisation at one grid (plain data)."""
     from rough.equivalent import mdr_against_rough
     from rough.normal import Grid
-    from rough.surfaces import RoughnessParams, generate, resample
 
     from ..sides import materials_of
 
     t0 = time.perf_counter()
-    v = variant_params(s.variants[task["variant"]])
-    P = _period(s, v)
-    n0, n = v["grids"][0], int(task["n"])
-    heights = None
-    if "maps" in v:
-        heights = resample(measured_map(v, int(task["seed"])), n)
-    elif float(v["rms"]) > 0:
-        coarse = generate(RoughnessParams(rms=float(v["rms"]), hurst=float(v["hurst"]),
-                                          lambda_short=float(v["short"]) * P / n0, lambda_long=float(v["long"]) * P,
-                                          size=P, n=n0, seed=int(task["seed"])))
-        heights = resample(coarse, n)
+    v = variant(s, task["variant"])
+    P, n = v.size, int(task["n"])
+    heights = v.heights(task["seed"], n)
     try:
-        b = rough_face(s, v)
-        res = mdr_against_rough(indenter(s, b),
-                                materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
-                                cycles=s.cycles, steps=s.steps, hardness=v.get("hardness"),
-                                preload=v.get("preload"))
+        res = mdr_against_rough(indenter(s, v.b), materials_of(s), s.mu, s.F0, s.amplitude, Grid(P, n), heights,
+                                cycles=s.cycles, steps=s.steps, hardness=v.hardness, preload=v.preload)
     except ConvergenceError as e:  # a level without an answer: its seed is undetermined, the scene goes on
         return {**task, "pixel": P / n, "failed": str(e), "runtime_s": time.perf_counter() - t0}
     out = {**task, "pixel": P / n, "rms": 0.0 if heights is None else heights.rms,
            "rough_halfspace": res["rough_halfspace"], "relative": res["relative"],
            "mdr_equivalent": res["mdr_equivalent"], "mdr_smooth": res["mdr_smooth"], "curve": res["curve"]}
-    if v.get("apparatus") and n == max(v["grids"]):  # the finest grid: what the budget reads
+    if v.apparatus and n == max(v.grids):  # the finest grid: what the budget reads
         out["apparatus"] = in_apparatus(s, v, Grid(P, n), heights, res["curve"], start=(s.F0, res["pressure"]))
     return {**out, "runtime_s": time.perf_counter() - t0}
 
 
-def in_apparatus(s: Scene, v: dict, grid, heights, curve, start=None) -> list:
+def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) -> list:
     """The rough half-space driven by the apparatus (``rough.law.RoughContact`` in
     ``mdr.apparatus.run_apparatus``) at each of the paper's points whose rough contact is this indenter
     (``validation.points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
@@ -150,11 +119,9 @@ def in_apparatus(s: Scene, v: dict, grid, heights, curve, start=None) -> list:
     from ..points import rough_points
     from ..sides import materials_of
 
-    b = rough_face(s, v)
+    b, hardness, preload = v.b, v.hardness, v.preload
     profile = indenter(s, b)
     mat = materials_of(s)
-    hardness = v.get("hardness")
-    preload = float(v.get("preload", s.F0)) if hardness else None
     eq = EquivalentProfile(curve["d"], curve["F"], mat)
     laws, out, done = {}, [], {}
     for p in rough_points(b):
@@ -191,25 +158,17 @@ def indenter(s: Scene, b: float):
     return make_profile("truncated" if b > 0 else "sphere", s.R, b if b > 0 else None)
 
 
-def _period(s: Scene, v: dict) -> float:
-    """The grid's side (m): a measured map's, else ``period`` smooth contact radii of the variant's
-    indenter (``validation.scenes.a_ref``)."""
-    if "maps" in v:
-        return float(v["pixel"]) * v["grids"][0]
-    return float(v["period"]) * a_ref(s, rough_face(s, v))
-
-
 def _variant_row(s: Scene, i: int, members: list) -> dict:
     """The reduction of one variant's members: per seed the grid ladder of each relative difference,
     then the ensemble's mean, its standard error and the mean grid error; the verdicts."""
-    v = variant_params(s.variants[i])
+    v = variant(s, i)
     mine = [m for m in members if m["variant"] == i]
-    a = a_ref(s, rough_face(s, v))
-    P = _period(s, v)
+    a = a_ref(s, v.b)
+    P = v.size
     per_seed = []
-    for seed in v["seeds"]:
+    for seed in v.seeds:
         lv = sorted((m for m in mine if m["seed"] == seed), key=lambda m: m["n"])
-        if [m["n"] for m in lv] != sorted(v["grids"]) or any("failed" in m for m in lv):
+        if [m["n"] for m in lv] != sorted(v.grids) or any("failed" in m for m in lv):
             per_seed.append(None)  # a missing or failed level: the seed is undetermined
             continue
         sizes = [P / m["n"] for m in lv]
@@ -228,7 +187,7 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
             lads = [r[mdl, q] for r in per_seed if r is not None]
             values = np.array([x["value"] if x["value"] is not None else np.nan for x in lads], dtype=float)
             grid_errs = [x["error"] for x in lads]
-            complete = len(lads) == len(v["seeds"]) and np.all(np.isfinite(values)) and \
+            complete = len(lads) == len(v.seeds) and np.all(np.isfinite(values)) and \
                 all(e is not None and np.isfinite(e) for e in grid_errs)
             mean = float(values.mean()) if complete else None
             sem = (float(values.std(ddof=1) / np.sqrt(values.size)) if values.size > 1 else 0.0) if complete else None
@@ -242,33 +201,33 @@ def _variant_row(s: Scene, i: int, members: list) -> dict:
                                       "members": values.tolist(),
                                       "grid_status": sorted({x["status"] for x in lads})}
     by_grid = {str(n): [m.get("apparatus") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
-               for n in v["grids"][-1:]} if v.get("apparatus") else None
+               for n in v.grids[-1:]} if v.apparatus else None
     areas = [r["contact_area"] for r in per_seed if r is not None]
     smooth_area = np.pi * a ** 2  # the smooth indenter's contact (Hertz's on the sphere)
     eq = {q: verdicts[f"mdr_equivalent:{q}"] for q in QUANTITIES}
-    measured = "maps" in v
+    measured = v.measured
     rms = (float(np.mean([m["rms"] for m in mine if "rms" in m])) if any("rms" in m for m in mine) else None) \
-        if measured else float(v["rms"])
-    return {"variant": i, "rms": rms, "measured": list(v["maps"]) if measured else None,
-            "hardness": v.get("hardness"), "preload": float(v.get("preload", s.F0)) if v.get("hardness") else None,
-            "seeds": list(v["seeds"]), "grids": list(v["grids"]),
-            "period": P, "hurst": None if measured else float(v["hurst"]),
-            "lambda_short": None if measured else float(v["short"]) * P / v["grids"][0],
-            "lambda_long": None if measured else float(v["long"]) * P,
-            "b": rough_face(s, v), "a_smooth": a,
+        if measured else v.rms
+    return {"variant": i, "rms": rms, "measured": list(v.maps) if measured else None,
+            "hardness": v.hardness, "preload": v.preload,
+            "seeds": list(v.seeds), "grids": list(v.grids),
+            "period": P, "hurst": v.hurst,
+            "lambda_short": v.lambda_short,
+            "lambda_long": v.lambda_long,
+            "b": v.b, "a_smooth": a,
             "contact_area_over_smooth": float(np.mean(areas)) / smooth_area if areas else None,
             "verdicts": verdicts, **dict(zip(("holds", "grade"), metrics.judged_grade(eq))),
             "curves": [m["curve"] for m in sorted(mine, key=lambda m: m["seed"])
-                       if m["n"] == max(v["grids"]) and "curve" in m],
+                       if m["n"] == max(v.grids) and "curve" in m],
             "curves_by_grid": {str(n): [m.get("curve") for m in sorted(mine, key=lambda m: m["seed"]) if m["n"] == n]
-                               for n in v["grids"]},
+                               for n in v.grids},
             # the rough half-space in the apparatus (``in_apparatus``): per grid, per seed, its points, and
             # per point the ensemble on the ladder (``apparatus_points``)
             "apparatus_by_grid": by_grid, "apparatus": None if by_grid is None else apparatus_points(by_grid, v, P),
             "failed": [{k: m[k] for k in ("seed", "n", "failed")} for m in mine if "failed" in m]}
 
 
-def apparatus_points(by_grid: dict, v: dict, period: float) -> list:
+def apparatus_points(by_grid: dict, v: RoughVariant, period: float) -> list:
     """Per point run in the apparatus (``in_apparatus``; ``by_grid``: per grid, per seed, the member's
     points; the catalogue runs the finest grid only) the ensemble: the rough half-space's slip index
     (``rough_halfspace``: the mean at the finest grid, its standard error, the grid error of the mean where
@@ -281,7 +240,7 @@ def apparatus_points(by_grid: dict, v: dict, period: float) -> list:
     def number(x):
         return isinstance(x, (int, float)) and not isinstance(x, bool) and np.isfinite(x)
 
-    seeds, grids = list(v["seeds"]), [n for n in v["grids"] if str(n) in by_grid]
+    seeds, grids = list(v.seeds), [n for n in v.grids if str(n) in by_grid]
     points = []
     for runs in by_grid.get(str(grids[-1])) or []:
         for r in runs or []:

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from common.ladder import settling_error
-from mdr.loading import gross_slip_work
+from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
 
 from .. import metrics
 from . import result_of
@@ -70,7 +70,6 @@ def _tilt_settling(run, ref, relative, mu, F0, *, ref_cycles: bool = True) -> di
     ``mdr.loops.analyse_cycles``, in u_A as ``loop_du``; a ratcheting loop drifts in du while its
     dissipation has settled), which bound nothing; the contact area is no quantity of the cycles
     (None)."""
-    from mdr.loading import HARDLY_DISSIPATES
     from common.ladder import SETTLING_RATIO_MAX as r
 
     W = list(run.get("dissipation_per_cycle") or [])[1:]
@@ -109,6 +108,46 @@ def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
     return tol["dissipation"] if relative else max(tol["dissipation"] * abs(W0) / scale, DISSIPATION_FLOOR)
 
 
+def _levels(sv: Scene, v: dict, tilts, log) -> list:
+    """The 3D runs of one profile: per mesh level of ``sv.fe_levels`` one set-up (the loaded edge refined
+    by the variant's ``refine``/``band``), the aligned face and every tilt driven together
+    (``fem.contact_run.drive_3d_together``, settled), their keys per run."""
+    import warnings
+
+    from fem.contact_run import drive_3d_together
+    from fem.solid3d.estimators import contact_mask
+
+    levels = []
+    for j, h in enumerate(sv.fe_levels):
+        t0 = time.perf_counter()
+        law = fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
+        setup = time.perf_counter() - t0
+        runs = []
+        laws = [law.assuming(tilt=th) for th in tilts]
+        with warnings.catch_warnings():  # stationarity is reported per run
+            warnings.simplefilter("ignore", RuntimeWarning)
+            outs = drive_3d_together(laws, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
+        for th, lt, out in zip(tilts, laws, outs):
+            tk = lt.tilt_keys(sv.F0)
+            runs.append({"tilt": th, "contact_vertices": int(contact_mask(lt.model, lt.normal(F_N=sv.F0).p).sum()),
+                         **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
+                                                    "stationary", "dissipation_per_cycle", "cycle_change",
+                                                    "cycles_run", "settled")},
+                         "contact_area_fraction": tk["contact_area_fraction"],
+                         "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
+                         "loop": {k: out["loop"][k] for k in ("du", "Fx")},
+                         "runtime_s": out["runtime_s"]["cycles"]})
+        levels.append({"h": h, "refine": law.model.hmesh.params.refine_h, "band": law.model.hmesh.params.band_h,
+                       "dofs": law.model.ndofs, "vertices": law.n,
+                       "setup_s": setup, "runs": runs,
+                       "runtime_s": time.perf_counter() - t0})
+        mp = law.model.hmesh.params
+        edge = "".join(f", {k} {x:g} a_ref" for k, x in (("ball", mp.refine_h), ("band", mp.band_h)) if x is not None)
+        log(f"  {sv.name} h = {h:g} a_ref{edge} ({law.n} vertices): {len(tilts)} tilts in "
+            f"{levels[-1]['runtime_s']:.0f} s")
+    return levels
+
+
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     """Misalignment of the flat face (``tilt`` family): per profile, the aligned face and every tilt
     (``v["tilts"]``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.assuming``), the
@@ -122,11 +161,6 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     fewer than ``TILT_MIN_VERTICES`` vertices resolves nothing: its verdicts are None. ``holds_below``:
     the largest tilt up to which no swept tilt contradicts the aligned answer on the dissipation
     (graded holds or consistent within its spread: the two levels bound nothing)."""
-    import warnings
-
-    from fem.contact_run import drive_3d_together
-    from fem.solid3d.estimators import contact_mask
-
     from ..scenes import tilt_critical
 
     t_scene = time.perf_counter()
@@ -139,39 +173,13 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
         tilts = (0.0,) + tuple(float(t) for t in v["tilts"])
         mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
         mdr = mdr_ladder[-1]
-        levels = []
-        for j, h in enumerate(sv.fe_levels):
-            t0 = time.perf_counter()
-            law = fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
-            setup = time.perf_counter() - t0
-            runs = []
-            laws = [law.assuming(tilt=th) for th in tilts]
-            with warnings.catch_warnings():  # stationarity is reported per run
-                warnings.simplefilter("ignore", RuntimeWarning)
-                outs = drive_3d_together(laws, sv.loading, settle=(SETTLE_TOL_3D, SETTLE_MAX_CYCLES))
-            for th, lt, out in zip(tilts, laws, outs):
-                tk = lt.tilt_keys(sv.F0)
-                runs.append({"tilt": th, "contact_vertices": int(contact_mask(lt.model, lt.normal(F_N=sv.F0).p).sum()),
-                             **{k: out.get(k) for k in ("dissipation", "slip_index", "displacement_amplitude",
-                                                        "stationary", "dissipation_per_cycle", "cycle_change",
-                                                        "cycles_run", "settled")},
-                             "contact_area_fraction": tk["contact_area_fraction"],
-                             "contact_x_min": tk["contact_x_min"], "contact_x_max": tk["contact_x_max"],
-                             "loop": {k: out["loop"][k] for k in ("du", "Fx")},
-                             "runtime_s": out["runtime_s"]["cycles"]})
-            levels.append({"h": h, "refine": law.model.hmesh.params.refine_h, "band": law.model.hmesh.params.band_h,
-                           "dofs": law.model.ndofs, "vertices": law.n,
-                           "setup_s": setup, "runs": runs,
-                           "runtime_s": time.perf_counter() - t0})
-            mp = law.model.hmesh.params
-            edge = "".join(f", {k} {x:g} a_ref" for k, x in (("ball", mp.refine_h), ("band", mp.band_h)) if x is not None)
-            log(f"  {sv.name} h = {h:g} a_ref{edge} ({law.n} vertices): {len(tilts)} tilts in "
-                f"{levels[-1]['runtime_s']:.0f} s")
+        levels = _levels(sv, v, tilts, log)
         # the dissipation's unit, per reference: relative unless it hardly dissipates (the flat punch sticks)
         fine0 = levels[-1]["runs"][0]
 
         def relative(ref):
-            return abs(float(ref["dissipation"])) >= 0.01 * 4.0 * sv.mu * sv.F0 * float(ref["displacement_amplitude"])
+            return abs(float(ref["dissipation"])) >= HARDLY_DISSIPATES * float(
+                gross_slip_work(sv.mu, sv.F0, ref["displacement_amplitude"]))
 
         rel3, relm = relative(fine0), relative(mdr)
         hs = [lv["h"] for lv in levels]
