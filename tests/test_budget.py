@@ -16,7 +16,7 @@ import pytest
 
 from mdr.materials import Materials
 from validation import budget as B
-from validation.points import loop_point
+from validation.paper_points import loop_point
 
 MAT = Materials()
 

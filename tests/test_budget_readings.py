@@ -16,7 +16,7 @@ from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 from validation import budget_readings as BR
 from validation import spectra as SP
-from validation.points import RESOLUTION, loop_point
+from validation.paper_points import RESOLUTION, loop_point
 
 MAT = Materials()
 
@@ -128,7 +128,7 @@ def test_the_spheres_form_beyond_its_grid_widens_the_range_as_a_curvature():
 def test_a_face_reading_beyond_its_grid_leaves_the_cell_undetermined():
     """On the face b = 50 um the ISO reading leaves most of its variance beyond the grid of 4 radii: it is
     not run and, admitted, leaves the cell undetermined whatever the resolved readings say."""
-    from validation.points import Point
+    from validation.paper_points import Point
 
     c = SP.face(50e-6)
     names = [r.name for r in SP.READINGS]

@@ -16,7 +16,7 @@ from mdr.materials import Materials
 from mdr.paper import R_INDENTER
 from mdr.profiles import TruncatedSphere
 from validation import consistency as C
-from validation.points import loop_point
+from validation.paper_points import loop_point
 
 MAT = Materials()
 

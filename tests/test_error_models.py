@@ -60,9 +60,10 @@ def test_the_classes_of_the_bounds():
     assert b(0.0125, scale=2.0) == pytest.approx(2.0 * b.C * 0.0125)
 
 
-# the held-out scenes of the coverage test: the sphere in the Table 2 loading (not the closed-form load),
-# the truncated sphere with its kink at 0.36 a in the apparatus, and the closed-form anchor itself
-HELD_OUT = ("geom-sphere", "app-kx2", "sphere-md")
+# the held-out scenes of the coverage test: the sphere in the Table 2 loading (not the closed-form load) and
+# in the apparatus of Fig. 5, the truncated spheres with their kink at 0.18 a (Table 2's loading) and at
+# 0.36 a (in the apparatus), and the closed-form anchor itself
+HELD_OUT = ("geom-sphere", "exp-fig5", "geom-b5um", "app-kx2", "sphere-md")
 #: element sizes (h_contact) measured: the catalogue's levels and sizes between them, where the edges
 #: fall elsewhere in an element
 FE_SIZES = tuple(1 / n for n in (20, 28, 34, 40, 56, 68, 80, 113))
@@ -74,7 +75,8 @@ MDR_SIZES = (100, 128, 200, 400, 512, 800, 1600)
 @pytest.mark.parametrize("name", HELD_OUT)
 def test_the_bounds_contain_the_error_on_held_out_scenes(name, side):
     """Every measured size's error against the reference (a/320, 12800 cells) lies within the bound, on
-    scenes the calibration did not see (coverage 100 %); a metric without a bound is exact on that side."""
+    scenes the calibration did not see (coverage 100 %; measured at most 0.6 of the bound, asserted 1); a
+    metric without a bound is exact on that side."""
     from validation.catalogue import CATALOGUE
     from validation.scenes import a_ref
 

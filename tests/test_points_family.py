@@ -49,7 +49,7 @@ def test_the_traction_direction_costs_the_loop_of_fig4_nothing_in_the_apparatus(
     independent model of the same experiment) within 1.5 %, and turning the traction free moves it by
     less than 1e-3 (docs/budget.md: at most 1e-4 at every point, on the scene's finer ladder), with a
     finite error bar of the same order."""
-    from validation.points import loop_point
+    from validation.paper_points import loop_point
 
     r = fig4_direction
     mdr = point_slip_index(loop_point("fig4"))

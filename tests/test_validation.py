@@ -466,7 +466,7 @@ def test_tilt_scene_tiny(tmp_path):
     assert (tmp_path / res["files"]["tilt"]).exists()
     text = "\n".join(tilt.table(res))
     assert "tt[flat b = 100 um]" in text and "0.2 theta_c" in text
-    assert report.verdict(res) == (None, "see its table")
+    assert report.scene_outcome(res) == (None, "see its table")
     assert TILT_BOUND == pytest.approx(np.pi / 3600, rel=1e-15)
     with pytest.raises(Exception, match="tilt variants need fe_model='3d'"):
         Scene("tt2", "x", "flat", b=1e-4, family="tilt", variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,)},))

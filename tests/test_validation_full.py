@@ -370,11 +370,11 @@ def test_rough_flat_faces_in_the_catalogue(full):
 
 def _driven_by_the_apparatus(rows, eq_bound, smooth_above):
     """docs/rough.md, *Driven by the apparatus*: every row ran every point of its indenter
-    (validation.points.rough_points; a plastic surface those within its flattening load) on every seed
+    (validation.paper_points.rough_points; a plastic surface those within its flattening load) on every seed
     on the finest grid with a determined slip index and standard error; MDR with the equivalent profile follows the rough
     half-space within ``eq_bound`` at every point, the smooth indenter's MDR is off by more than
     ``smooth_above`` at one point of every row at least."""
-    from validation.points import Point, rough_points
+    from validation.paper_points import Point, rough_points
 
     for r in rows:
         want = [p for p in rough_points(r["b"]) if not r.get("hardness") or p.F0 + p.dF <= r["preload"] * (1 + 1e-9)]
@@ -485,7 +485,7 @@ def test_the_equivalent_profiles_bar_holds_the_rough_half_space_on_an_admitted_r
     from studies.paper import RES
     from validation import budget_readings as BR
     from validation import spectra as SP
-    from validation.points import loop_point
+    from validation.paper_points import loop_point
 
     _, out, sc = full
     E = BR.equivalent_error(lambda name: sc.get(name))

@@ -17,7 +17,7 @@ from mdr import Materials, MDRContact, Sphere, TruncatedSphere
 from mdr import reference as ref
 from mdr.stick import stick_radius
 from validation import metrics
-from validation.report import verdict as scene_verdict
+from validation.report import scene_outcome
 from mdr.drive import run_mdr_contact
 from mdr.loading import Loading
 
@@ -102,7 +102,7 @@ def test_scene_verdict_is_the_conjunction():
     assert metrics.conjunction({"a": ok, "b": und}) is None
     assert metrics.conjunction({"a": und, "b": bad}) is False
     res = {"verdicts": {"dissipation": bad, "contact_radius": ok}}
-    holds, why = scene_verdict(res)
+    holds, why = scene_outcome(res)
     assert holds is False and "dissipation" in why
 
 

@@ -53,7 +53,7 @@ from pathlib import Path
 
 from mdr.paper import R_INDENTER
 
-from .points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, difference_with_grid, point_slip_index, results, slip_indices
+from .paper_points import RESOLUTION, RESOLUTION_ORIGIN, Point, contact_radius, difference_with_grid, point_slip_index, results, slip_indices
 from .catalogue import CATALOGUE
 from .scenes import TILT_BOUND
 from .sources import code_version

@@ -47,7 +47,7 @@ from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 
 from . import spectra as SP
-from .points import RESOLUTION, Point, point_slip_index, rough_row_b, slip_indices
+from .paper_points import RESOLUTION, Point, point_slip_index, rough_row_b, slip_indices
 from .scenes import ROUGH_FACES_B
 
 R_INDENTER = SP.R_INDENTER
@@ -348,7 +348,7 @@ def plates_consistency(log=None) -> list:
     from mdr.profiles import TruncatedSphere
 
     from .consistency import FIGURES, check
-    from .points import loop_point
+    from .paper_points import loop_point
 
     (log or (lambda m: None))("budget: the paper's loops against the readings of the brass plates")
     rows = []

@@ -27,9 +27,9 @@ def _um(x):
 
 
 def _points_scene(sc: list) -> Scene:
-    """The scene ``halfspace-points``: every point of the paper's results (``validation.points``) with a
+    """The scene ``halfspace-points``: every point of the paper's results (``validation.paper_points``) with a
     face (b > 0) that no apparatus scene of ``sc`` runs; they all lie at Table 2's load."""
-    from .points import results
+    from .paper_points import results
 
     ran = [s for s in sc if s.drive == "apparatus"]
     base = Scene("halfspace-points", "The half-space at the paper's points: FE against MDR in the apparatus",
@@ -57,11 +57,11 @@ DIRECTION_LEVELS_3D = (0.2, 0.14)
 
 
 def _direction_points_scene() -> Scene:
-    """The scene ``direction-points``: every point of the paper's results (``validation.points``) in the
+    """The scene ``direction-points``: every point of the paper's results (``validation.paper_points``) in the
     3D model, the traction free against along x, each variant the point's own fields."""
     from dataclasses import asdict
 
-    from .points import results
+    from .paper_points import results
 
     points = list(dict.fromkeys(p for r in results() for p in r.points))
     return Scene("direction-points", "Mindlin's traction direction at the paper's points: 3D in the apparatus",

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .points import loop_point
+from .paper_points import loop_point
 
 #: the loop experiments, the contact each checks and the regime the paper reports
 FIGURES = {"fig4": "sphere", "fig5": "sphere", "fig6": "face", "fig7": "face"}

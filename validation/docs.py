@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 
 from . import families
-from .report import summary_cell, verdict
+from .report import scene_outcome, summary_cell
 from .text import num
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
@@ -42,7 +42,7 @@ def catalogue_table(scenes: dict) -> list:
     for n, r in scenes.items():
         if families.of_result(r) != "pair":
             continue
-        ok, why = verdict(r)
+        ok, why = scene_outcome(r)
         text = {True: "**holds**", False: f"**fails**: {why}", None: why}[ok]
         lines.append(f"| {n} | {summary_cell('contact_radius', r)} | {summary_cell('stick_radius', r)} | "
                      f"{summary_cell('dissipation', r)} | {num(r['mdr'].get('slip_index'), '.3f')} / "

@@ -60,7 +60,7 @@ def git_commit() -> str | None:
         return None
 
 
-def verdict(res: dict) -> tuple[bool | None, str]:
+def scene_outcome(res: dict) -> tuple[bool | None, str]:
     """The scene's verdict (the conjunction of its metrics) and the metrics that decide it: those
     that fail, else those that are undetermined, else those only consistent within a spread or
     below resolution (``validation.metrics.GRADES``)."""
@@ -406,7 +406,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
         if families.of_result(r) != "pair":
             L.append(f"| [{n}](#{n}) | | | | | | | | see its table |")
             continue
-        ok, why = verdict(r)
+        ok, why = scene_outcome(r)
         text = {True: "**holds**", False: f"**fails**: {why}", None: why}[ok]
         if st not in ("ok", "skipped", "stored"):
             text = f"this run failed ({st}); the row shows the previous result"
@@ -443,7 +443,7 @@ def render_report(results: dict, names, status: dict, *, summary_figs=None, hard
             if mod.KEY in r.get("files", {}):
                 L += [f"![{mod.TITLE}]({d}/{r['files'][mod.KEY]})", ""]
             continue
-        ok, why = verdict(r)
+        ok, why = scene_outcome(r)
         L += [bottom_line(r), ""]
         L += [f"Verdict: **{grade_text({'grade': scene_grade(r.get('verdicts') or {})}).strip('*')}** ({why}).", ""]
         L += _error_parts_lines(r)

@@ -85,6 +85,8 @@ def _coupled_operators(rf: RelativeFlexibility, on_plane) -> tuple:
     return _held_by(_COUPLED, rf.K, on_plane, build)
 
 
+# 132 lines, above the house limit of 120 for a stated reason: one Newton solve whose residual, line search
+# and factorisation share the iterate's split and the kept unknowns; apart they would pass a dozen arrays
 def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
     """``solve_coupled3d`` by one semi-smooth Newton method on the unknowns (p, q, [d], [u]) and the
     residuals

@@ -1,4 +1,4 @@
-"""The family ``points``: the paper's results at their own apparatus points (``validation.points``),
+"""The family ``points``: the paper's results at their own apparatus points (``validation.paper_points``),
 each point a task of the scene (``tasks``, ``member``), so a comparison spreads them over its workers.
 What a point measures is what the scene's FE model relaxes beyond MDR there:
 
@@ -26,7 +26,7 @@ from pathlib import Path
 
 from .. import metrics
 from . import members_of, result_of_members
-from ..points import RESOLUTION, SCENE_FIELDS
+from ..paper_points import RESOLUTION, SCENE_FIELDS
 from ..scenes import Scene
 from ..text import grade_text, num
 
@@ -40,7 +40,7 @@ KEPT = ("contact_radius", "dissipation", "slip_index", "loop_Fx", "loop_du")
 
 def point_variant(s: Scene, v: dict) -> Scene:
     """The scene of one point: ``v`` sets ``kx`` and may set the other fields of a point
-    (``validation.points.SCENE_FIELDS``: ``b``, 0 the sphere, else the truncated sphere's face radius;
+    (``validation.paper_points.SCENE_FIELDS``: ``b``, 0 the sphere, else the truncated sphere's face radius;
     the load F0, dF, the amplitude ``ua``, the friction mu1, mu2); the rest (ladders, steps, FE model)
     is the scene's."""
     kw = {SCENE_FIELDS[k]: float(x) for k, x in v.items() if k in SCENE_FIELDS}

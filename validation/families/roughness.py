@@ -101,7 +101,7 @@ def member(s: Scene, task: dict) -> dict:
 def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) -> list:
     """The rough half-space driven by the apparatus (``rough.law.RoughContact`` in
     ``mdr.apparatus.run_apparatus``) at each of the paper's points whose rough contact is this indenter
-    (``validation.points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
+    (``validation.paper_points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
     at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough half-space's
     slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point its fields
     and each model's slip index (None where the curve ends below the point's largest force); a point
@@ -116,7 +116,7 @@ def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) ->
     from rough.law import RoughContact
     from studies.paper import RES, _slip_index
 
-    from ..points import rough_points
+    from ..paper_points import rough_points
     from ..sides import materials_of
 
     b, hardness, preload = v.b, v.hardness, v.preload
@@ -386,7 +386,7 @@ def apparatus_table(rows: list) -> list:
     if not lines:
         return []
     return ["", "In the apparatus (rough.law): the rough half-space driven by the paper's apparatus at the "
-            "points whose contact each row's indenter is (validation.points.rough_points; 3 cycles of 120 "
+            "points whose contact each row's indenter is (validation.paper_points.rough_points; 3 cycles of 120 "
             "steps, F_N = F0 (1 + 0.2 sin)) on the finest grid of the ladder, its slip index as the ensemble's "
             "mean +- standard error; the smooth indenter's (MDR, the paper's model) and what MDR with each "
             "surface's equivalent profile misses of the rough half-space (mean +- standard error).", "",
