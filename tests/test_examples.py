@@ -62,3 +62,27 @@ def test_every_example_is_run_by_a_test():
     rough engine's (slow, tamaas), by tests/test_rough_equivalent.py."""
     tested = {"mdr_hertz_mindlin", "apparatus_point", "truncated_sphere_pressure", "rough_equivalent"}
     assert {p.stem for p in EXAMPLES.glob("*.py")} <= tested
+
+
+def test_every_example_renders_into_the_docs_site_whole():
+    """The docs site's Examples pages (``docs/hooks/examples.py``): each script's page holds all its code,
+    in order, and its prose (the code blocks joined are the script's lines after the docstring that are
+    not comments; every comment's words are on the page), titled by the docstring's first line."""
+    import re
+
+    spec = importlib.util.spec_from_file_location("examples_hook", EXAMPLES.parent / "hooks" / "examples.py")
+    hook = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(hook)
+    scripts = sorted(EXAMPLES.glob("*.py"))
+    assert len(scripts) >= 4
+    for path in scripts:
+        src = path.read_text()
+        page = hook.render(src)
+        assert page.startswith("# "), path.name
+        shown = [ln for block in re.findall(r"```python\n(.*?)\n```", page, flags=re.S) for ln in block.split("\n")]
+        body = src.split('"""', 2)[2].split("\n")[1:]  # after the module docstring
+        code = [ln for ln in body if not re.match(r"^# ?", ln) or "noqa" in ln]
+        assert [ln for ln in shown if ln.strip()] == [ln for ln in code if ln.strip()], path.name
+        for ln in body:
+            if ln.startswith("# ") and "noqa" not in ln:
+                assert ln[2:].lstrip("# ") in page, (path.name, ln)
