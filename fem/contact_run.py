@@ -72,8 +72,15 @@ def run_fem_contact(profile, materials, mu, loading: Loading, options: FEOptions
     return out
 
 
-#: steps of the frictional normal loading before the cycles of a 3D run
+#: steps of the frictional normal loading before the cycles of a 3D run whose loading states none
+#: (``with_normal_loading``; with coupling, slip during the normal loading locks traction in)
 RAMP_STEPS = 20
+
+
+def with_normal_loading(loading: Loading) -> Loading:
+    """The loading of a 3D run: its own normal loading (``Loading.normal_steps``), or ``RAMP_STEPS`` steps
+    where it states none; the result's ``normal_loading`` says which ran."""
+    return loading if loading.normal_steps else replace(loading, normal_steps=RAMP_STEPS)
 
 
 def check_paired(materials, options: FEOptions, vtu=None) -> None:
@@ -154,8 +161,8 @@ def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu
     t0 = time.perf_counter()
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
-    (log or (lambda msg: None))(f"set-up {t1 - t0:.1f} s ({law.model.n} vertices); the frictional normal ramp of "
-                                f"{RAMP_STEPS} steps, then {loading.cycles} cycles of {loading.steps} steps"
+    (log or (lambda msg: None))(f"set-up {t1 - t0:.1f} s ({law.model.n} vertices); the frictional normal loading of "
+                                f"{with_normal_loading(loading).normal_steps} steps, then {loading.cycles} cycles of {loading.steps} steps"
                                 + (" (and the paired run, its traction along x)" if paired else ""))
     if paired:
         out, out_x = drive_3d_together([law, law.assuming(traction="x")], loading, t_setup=t1 - t0)
@@ -197,9 +204,9 @@ def settled(W, tol, gross=0.0) -> bool:
 def drive_3d(law, loading: Loading, *, t_setup=0.0, state_at=None, settle=None):
     """A fretting run of a built 3D law (``fem.solid3d.law.FEContact3D``) under ``loading`` (``Loading.of``):
     the normal load applied in
-    ``RAMP_STEPS`` steps with friction active (with coupling, slip during the normal loading locks
-    traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from
-    that state. Returns the result dict with the law's 3D keys (and the state at step
+    the loading's ``normal_steps`` (``RAMP_STEPS`` where it states none: ``with_normal_loading``) with friction
+    active (with coupling, slip during the normal loading locks traction into the stick zone, Spence 1975),
+    then the cycles of ``mdr.drive.run_contact`` from that state (both there: ``mdr.drive.normal_loading``). Returns the result dict with the law's 3D keys (and the state at step
     ``state_at`` of the cycles if given); without ``state_at`` also ``per_cycle``, the stick-zone
     keys at every cycle's peak (``fem.solid3d.runs.cycle_keys``), beside ``dissipation_per_cycle``.
     ``settle`` = (tol, max_cycles): run on until the dissipation settles (``drive_3d_together``)."""
@@ -241,6 +248,7 @@ class _Run3D:
     """One 3D run of ``drive_3d_together``: started, continued block by block, finished."""
 
     def __init__(self, law, loading, t_setup):
+        loading = with_normal_loading(loading)
         self.law, self.loading, self.steps, self.t_setup = law, loading, loading.steps, t_setup
         self.elapsed = 0.0  # this run's own time (the runs of a lockstep interleave)
 
@@ -249,14 +257,9 @@ class _Run3D:
         return run_contact(self.law, loading, on_history=lambda H: setattr(self, "history", H), **kw)
 
     def start(self, state_at=None):
-        import numpy as np
-
         t = time.perf_counter()
         law, ld = self.law, self.loading
-        st = law.rest_state()
-        for f in np.arange(1, RAMP_STEPS + 1) / RAMP_STEPS * float(ld.normal_force(0.0)):
-            _, st = law.step(st, Fx=0.0, F_N=f)
-        out, self.state = self._run(ld, state0=st, state_at=state_at, return_state=state_at is None)
+        out, self.state = self._run(ld, state_at=state_at, return_state=state_at is None)  # its normal loading first
         self.per_cycle = runs.cycle_keys(law, self.history, self.steps) if state_at is None else None
         # the centres are taken at the first peak of F_x of the first run (the first loading)
         self.centres = runs.first_loading_keys(law, self.history)
@@ -289,7 +292,6 @@ class _Run3D:
             out["per_cycle"] = self.per_cycle
         out.setdefault("settled", None)
         out["cycles_run"] = self.done
-        out["normal_ramp_steps"] = RAMP_STEPS
-        out["runtime_s"]["per_step"] = self.elapsed / (RAMP_STEPS + self.done * self.steps)  # ramp included
+        out["runtime_s"]["per_step"] = self.elapsed / (self.loading.normal_steps + self.done * self.steps)
         out["model"] = "3d"
         return out

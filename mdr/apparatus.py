@@ -245,11 +245,8 @@ class Apparatus:
 def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_factory=None, xtol=1e-15,
                   state_at=None):
     """Run the apparatus with contact law ``law`` (``mdr.protocol.ContactLaw``, batch allowed; its ``mu``
-    is the friction of the slip index too) under ``loading`` (drive ``"apparatus"``: the piezo
-    amplitude, ``Loading.apparatus``).
-
-    The loading's ``dF`` and ``alpha`` and the array fields of ``app`` may be batch arrays (one
-    value per scene of the law's batch).
+    is the friction of the slip index too) under ``loading`` (drive ``"apparatus"``: the piezo amplitude,
+    ``Loading.apparatus``); its ``dF``, ``alpha`` and ``app``'s array fields may be batch arrays.
     Returns a dict with per-step arrays (t, Fx, FN, u1, u2, u3, du, Fbed; ub and tilt:
     bedding-plane displacement and tilt of the block, A3) and the
     cycle analysis (dW per cycle, stationarity, slip index of the last cycle);
@@ -258,6 +255,9 @@ def run_apparatus(law: ContactLaw, app: Apparatus, loading: Loading, bed_law_fac
     """
     if loading.drive != "apparatus":
         raise InputError(f"the apparatus is driven by its piezo (Loading.apparatus), got drive {loading.drive!r}")
+    if loading.normal_steps:
+        raise InputError(f"normal_steps must be 0 in the apparatus (its first step applies the normal force with the "
+                         f"piezo's), got {loading.normal_steps}")
     mu = loading.check_friction(law.mu)
     F0 = loading.F0
     batch = law.batch
@@ -443,6 +443,7 @@ def apparatus_result(law: ContactLaw, app: Apparatus, loading: Loading, state_at
         "slip_index": None if not np.isfinite(delta) else delta,
         "dissipation_per_cycle": cyc.dissipation.tolist(),
         "stationary": bool(cyc.last_is_stationary),
+        "normal_loading": {"steps": 0, "friction": True, "F_x": 0.0},  # the first step applies F_N (run_apparatus)
         "cycle_change": cyc.last_change(),
         "evaluations_per_step": out["evaluations_per_step"],
         "runtime_s": time.perf_counter() - t0,

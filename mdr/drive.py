@@ -31,6 +31,17 @@ def run_mdr_contact(profile: Profile, materials: Materials, mu, loading: Loading
     return run_contact(mdr_law(profile, materials, mu, loading, n), loading, **kw)
 
 
+def normal_loading(law: ContactLaw, loading: Loading, state=None):
+    """The law's state after the loading's normal loading (``Loading.normal_steps``): F_N from rest (or
+    ``state``) up to F_N(0) in equal steps with friction active and F_x = 0; ``state`` itself where the
+    loading has none. The same for every law (``mdr.protocol.ContactLaw.step``)."""
+    st = law.rest_state() if state is None else state
+    n = loading.normal_steps
+    for f in np.arange(1, n + 1) / max(n, 1) * float(np.ravel(loading.normal_force(0.0))[0]):
+        _, st = law.step(st, Fx=0.0, F_N=f)
+    return st
+
+
 def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None, return_state: bool = False,
                 on_history=None):
     """Drive a contact law directly with ``loading`` (drive ``"force"`` or ``"displacement"``); returns
@@ -39,8 +50,9 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     ``law`` is any ``mdr.protocol.ContactLaw`` (its ``run``; ``mdr_law`` for MDR's); its ``mu`` is the
     friction of the slip index too. ``state_at`` (a step index): also return the law's state
     after that step, as ``(result, state)`` (the history is run in two pieces,
-    which gives the same result). ``state0``: the law's state to start from (default its rest
-    state), e.g. after a normal loading with friction active. ``return_state``: also return the
+    which gives the same result). ``state0``: the law's state to start from (a continued history);
+    default: its rest state after the loading's normal loading (``normal_loading``; the result's
+    ``normal_loading`` says which preceded the cycles). ``return_state``: also return the
     law's state at the end, as ``(result, state)``, to continue the history (a run of k cycles
     from it continues this one: every cycle starts at the same phase); not with ``state_at``.
     ``on_history``: called with the run's whole ``mdr.law.History`` (one history also where it ran in
@@ -57,6 +69,9 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     t, FN, drive = loading.times(), loading.normal_force(), loading.tangential()
     key = "u" if loading.drive == "displacement" else "Fx"
     kept = None
+    ramp = {"steps": loading.normal_steps, "friction": True, "F_x": 0.0} if state0 is None else None
+    if state0 is None and loading.normal_steps:
+        state0 = normal_loading(law, loading)
     first = loading.last_cycle.start  # the last (stationary) cycle: steps first .. first + steps
     if state_at is None:
         H = law.run(**{key: drive}, F_N=FN, record_from=first, state=state0)
@@ -100,6 +115,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
         "tangential_work_first_cycle": first_path,
         "dissipation_open_path": float(cyc.dissipation[0]),
         "stationary": stationary,
+        "normal_loading": ramp,  # None: a continued history (its first run's holds it)
         "cycle_change": cyc.last_change(),
         "first_stationary_cycle": int(cyc.first_stationary),
         "runtime_s": runtime,

@@ -44,7 +44,10 @@ class Loading:
     0 <= dF <= F0 (the normal force never tensile), alpha finite, amplitude > 0 in the unit of its
     ``drive``, cycles >= 2, steps a multiple of 4 (the load reversals are sampled), >= 8.
     ``dF`` and ``alpha`` may be batch arrays (one value per scene of a batch law, the apparatus's
-    studies); every other field is one number."""
+    studies); every other field is one number. ``normal_steps`` >= 0: the normal loading before the
+    cycles, from rest to F_N(0) in that many steps with friction active and F_x = 0 (``mdr.drive.
+    normal_loading``; with coupling, slip during it locks traction in, Spence 1975); 0: none, the first step
+    of the cycles applies the normal force with the tangential load."""
 
     F0: float
     amplitude: float
@@ -53,6 +56,7 @@ class Loading:
     alpha: float = 0.0
     cycles: int = 3
     steps: int = 400
+    normal_steps: int = 0
 
     def __post_init__(self):
         if self.drive not in DRIVES:
@@ -69,8 +73,9 @@ class Loading:
         steps = positive_int("steps", self.steps, minimum=8)
         if steps % 4:
             raise InputError(f"steps must be a multiple of 4 (so the load reversals are sampled), got {steps}")
+        normal_steps = positive_int("normal_steps", self.normal_steps, minimum=0)
         for k, v in (("F0", F0), ("dF", dF), ("amplitude", amplitude), ("alpha", alpha), ("cycles", cycles),
-                     ("steps", steps)):
+                     ("steps", steps), ("normal_steps", normal_steps)):
             object.__setattr__(self, k, v)
 
     @classmethod

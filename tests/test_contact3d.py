@@ -954,7 +954,7 @@ def test_cli_model_3d_dissimilar_keys(tmp_path, capsys):
               "indentation", "bulk_compliance"):
         assert k in r, k
     assert r["model"] == "3d" and r["displacement"] == "contact" and r["traction"] == "free"
-    assert r["normal_ramp_steps"] == 20 and r["bulk_compliance"] > 0
+    assert r["normal_loading"] == {"steps": 20, "friction": True, "F_x": 0.0} and r["bulk_compliance"] > 0
     assert 0.10 < r["beta"] < 0.12 and r["dissipation_first_cycle"] > 0 and r["dissipation_open_path"] > 0
 
 
