@@ -40,14 +40,15 @@ def peak_index(s: Scene) -> int:
 
 def drive(s: Scene, law):
     """Run the scene's loading with ``law``; returns (result dict, state at the peak step). A 3D FE law
-    driven directly gets the same frictional normal ramp as ``python -m fem contact --model 3d``
-    (``fem.contact_run.drive_3d``)."""
+    driven directly runs through ``fem.contact_run.drive_3d`` for its 3D keys, as ``python -m fem contact
+    --model 3d`` does; every result states the normal loading that preceded its cycles (``normal_loading``:
+    the scene's ``Loading.normal_steps``, 20 for a 3D law where it states none)."""
     k = peak_index(s)
     if s.drive == "apparatus":
         return apparatus_result(law, Apparatus(kx=s.kx, mu2=s.mu2), s.loading, state_at=k)
     from fem.solid3d.law import FEContact3D
 
-    if isinstance(law, FEContact3D):  # the 3D law: its frictional normal ramp first
+    if isinstance(law, FEContact3D):  # the 3D law: its per-cycle 3D keys
         from fem.contact_run import drive_3d
 
         return drive_3d(law, s.loading, state_at=k)
