@@ -131,12 +131,14 @@ def study_outputs(name: str, app_kw=None) -> tuple[dict, dict]:
         data = loops(app_kw=app_kw)
         files["loops.json"] = dumps_json(data).encode()
         fig, axes = plt.subplots(len(data), 2, figsize=(8, 2.6 * len(data)))
-        for row, (key, d) in zip(axes, data.items()):
-            row[0].plot(np.asarray(d["FN"]), np.asarray(d["Fx"]) * 1e3, "r")
+        for i, (row, (key, d)) in enumerate(zip(axes, data.items())):
+            row[0].plot(np.asarray(d["FN"]), np.asarray(d["Fx"]) * 1e3, "r", label="MDR, smooth indenter")
             row[0].set_xlabel("F_N (N)")
             row[0].set_ylabel("F_x (mN)")
+            if i == 0:  # one curve per panel, the same model throughout
+                row[0].legend(fontsize=7, loc="upper left")
             row[1].plot(np.asarray(d["du"]) * 1e9, np.asarray(d["Fx"]) * 1e3, "r")
-            row[1].set_xlabel("du = u_2 - u_1 (nm): block minus indenter foundation, the contact's slip")
+            row[1].set_xlabel("du = u_2 - u_1 (nm), the contact's slip")
             row[0].set_title(f"{key}: {d['profile']} F0 = {d['F0']} N, u_A = {d['ua'] * 1e9:g} nm, "
                              f"delta = {d['slip_index']:.2f}, on limit {100 * d['on_limit']:.0f} %",
                              fontsize=8, loc="left")
