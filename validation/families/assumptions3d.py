@@ -236,11 +236,14 @@ def figure(result: dict, out_dir) -> dict:
                 ax.errorbar([hs[-1]], [ys[-1]], yerr=[100 * err], color=line.get_color(), capsize=4)
         tol = rows[0]["verdicts"][q]["tolerance"] if rows else None
         if tol:
-            ax.axhspan(-100 * tol, 100 * tol, color="0.9", zorder=0)
+            ax.axhspan(-100 * tol, 100 * tol, color="0.9", zorder=0, label="the catalogue's tolerance")
         ax.axhline(0.0, color="0.5", lw=0.8)
         ax.set_xscale("log")
+        levels = sorted({x["h"] for r in rows for x in r["levels"]}, reverse=True)
+        ax.set_xticks(levels, [f"a/{1 / h:.3g}" for h in levels])  # the mesh levels, not a decade's ticks
+        ax.minorticks_off()
         ax.invert_xaxis()
-        ax.set_xlabel("element size on the contact / a_ref")
+        ax.set_xlabel("element size on the contact (a = a_ref)")
         ax.set_ylabel(f"relaxed - imposed ({unit})", fontsize=8)
         ax.set_title(q.replace("_", " "), fontsize=10)
         ax.grid(alpha=0.3, which="both")
