@@ -396,7 +396,8 @@ def apparatus_table(rows: list) -> list:
 
 def figure(result: dict, out_dir) -> dict:
     """Each MDR model's difference from the rough half-space against the rms height: the members
-    (dots) and the ensemble mean with its error bar; grey: the catalogue's tolerance."""
+    (dots) and the ensemble mean with its error bar (a column without one says why); grey: the
+    catalogue's tolerance."""
     from ..figures import plt, save
 
     rows = result[KEY]
@@ -412,10 +413,15 @@ def figure(result: dict, out_dir) -> dict:
                         color=f"C{k}", alpha=0.5)
                 if x["difference"] is not None and x["error"] is not None:
                     xs.append(pos), ys.append(100 * x["difference"]), es.append(100 * x["error"])
+                elif k == 0:  # no ensemble mean: say why at the column's foot
+                    sticks = "zero reference" in (x.get("grid_status") or [])
+                    ax.annotate("undetermined: a surface sticks on a grid" if sticks else "undetermined",
+                                (j, 0.5), xycoords=("data", "axes fraction"), ha="center", va="center",
+                                rotation=90, fontsize=7, color="0.3")
             ax.errorbar(xs, ys, yerr=es, fmt=mk, color=f"C{k}", capsize=4, label=label)
         tol = rows[0]["verdicts"][f"mdr_equivalent:{q}"]["tolerance"] if rows else None
         if tol:
-            ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0)
+            ax.axhspan(-100 * tol, 100 * tol, color="0.85", zorder=0, label="the catalogue's tolerance")
         ax.axhline(0.0, color="0.5", lw=0.8)
         faces = any(r.get("b") for r in rows)
         ax.set_xticks(range(len(rows)), [rms_text(r["rms"]) + ("\n" + indenter_text(r.get('b', 0.0)).removeprefix('b = ') if faces else "")
