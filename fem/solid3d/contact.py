@@ -163,18 +163,19 @@ class TangentialResult:
     method: str
 
 
-def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None, u0=None,
+def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None, u0=None,
                        max_iter=50, fista_iter=20000):
     """One Coulomb increment (module docstring): displacement ``u`` (m) or the half model's
     tangential force ``force`` (N; sum A_j q_xj) prescribed. ``g`` (n,) slip limits mu p (Pa),
-    ``P_old`` (n, 2) the weighted slip of the last step, ``on_plane`` (n,) vertices on y = 0
-    (q_y = 0 there). ``q0``, ``u0``: a start (e.g. the previous step); by default under force
+    ``P_old`` (n, 2) the weighted slip of the last step, ``qy_zero`` (n,) the vertices whose q_y is held
+    at 0: those on the symmetry plane y = 0 (the traction of free direction), or all of them (Mindlin's
+    traction along x; ``fem.solid3d.law``). ``q0``, ``u0``: a start (e.g. the previous step); by default under force
     control the full-stick solution scaled to the force. Returns a :class:`TangentialResult`."""
     if (force is None) == (u is None):
         raise ValueError("give exactly one of force and u")
     n = A.size
     # unknown layout: q_x (n), q_y at vertices off the plane (ny), [u]
-    yi, D, cd, dz_dv = _reduced(Dt, on_plane)
+    yi, D, cd, dz_dv = _reduced(Dt, qy_zero)
     m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d u, restricted
     Pold = _pack(np.asarray(P_old), yi)
@@ -267,12 +268,12 @@ def solve_tangential3d(Dt, A, g, P_old, on_plane, *, u=None, force=None, q0=None
             break
         v, dl, R, s, z = v + t * dv, dl + t * ddl, Rt, st, zt
     if fc:
-        return _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter)
+        return _tangential_force_by_secant(Dt, A, g, P_old, qy_zero, force, q0, fista_iter)
     vq, r = _fista(D, dl * ex - Pold, unpack, pack, g, fista_iter, tolR, v)
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
 
 
-def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
+def tangential_slope(Dt, A, g, qy_zero, q, r) -> float:
     """d(sum_j A_j q_xj)/du (N/m, half model) of a displacement-controlled Coulomb increment at
     its solution: traction ``q`` (n, 2), slip increments ``r`` (n, 2) = s - P_old (weighted, m^3).
     The consistent tangent of the semi-smooth residual (:func:`solve_tangential3d`): stick
@@ -285,7 +286,7 @@ def tangential_slope(Dt, A, g, on_plane, q, r) -> float:
     n = A.size
     if not np.any(g > 0):
         return 0.0
-    yi, D, cd, dz_dv = _reduced(Dt, on_plane)
+    yi, D, cd, dz_dv = _reduced(Dt, qy_zero)
     ex = np.concatenate([A, np.zeros(yi.size)])
     c = cd[:n]
     cy = np.zeros(n)
@@ -329,11 +330,11 @@ def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
                            f"(residual {R / (np.max(g) + 1e-300):.3g} of the largest slip limit)")
 
 
-def _tangential_force_by_secant(Dt, A, g, P_old, on_plane, force, q0, fista_iter):
+def _tangential_force_by_secant(Dt, A, g, P_old, qy_zero, force, q0, fista_iter):
     """Force control fallback: the total force is continuous and nondecreasing in u; regula
     falsi (Illinois) on displacement-controlled increments."""
     def total(dl):
-        out = solve_tangential3d(Dt, A, g, P_old, on_plane, u=dl, q0=q0, fista_iter=fista_iter)
+        out = solve_tangential3d(Dt, A, g, P_old, qy_zero, u=dl, q0=q0, fista_iter=fista_iter)
         return A @ out.q[:, 0] - force, out
 
     scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(Dt)) / np.min(A)) + 1e-300
@@ -354,7 +355,7 @@ class Cycle3D:
     P: list  # weighted slip (n, 2) per step
 
 
-def tangential_history(Dt, A, g, on_plane, Fx=None, u=None):
+def tangential_history(Dt, A, g, qy_zero, Fx=None, u=None):
     """Run a tangential history (full-body forces ``Fx`` or displacements ``u``, starting from
     a tangentially unloaded contact) at fixed slip limits ``g`` (Pa). The friction work of an
     increment is sum_j q_j . (P_j,new - P_j,old) over the vertices in contact (weighted slip,
@@ -369,15 +370,15 @@ def tangential_history(Dt, A, g, on_plane, Fx=None, u=None):
     out = Cycle3D(np.zeros(hist.size), np.zeros(hist.size), np.zeros(hist.size), [], [])
     contact = g > 0
     with blas_threads(1):
-        return _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact)
+        return _history(Dt, A, g, qy_zero, Fx, hist, P, q, dl, out, contact)
 
 
-def _history(Dt, A, g, on_plane, Fx, hist, P, q, dl, out, contact):
+def _history(Dt, A, g, qy_zero, Fx, hist, P, q, dl, out, contact):
     for k, h in enumerate(hist):
         if Fx is not None:
-            r = solve_tangential3d(Dt, A, g, P, on_plane, force=h / 2, q0=q, u0=dl)
+            r = solve_tangential3d(Dt, A, g, P, qy_zero, force=h / 2, q0=q, u0=dl)
         else:
-            r = solve_tangential3d(Dt, A, g, P, on_plane, u=h, q0=q)
+            r = solve_tangential3d(Dt, A, g, P, qy_zero, u=h, q0=q)
         q, dl = r.q, r.u
         Pn = r.s
         out.work[k] = 2.0 * float(np.sum((r.q * (Pn - P))[contact]))
@@ -411,14 +412,14 @@ def predict(state, A, g, u, Fx):
     return project_disk(q + f * dq, g), state.u + f * state.du
 
 
-def coulomb_increment(Dt, A, g, P_old, on_plane, state, *, u=None, Fx=None) -> TangentialResult:
+def coulomb_increment(Dt, A, g, P_old, qy_zero, state, *, u=None, Fx=None) -> TangentialResult:
     """The Coulomb increment of an uncoupled pair at fixed slip limits ``g`` = mu p: displacement-driven
     (``u``) or force-driven (``Fx``, the whole model's: the half model carries half), started from the
     last step's state moved by ``predict``; without any slip limit the contact takes the displacement."""
     if not np.any(g > 0):
-        return solve_tangential3d(Dt, A, g, P_old, on_plane, u=float(state.u if u is None else u))
+        return solve_tangential3d(Dt, A, g, P_old, qy_zero, u=float(state.u if u is None else u))
     if u is not None:
         q0, _ = predict(state, A, g, u, None)
-        return solve_tangential3d(Dt, A, g, P_old, on_plane, u=u, q0=q0)
+        return solve_tangential3d(Dt, A, g, P_old, qy_zero, u=u, q0=q0)
     q0, u0 = predict(state, A, g, None, Fx)
-    return solve_tangential3d(Dt, A, g, P_old, on_plane, force=Fx / 2, q0=q0, u0=u0)
+    return solve_tangential3d(Dt, A, g, P_old, qy_zero, force=Fx / 2, q0=q0, u0=u0)

@@ -19,7 +19,7 @@ from fem.solid3d.newton_blocks import (_COLUMNS, _held_by, _last_blocks, _pack, 
                                        _projection_derivative, _reduced, _unpack)
 
 
-def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_n=None, d=None, u=None,
+def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, qy_zero, *, F_n=None, d=None, u=None,
                     F_t=None, q0=None, u0=None, p0=None, tol=1e-9, max_iter=200, method="newton"):
     """One increment of the coupled problem of a dissimilar pair (module docstring): the normal
     gap feels the tangential traction and the slip the pressure through ``rf.K``,
@@ -40,7 +40,7 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_
     if method not in ("newton", "alternate"):
         raise ValueError(f"method must be 'newton' or 'alternate', got {method!r}")
     if method == "newton" and rf.K is not None:
-        out = _coupled_newton(rf, gap0, A, mu, P_old, on_plane, F_n=F_n, d=d, u=u, F_t=F_t, q0=q0, u0=u0, p0=p0)
+        out = _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, F_n=F_n, d=d, u=u, F_t=F_t, q0=q0, u0=u0, p0=p0)
         if out is not None:
             return out
     n = A.size
@@ -54,7 +54,7 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_
                                          p0=p)
         Kp = K @ p_new if K is not None else np.zeros(2 * n)
         Kp2 = np.column_stack([Kp[:n], Kp[n:]])
-        res = solve_tangential3d(rf.Dt, A, mu * p_new, np.asarray(P_old) - Kp2, on_plane, u=u,
+        res = solve_tangential3d(rf.Dt, A, mu * p_new, np.asarray(P_old) - Kp2, qy_zero, u=u,
                                  force=F_t, q0=q, u0=dl)
         dp = np.max(np.abs(p_new - p)) if p is not None else np.inf
         dq = np.max(np.abs(res.q - q))
@@ -67,27 +67,27 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, on_plane, *, F_
                            f"passes (last change {dp / scale:.3g} of the largest pressure, {dq / scale:.3g} in q)")
 
 
-#: the packed coupling operators of the last few (K, on_plane) pairs (``_coupled_operators``)
+#: the packed coupling operators of the last few (K, qy_zero) pairs (``_coupled_operators``)
 _COUPLED: dict = {}
 
 
-def _coupled_operators(rf: RelativeFlexibility, on_plane) -> tuple:
+def _coupled_operators(rf: RelativeFlexibility, qy_zero) -> tuple:
     """(Kp, Kp^T, dz/d(p, v)) of a dissimilar pair in the packed layout of ``_reduced``: K's rows of the
     packed unknowns (m, n), its transpose, and [diag(c) Kp, dz/dv] (m, n + m), the derivative of the
     trial traction z by the pressures and the tractions. Formed once per flexibility and plane set
     (``_held_by``)."""
     def build():
         n = rf.K.shape[1]
-        yi, _, cd, dz_dv = _reduced(rf.Dt, on_plane)
+        yi, _, cd, dz_dv = _reduced(rf.Dt, qy_zero)
         Kp = rf.K[np.concatenate([np.arange(n), n + yi])]
         return Kp, np.ascontiguousarray(Kp.T), np.hstack([cd[:, None] * Kp, dz_dv])
 
-    return _held_by(_COUPLED, rf.K, on_plane, build)
+    return _held_by(_COUPLED, rf.K, qy_zero, build)
 
 
 # 132 lines, above the house limit of 120 for a stated reason: one Newton solve whose residual, line search
 # and factorisation share the iterate's split and the kept unknowns; apart they would pass a dozen arrays
-def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
+def _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
     """``solve_coupled3d`` by one semi-smooth Newton method on the unknowns (p, q, [d], [u]) and the
     residuals
 
@@ -107,9 +107,9 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
     halvings) until ||R|| decreases, and where that fails too, the whole Jacobian, backtracked the same
     way. Only the iterations depend on these choices, not the solution."""
     n = A.size
-    yi, D, cd, dz_dv = _reduced(rf.Dt, on_plane)
+    yi, D, cd, dz_dv = _reduced(rf.Dt, qy_zero)
     m = D.shape[0]
-    Kp, KpT, dz_dpv = _coupled_operators(rf, on_plane)
+    Kp, KpT, dz_dpv = _coupled_operators(rf, qy_zero)
     Dn = rf.Dn
     cn = 1.0 / np.diag(Dn)
     ex = np.concatenate([A, np.zeros(yi.size)])
@@ -128,7 +128,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, on_plane, *, F_n, d, u, F_t, q0, u0,
         uu = x[N - 1] * st if ft else u
         return x[:n], x[n:n + m], dd, uu
 
-    plane = np.asarray(on_plane, dtype=bool).tobytes()
+    plane = np.asarray(qy_zero, dtype=bool).tobytes()
 
     def residual(x):
         p, v, dd, uu = split(x)

@@ -1,8 +1,8 @@
 """The semi-smooth Newton methods' building blocks of the 3D contact solves (``fem.solid3d.contact``,
 ``fem.solid3d.coupled``): the packed layout of the tangential tractions (q_x of every vertex, q_y of the
-vertices off the symmetry plane), the flexibility reduced to it, the disk projection's derivative and
-the Jacobian blocks built from it, and the caches that keep a law's operators between its increments
-(held weakly: a finished law's go with it).
+vertices not in ``qy_zero``: off the symmetry plane, or none under Mindlin's traction along x), the
+flexibility reduced to it, the disk projection's derivative and the Jacobian blocks built from it, and the
+caches that keep a law's operators between its increments (held weakly: a finished law's go with it).
 """
 from __future__ import annotations
 
@@ -25,18 +25,18 @@ def _pack(q, yi):
     return np.concatenate([q[:, 0], q[yi, 1]])
 
 
-#: the reduced operators of the last few (Dt, on_plane) pairs (``_reduced``): a law's flexibility is
+#: the reduced operators of the last few (Dt, qy_zero) pairs (``_reduced``): a law's flexibility is
 #: fixed, its steps many
 _REDUCED: dict = {}
 _REDUCED_MAX = 4
 
 
-def _held_by(cache: dict, M, on_plane, build) -> tuple:
-    """``build()``'s read-only arrays, kept in ``cache`` per matrix ``M`` and plane set ``on_plane``
+def _held_by(cache: dict, M, qy_zero, build) -> tuple:
+    """``build()``'s read-only arrays, kept in ``cache`` per matrix ``M`` and set ``qy_zero``
     (at most ``_REDUCED_MAX`` entries). ``M`` is held weakly: its entry goes when the law's flexibility
     does (no memory kept for a finished law), and a new matrix at a reused address is never taken for
     the old one."""
-    key = (id(M), np.asarray(on_plane, dtype=bool).tobytes())
+    key = (id(M), np.asarray(qy_zero, dtype=bool).tobytes())
     hit = cache.get(key)
     if hit is not None and hit[0]() is M:
         return hit[1]
@@ -50,19 +50,19 @@ def _held_by(cache: dict, M, on_plane, build) -> tuple:
     return out
 
 
-def _reduced(Dt, on_plane) -> tuple:
-    """(yi, D, cd, dz_dv) of the packed layout: the vertices off the plane ``yi`` (their q_y is free), Dt
+def _reduced(Dt, qy_zero) -> tuple:
+    """(yi, D, cd, dz_dv) of the packed layout: the vertices ``yi`` not in ``qy_zero`` (their q_y is free), Dt
     restricted to q_x of every vertex and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D.
-    Formed once per flexibility and plane set (read-only and shared, ``_held_by``)."""
+    Formed once per flexibility and ``qy_zero`` (read-only and shared, ``_held_by``)."""
     def build():
-        n = np.size(on_plane)
-        yi = np.flatnonzero(~np.asarray(on_plane, dtype=bool))
+        n = np.size(qy_zero)
+        yi = np.flatnonzero(~np.asarray(qy_zero, dtype=bool))
         idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
         D = Dt[np.ix_(idx, idx)]
         cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
         return yi, D, cd, np.eye(idx.size) - cd[:, None] * D
 
-    return _held_by(_REDUCED, Dt, on_plane, build)
+    return _held_by(_REDUCED, Dt, qy_zero, build)
 
 
 def _partners(kv, n, yi, m) -> tuple:
