@@ -63,6 +63,9 @@ from fem.solid3d.newton_blocks import (_COLUMNS, _contact_block, _last_blocks, _
 
 #: relative tolerance of the complementarity residuals (of the largest pressure / slip limit)
 TOL = 1e-10
+#: the whole contact's share over the half model's (y >= 0): every force, area, moment and work of the
+#: whole contact is WHOLE times the half model's (its one home: the solvers, the law, the estimators)
+WHOLE = 2.0
 
 
 @dataclass
@@ -376,14 +379,14 @@ def tangential_history(Dt, A, g, qy_zero, Fx=None, u=None):
 def _history(Dt, A, g, qy_zero, Fx, hist, P, q, dl, out, contact):
     for k, h in enumerate(hist):
         if Fx is not None:
-            r = solve_tangential3d(Dt, A, g, P, qy_zero, force=h / 2, q0=q, u0=dl)
+            r = solve_tangential3d(Dt, A, g, P, qy_zero, force=h / WHOLE, q0=q, u0=dl)
         else:
             r = solve_tangential3d(Dt, A, g, P, qy_zero, u=h, q0=q)
         q, dl = r.q, r.u
         Pn = r.s
-        out.work[k] = 2.0 * float(np.sum((r.q * (Pn - P))[contact]))
+        out.work[k] = WHOLE * float(np.sum((r.q * (Pn - P))[contact]))
         P = Pn
-        out.Fx[k] = 2.0 * float(A @ r.q[:, 0])
+        out.Fx[k] = WHOLE * float(A @ r.q[:, 0])
         out.u[k] = r.u
         out.q.append(r.q)
         out.P.append(P)
@@ -402,8 +405,8 @@ def predict(state, A, g, u, Fx):
         return q, state.u
     dq = np.asarray(state.dq)
     if Fx is not None:
-        last = 2.0 * float(A @ dq[:, 0])
-        ahead = Fx - 2.0 * float(A @ q[:, 0])
+        last = WHOLE * float(A @ dq[:, 0])
+        ahead = Fx - WHOLE * float(A @ q[:, 0])
     else:
         last, ahead = state.du, u - state.u
     if not (last != 0.0 and 0.0 < ahead / last <= 4.0):
@@ -422,4 +425,4 @@ def coulomb_increment(Dt, A, g, P_old, qy_zero, state, *, u=None, Fx=None) -> Ta
         q0, _ = predict(state, A, g, u, None)
         return solve_tangential3d(Dt, A, g, P_old, qy_zero, u=u, q0=q0)
     q0, u0 = predict(state, A, g, None, Fx)
-    return solve_tangential3d(Dt, A, g, P_old, qy_zero, force=Fx / 2, q0=q0, u0=u0)
+    return solve_tangential3d(Dt, A, g, P_old, qy_zero, force=Fx / WHOLE, q0=q0, u0=u0)

@@ -12,6 +12,7 @@ import numpy as np
 from mdr.normal import moment_radius
 from mdr.stick import at_limit, per_step
 
+from fem.solid3d.contact import WHOLE
 from fem.solid3d.model import Model3D
 
 #: the slack fraction at which a vertex counts as sticking (``mdr.stick``: 1/2 as for any traction)
@@ -42,7 +43,7 @@ def contact_area(model: Model3D, p) -> float:
     """Contact area of the full body (m^2): twice the sum of the vertex areas A_j (the integrals of
     the P1 hats) of the vertices in contact (:func:`contact_mask`), i.e. the contact edge half way
     between a loaded and a free vertex (first order in the element size)."""
-    return 2.0 * float(model.mi.A[contact_mask(model, p)].sum())
+    return WHOLE * float(model.mi.A[contact_mask(model, p)].sum())
 
 
 def contact_extent_x(model: Model3D, p) -> tuple:
@@ -112,7 +113,7 @@ def pressure_radius(model: Model3D, p) -> float:
     by a fraction of an element (the sphere: 0.4-1.7 % of a on meshes of h = a/5 ... a/14, graded
     or not), while this integral is within 0.25 % of MDR's on the same meshes, 0.15 % from a/7 on
     (``tests/test_contact3d.py``). NaN without contact."""
-    return moment_radius(2.0 * float(model.mi.A @ p), 2.0 * float(model.r2_hat @ p))
+    return moment_radius(WHOLE * float(model.mi.A @ p), WHOLE * float(model.r2_hat @ p))
 
 
 def ray_caps(model: Model3D, p, a, tilted: bool) -> dict:

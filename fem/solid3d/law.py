@@ -71,7 +71,7 @@ from meshes.half3d import H_CONTACT_3D_DEFAULT, H_CONTACT_3D_RANGE, Refinement
 
 from fem.solid3d import estimators as est
 from fem.solid3d import runs
-from fem.solid3d.contact import RelativeFlexibility, coulomb_increment, predict, tangential_slope
+from fem.solid3d.contact import WHOLE, RelativeFlexibility, coulomb_increment, predict, tangential_slope
 from fem.solid3d.coupled import solve_coupled3d
 from fem.solid3d.model import BLOCK_SIZE_DEFAULT, SECTOR, Model3D, build_model3d, normal_solution
 from fem.stepping import frozen as _frozen, step_history
@@ -330,7 +330,7 @@ class FEContact3D:
 
     # ----------------------------------------------------------------- normal
     def _normal3d(self, p, dd, it, aligned) -> Normal3D:
-        return Normal3D(p=p, force=2.0 * float(self.model.mi.A @ p), approach=dd,
+        return Normal3D(p=p, force=WHOLE * float(self.model.mi.A @ p), approach=dd,
                         contact_radius=est.contact_radius(self.model, p, aligned), iterations=it)
 
     def normal(self, *, F_N=None, d=None, aligned=False) -> Normal3D:
@@ -394,8 +394,8 @@ class FEContact3D:
             q0, u0 = predict(state, mi.A, self.mu * np.asarray(state.p), u, Fx)
             p, dd, res, _ = solve_coupled3d(
                 m.rf, self.gap0, mi.A, self.mu, np.asarray(state.P), self._qy_zero,
-                F_n=None if F_N is None else F_N / 2, d=d, u=u,
-                F_t=None if Fx is None else Fx / 2, q0=q0, u0=u0, method=self.coupled_method,
+                F_n=None if F_N is None else F_N / WHOLE, d=d, u=u,
+                F_t=None if Fx is None else Fx / WHOLE, q0=q0, u0=u0, method=self.coupled_method,
                 p0=np.asarray(state.p) if np.any(np.asarray(state.p) > 0) else None)
             self.stats["normal_solves"] += 1
             m.check_rim(p)
@@ -417,7 +417,7 @@ class FEContact3D:
             p, nr, res = self._coulomb(ctx, u, Fx)
         m = self.model
         g = self.mu * p
-        work = 2.0 * float(np.sum((res.q * (res.s - np.asarray(state.P)))[g > 0]))
+        work = WHOLE * float(np.sum((res.q * (res.s - np.asarray(state.P)))[g > 0]))
         slack, slipping = est.slip_state(g, res.q)
         ray = m.rays["+x"]
         a = nr.contact_radius if nr is not None else 0.0
@@ -427,7 +427,7 @@ class FEContact3D:
         new = FE3DState(q=_frozen(res.q), P=_frozen(res.s), p=_frozen(p), u=float(res.u),
                         d=float(nr.approach if nr is not None else (d or 0.0)),
                         dq=_frozen(res.q - np.asarray(state.q)), du=float(res.u) - float(state.u))
-        return StepResult(Fx=2.0 * float(m.mi.A @ res.q[:, 0]), FN=nr.force if nr is not None else 0.0, d=new.d,
+        return StepResult(Fx=WHOLE * float(m.mi.A @ res.q[:, 0]), FN=nr.force if nr is not None else 0.0, d=new.d,
                           a=a, c=c, u=new.u, work=work, slack=slack[ray], slipping=slipping[ray]), new, \
             (g, res, res.s - np.asarray(state.P))
 
@@ -491,7 +491,7 @@ class FE3DTrial:
         law = self.law
         with blas_threads(1):
             k = tangential_slope(law.model.rf.Dt, law.model.mi.A, g, law._qy_zero, tr.q, r)
-        return res.Fx, 2.0 * k
+        return res.Fx, WHOLE * k
 
     def commit(self, u):
         """(StepResult, FE3DState) of the step to displacement u, equal to ``step(state, u, ...)``."""

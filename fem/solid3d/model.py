@@ -36,7 +36,7 @@ from meshes.half3d import Half3DMesh, Half3DMeshParams, Refinement, cached_mesh3
 from fem.axisym.normal_run import reference_radius
 from fem.bulk import DEFAULT_PROBE_DEPTH, boussinesq_point_z, cerruti_point_x
 from fem.solid3d.condensed import condensed_body
-from fem.solid3d.contact import RelativeFlexibility, solve_normal3d
+from fem.solid3d.contact import WHOLE, RelativeFlexibility, solve_normal3d
 from fem.solid3d.interface import hat_integrals, mortar_interface
 from fem.solvers import blas_threads
 
@@ -122,7 +122,7 @@ class Model3D:
         the mirror halves cancel to leading order)."""
         mi = self.mi
         q = np.linalg.solve(self.Dt_plate[:mi.n, :mi.n][np.ix_(c, c)], mi.A[c])
-        return float(self.bulk["x"][c] @ q / (2.0 * mi.A[c] @ q))
+        return float(self.bulk["x"][c] @ q / (WHOLE * mi.A[c] @ q))
 
 
 def _bulk_rows(hmesh, mi, materials: Materials, depth, R_blk, R_ind) -> dict:
@@ -213,7 +213,7 @@ def build_model3d(profile: Profile, materials: Materials, *, F_max, h_contact, c
         c_bulk = plate.stick_x_compliance(np.ones(mi.n, dtype=bool))
     if displacement == "contact":  # u measured without it: s = u_c A e_x - (Dt - 2 c_bulk A A^T) q
         Dt = rf.Dt.copy()
-        Dt[:mi.n, :mi.n] -= 2.0 * c_bulk * np.outer(mi.A, mi.A)
+        Dt[:mi.n, :mi.n] -= WHOLE * c_bulk * np.outer(mi.A, mi.A)
         rf = RelativeFlexibility(Dn=rf.Dn, Dt=Dt, K=rf.K)
     # seconds: mesh (gmsh or the cache), setup (all after the mesh), of which assembly (the mortar
     # matrix), factorisation and condensation (``fem.solid3d.interface.mortar_flexibility``, both bodies)
@@ -226,7 +226,7 @@ def normal_solution(model: Model3D, gap0, *, F_N=None, d=None) -> tuple:
     approach d: (vertex pressures p, plate approach, iterations); a contact reaching the rim of the
     candidate disk is an error (``Model3D.check_rim``)."""
     with blas_threads(1):
-        p, dd, _, it = solve_normal3d(model.rf.Dn, gap0, model.mi.A, force=None if F_N is None else F_N / 2,
+        p, dd, _, it = solve_normal3d(model.rf.Dn, gap0, model.mi.A, force=None if F_N is None else F_N / WHOLE,
                                       approach=d)
     model.check_rim(p)
     return p, float(dd), it

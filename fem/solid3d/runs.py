@@ -10,6 +10,7 @@ import numpy as np
 from mdr.law import History
 
 from fem.solid3d import estimators as est
+from fem.solid3d.contact import WHOLE
 
 #: the stick-zone keys of :func:`cycle_keys`: those :func:`window_keys` reports at the last cycle's peak
 CYCLE_KEYS = ("stick_radius_x", "stick_radius_y", "stick_axis_x", "stick_axis_y", "traction_angle_max")
@@ -103,7 +104,7 @@ def tilt_keys(law, F_N) -> dict:
     plane."""
     m = law.model
     nr = law.normal(F_N=F_N)
-    ref = float(2.0 * m.mi.A.sum()) if m.flat else est.contact_area(m, law.normal(F_N=F_N, aligned=True).p)
+    ref = float(WHOLE * m.mi.A.sum()) if m.flat else est.contact_area(m, law.normal(F_N=F_N, aligned=True).p)
     x0, x1 = est.contact_extent_x(m, nr.p)
     return {"tilt": law.tilt, "contact_area_fraction": est.contact_area(m, nr.p) / ref,
             "contact_x_min": x0, "contact_x_max": x1}
