@@ -87,3 +87,18 @@ def _umask():
     old = os.umask(0o022)
     os.umask(old)
     return old
+
+
+@pytest.mark.xdist_group("readme-quick")
+def test_the_quick_comparison_prints_what_the_readme_says(tmp_path):
+    """README, Set-up: the quick comparison's report tallies 37 of 37 metric verdicts of its pair scenes
+    decided, all holding (the textbook anchor and four scenes of the catalogue on coarser ladders); the
+    tally line in the README is the report's sentence (validation.report.tally_text)."""
+    from validation import compare
+
+    out = tmp_path / "quick"
+    assert compare.main(["--quick", "--jobs", "1", "--out", str(out), "--no-hard-cases"]) == 0
+    tally = next(line for line in (out / "report.md").read_text().splitlines() if line.startswith("Decided: "))
+    assert tally.startswith("Decided: 37 of 37 metric verdicts of the pair scenes (37 hold,"), tally
+    readme = (ROOT / "README.md").read_text().replace("\n", " ")
+    assert '"Decided: 37 of 37 metric verdicts of the pair scenes (37 hold, ...)"' in readme
