@@ -100,8 +100,9 @@ def modelled_error(sizes, values, bound, *, floor=0.0) -> dict:
     ``ladder_error``'s statuses stand where they decide alone (``converged``; a missing or non-finite
     level). Otherwise the ladder tests the bound: if every two levels lie within the sum of their bounds,
     |q_i - q_j| <= bound(h_i) + bound(h_j) + ``floor`` (what the bound implies, so a level that breaks it
-    refutes it for this ladder; the three finest levels, as ``ladder_error``'s), the status is ``calibrated`` and the error the larger of bound(h_finest)
-    and the ladder's own bounded error (Richardson's, where asymptotic): bounded. A ladder that breaks it
+    refutes it for this ladder; the three finest levels, as ``ladder_error``'s), the status is
+    ``calibrated`` and the error the larger of bound(h_finest) and the ladder's own bounded error
+    (Richardson's, where asymptotic): bounded. A ladder that breaks it
     is ``outside its calibrated bound``: error the larger of the spread and the bound, not bounded.
     Returns ``ladder_error``'s dict with ``bound`` (bound(h_finest)) added."""
     lad = ladder_error(sizes, values, floor=floor)

@@ -161,8 +161,9 @@ def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu
     t0 = time.perf_counter()
     law = options.law(profile, materials, mu, loading.F_max)
     t1 = time.perf_counter()
-    (log or (lambda msg: None))(f"set-up {t1 - t0:.1f} s ({law.model.n} vertices); the frictional normal loading of "
-                                f"{with_normal_loading(loading).normal_steps} steps, then {loading.cycles} cycles of {loading.steps} steps"
+    (log or (lambda msg: None))(f"set-up {t1 - t0:.1f} s ({law.model.n} vertices); the frictional normal loading "
+                                f"of {with_normal_loading(loading).normal_steps} steps, then {loading.cycles} "
+                                f"cycles of {loading.steps} steps"
                                 + (" (and the paired run, its traction along x)" if paired else ""))
     if paired:
         out, out_x = drive_3d_together([law, law.assuming(traction="x")], loading, t_setup=t1 - t0)
@@ -186,7 +187,6 @@ def _run_3d(profile, materials, mu, loading, options: FEOptions, return_law, vtu
 SETTLE_BLOCK = 2
 
 
-
 def settled(W, tol, gross=0.0) -> bool:
     """Whether a run's dissipation per cycle ``W`` has settled: its last change at most ``tol`` of
     the last cycle's, or of ``HARDLY_DISSIPATES`` x ``gross`` (4 mu F0 u_A) where that is larger,
@@ -203,10 +203,11 @@ def settled(W, tol, gross=0.0) -> bool:
 
 def drive_3d(law, loading: Loading, *, t_setup=0.0, state_at=None, settle=None):
     """A fretting run of a built 3D law (``fem.solid3d.law.FEContact3D``) under ``loading`` (``Loading.of``):
-    the normal load applied in
-    the loading's ``normal_steps`` (``RAMP_STEPS`` where it states none: ``with_normal_loading``) with friction
-    active (with coupling, slip during the normal loading locks traction into the stick zone, Spence 1975),
-    then the cycles of ``mdr.drive.run_contact`` from that state (both there: ``mdr.drive.normal_loading``). Returns the result dict with the law's 3D keys (and the state at step
+    the normal load applied in the loading's ``normal_steps`` (``RAMP_STEPS`` where it states none:
+    ``with_normal_loading``) with friction active (with coupling, slip during the normal loading locks
+    traction into the stick zone, Spence 1975), then the cycles of ``mdr.drive.run_contact`` from that
+    state (both there: ``mdr.drive.normal_loading``). Returns the result dict with the law's 3D keys (and
+    the state at step
     ``state_at`` of the cycles if given); without ``state_at`` also ``per_cycle``, the stick-zone
     keys at every cycle's peak (``fem.solid3d.runs.cycle_keys``), beside ``dissipation_per_cycle``.
     ``settle`` = (tol, max_cycles): run on until the dissipation settles (``drive_3d_together``)."""

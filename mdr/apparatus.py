@@ -443,7 +443,7 @@ def apparatus_result(law: ContactLaw, app: Apparatus, loading: Loading, state_at
         "slip_index": None if not np.isfinite(delta) else delta,
         "dissipation_per_cycle": cyc.dissipation.tolist(),
         "stationary": bool(cyc.last_is_stationary),
-        "normal_loading": {"steps": 0, "friction": True, "F_x": 0.0},  # the first step applies F_N (run_apparatus)
+        "normal_loading": loading.normal_loading_record(),  # none: the first step applies F_N (run_apparatus)
         "cycle_change": cyc.last_change(),
         "evaluations_per_step": out["evaluations_per_step"],
         "runtime_s": time.perf_counter() - t0,

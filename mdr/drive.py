@@ -31,14 +31,13 @@ def run_mdr_contact(profile: Profile, materials: Materials, mu, loading: Loading
     return run_contact(mdr_law(profile, materials, mu, loading, n), loading, **kw)
 
 
-def normal_loading(law: ContactLaw, loading: Loading, state=None):
-    """The law's state after the loading's normal loading (``Loading.normal_steps``): F_N from rest (or
-    ``state``) up to F_N(0) in equal steps with friction active and F_x = 0; ``state`` itself where the
-    loading has none. The same for every law (``mdr.protocol.ContactLaw.step``)."""
-    st = law.rest_state() if state is None else state
-    n = loading.normal_steps
-    for f in np.arange(1, n + 1) / max(n, 1) * float(np.ravel(loading.normal_force(0.0))[0]):
-        _, st = law.step(st, Fx=0.0, F_N=f)
+def normal_loading(law: ContactLaw, loading: Loading):
+    """The law's state after the loading's normal loading (``Loading.normal_steps``): F_N from rest up to
+    F_N(0) in equal steps with friction active and F_x = 0 (the rest state where the loading has none).
+    The same for every law (``mdr.protocol.ContactLaw.step``)."""
+    st, n, F = law.rest_state(), loading.normal_steps, float(np.ravel(loading.normal_force(0.0))[0])
+    for k in range(1, n + 1):
+        _, st = law.step(st, Fx=0.0, F_N=k / n * F)
     return st
 
 
@@ -69,7 +68,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     t, FN, drive = loading.times(), loading.normal_force(), loading.tangential()
     key = "u" if loading.drive == "displacement" else "Fx"
     kept = None
-    ramp = {"steps": loading.normal_steps, "friction": True, "F_x": 0.0} if state0 is None else None
+    ramp = loading.normal_loading_record() if state0 is None else None
     if state0 is None and loading.normal_steps:
         state0 = normal_loading(law, loading)
     first = loading.last_cycle.start  # the last (stationary) cycle: steps first .. first + steps

@@ -143,7 +143,7 @@ def _sphere_phase(N_b, R, Eb, Gb, mu, xmax, lo, width, int_g, ell_old, v, ell, N
     return _phase(dp, a, kk, part, lo, width, int_g, Eb, Gb, mu, ell_old, v, ell, N, vmax, carried, v1), True
 
 
-# 124 lines, above the house limit of 120 for a stated reason: a numba kernel, the time loop of
+# 123 lines, above the house limit of 120 for a stated reason: a numba kernel, the time loop of
 # ``mdr.apparatus.run_apparatus`` compiled whole (a call out of a compiled loop per step costs its speed)
 @_jit
 def run_apparatus_loop(dp, a, kk, part, FNp, u3, lo, width, int_g, nodes, E, G, mu, p, at_lim,

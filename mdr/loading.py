@@ -171,6 +171,11 @@ class Loading:
                              f"limit, so use fa < {self.amplitude / ratio:.4g} N")
         return mu
 
+    def normal_loading_record(self) -> dict:
+        """What a result states of the normal loading before its cycles (its key ``normal_loading``): the
+        steps (0: none), with friction active and F_x = 0."""
+        return {"steps": self.normal_steps, "friction": True, "F_x": 0.0}
+
     def as_inputs(self) -> dict:
         """The load's keys of a result's ``inputs`` (the JSON contract: F0, dF, alpha, ua, fa, cycles,
         steps)."""

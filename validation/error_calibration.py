@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from .error_models import SAFETY, bound, envelope, profile_class
 
-#: the metrics a calibration measures (the scalar metrics in their bounds' units, the distances as they are)
+#: the scalar metrics a calibration measures, in their bounds' units (the distances: those of the scene's
+#: ``validation.families.pair._distances``)
 SCALARS = ("contact_radius", "stick_radius", "slip_index")
-DISTANCES = ("pressure_profile", "traction_profile", "loop_Fx", "loop_du")
 
 
 def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> dict:
@@ -33,11 +33,13 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
     pair = (lambda res: _distances(scene, other, res)) if side == "fem" else (lambda res: _distances(scene, res, other))
     ref = run(reference)
     a = float(ref["contact_radius"])
+    unit = a_ref(scene) / a if side == "fem" else None  # FE: h_contact (of a_ref) in units of a
+    h_of = (lambda x: float(x) * unit) if side == "fem" else (lambda x: 1.0 / float(x))
     d_ref = pair(ref)
     out = {q: {"sizes": [], "errors": []} for q in SCALARS + tuple(d_ref)}
     for x in sizes:
         res = run(x)
-        h = float(x) * a_ref(scene) / a if side == "fem" else 1.0 / float(x)
+        h = h_of(x)
         d = pair(res)
         for q in SCALARS:
             out[q]["sizes"].append(h)

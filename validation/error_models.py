@@ -93,7 +93,7 @@ def ladder(side: str, metric: str, cls: str | None, sizes, values, *, scale: flo
     if b is None:
         return ladder_error(sizes, values, floor=floor)
     out = modelled_error(sizes, values, lambda h: b(h, scale), floor=floor)
-    return {**out, "model": f"{b.C:.3g} (h/a)^{b.p:g}" if side == "fem" else f"{b.C:.3g} / cells"}
+    return {**out, "model": f"{b.C:.3g} (h/a)^{b.p:g}" if side == "fem" else f"{b.C:.3g} (1/cells)^{b.p:g}"}
 
 
 def envelope(sizes, errors, p: float = 1.0) -> float:

@@ -14,7 +14,7 @@ unit once, here: ``short`` pixels -> ``lambda_short`` (m), ``long`` -> ``lambda_
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from common.errors import InputError
 from mdr.paper import R_INDENTER, STEEL_E, STEEL_NU
@@ -133,8 +133,6 @@ class RoughVariant:
                    lambda_short=short * size / grids[0], lambda_long=long_ * size)
 
     def _plastic(self, v, scene, bad) -> "RoughVariant":
-        from dataclasses import replace
-
         if "preload" in v and "hardness" not in v:
             raise bad("preload", f">= F0 = {scene.F0:g} N, with a hardness (the largest load the plastic "
                                  "surface was flattened by)")
@@ -147,8 +145,6 @@ class RoughVariant:
         return replace(self, hardness=hardness, preload=preload)
 
     def _driven(self, v, scene, bad) -> "RoughVariant":
-        from dataclasses import replace
-
         if "apparatus" not in v:
             return self
         if not isinstance(v["apparatus"], bool):

@@ -85,7 +85,7 @@ def _coupled_operators(rf: RelativeFlexibility, qy_zero) -> tuple:
     return _held_by(_COUPLED, rf.K, qy_zero, build)
 
 
-# 132 lines, above the house limit of 120 for a stated reason: one Newton solve whose residual, line search
+# 131 lines, above the house limit of 120 for a stated reason: one Newton solve whose residual, line search
 # and factorisation share the iterate's split and the kept unknowns; apart they would pass a dozen arrays
 def _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, *, F_n, d, u, F_t, q0, u0, p0, max_iter=100):
     """``solve_coupled3d`` by one semi-smooth Newton method on the unknowns (p, q, [d], [u]) and the

@@ -28,8 +28,6 @@ from ..sides import ZERO, closed_forms, run_fe, run_mdr, time_step_error, u_amp
 KEY = None
 
 
-
-
 def _zero(x, scale):
     """x, or 0.0 where it is a numerical zero against ``scale`` (None stays None)."""
     if x is None:
@@ -84,12 +82,12 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
 
     tol = s.tolerances()
     mdr, fe = mdr_ladder[-1], fe_ladder[-1]
-    a = float(fe["contact_radius"])
+    a, a0 = float(fe["contact_radius"]), a_ref(s)
     # the sizes in the units of the calibrated bounds (``validation.error_models``): element size / a, 1 / cells
-    fe_h = [float(x["h_contact"]) * a_ref(s) / a for x in fe_ladder]
+    fe_h = [float(x["h_contact"]) * a0 / a for x in fe_ladder]
     md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
     scale_W = float(gross_slip_work(s.mu, s.F0, u_amp(fe)))
-    cls = error_models.profile_class(s.profile, s.b, a_ref(s))
+    cls = error_models.profile_class(s.profile, s.b, a0)
     V = {}
 
     def bars(q, fv, mv, scale, floor, bound_of=None):

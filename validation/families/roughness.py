@@ -23,7 +23,8 @@ side, its coarsest level their pixels, finer levels resampled).
 The indenter: the scene's sphere or truncated sphere; a variant's ``b`` (m) sets the face radius (0: the
 sphere), so one scene holds the faces of several results (``roughness-faces``).
 
-Surface parameters (a variant's keys, checked and converted once by ``validation.rough_variant.RoughVariant``, defaults ``DEFAULTS`` there): ``rms`` (m; 0 is the smooth indenter),
+Surface parameters (a variant's keys, checked and converted once by
+``validation.rough_variant.RoughVariant``, defaults ``DEFAULTS`` there): ``rms`` (m; 0 is the smooth indenter),
 ``hurst`` (0.8: most engineering surfaces, ground and turned steel among them, have H = 0.7-0.9;
 Persson, Tribology Letters 54 (2014) 99), ``period`` (the grid's side in smooth contact radii of the
 scene's load), ``short`` (the short-wavelength cut-off in pixels of the coarsest grid: the surface is
