@@ -138,12 +138,11 @@ def test_the_curvature_is_measured_at_the_point_where_a_scene_runs_it():
 def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
     """The budget's curvature column is measured, not bounded, at every point of a truncated sphere: each
     is run by an apparatus scene of the catalogue (experiments, k_x series, halfspace-points)."""
-    from validation.families.points import point_variant
     from validation.catalogue import CATALOGUE
 
     hs = CATALOGUE["halfspace-points"]
     runs = [s for s in CATALOGUE.values() if s.family == "pair" and s.drive == "apparatus"]
-    runs += [point_variant(hs, v) for v in hs.variants]
+    runs += [v.scene(hs) for v in hs.typed_variants]
     for r in B.results():
         for p in r.points:
             n = sum(p.matches(s) for s in runs)

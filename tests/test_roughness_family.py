@@ -241,7 +241,7 @@ def test_the_smooth_face_driven_by_the_apparatus_is_mdr_at_the_papers_points():
     b = 0.6e-3
     grid = Grid(4 * a_ref(s, b), 24)
     d, F = force_approach(TruncatedSphere(s.R, b), Materials(), s.F0 * CURVE_FRACTIONS, grid)
-    v = RoughVariant.of({"b": b, "rms": 0.0}, s, a_ref)
+    v = RoughVariant.of({"b": b, "rms": 0.0}, s)
     rows = R.in_apparatus(s, v, grid, None, {"d": d.tolist(), "F": F.tolist()})
     assert [Point(**r["point"]) for r in rows] == list(rough_points(b)) and len(rows) == 3
     for r in rows:

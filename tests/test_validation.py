@@ -430,7 +430,7 @@ def test_assumptions_3d_scene(tmp_path):
     text = "\n".join(assumptions3d.table(res))
     assert "| t3a[direction: sphere]" in text and "| t3a[coupling: sphere]" in text
     assert text.count("(two levels): consistent within its spread |") == 2
-    with pytest.raises(Exception, match="relax in direction, coupling"):
+    with pytest.raises(Exception, match="relax must be one of direction, coupling"):
         Scene("t3b", "x", "sphere", fe_model="3d", family="assumptions3d", variants=({"relax": "tilt"},))
     with pytest.raises(Exception, match="need fe_model='3d'"):
         Scene("t3c", "x", "sphere", family="assumptions3d", variants=({"relax": "direction"},))
@@ -491,12 +491,19 @@ def test_tilt_family_in_the_catalogue():
     banded = s.variants[3]
     assert banded["tilts"] == (TILT_BOUND,) and len(banded["band"]) == len(banded["fe_levels"])
     assert banded["band"][1][0] < banded["band"][0][0]
-    with pytest.raises(Exception, match="refine needs one refine tuple per FE level"):
+    with pytest.raises(Exception, match="refine must be one refine tuple per FE level"):
         Scene("tt3", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3, 0.2), family="tilt",
               variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "refine": ((-1.0, 0.1, 0.8),)},))
-    with pytest.raises(Exception, match="band needs one band tuple per FE level"):
+    with pytest.raises(Exception, match="band must be one band tuple per FE level"):
         Scene("tt4", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3,), family="tilt",
               variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "band": ((0.02, 0.06, 0.45), (0.01, 0.06, 0.45))},))
+    # a refinement out of its mesh's range is refused when the scene is made (before any work)
+    with pytest.raises(Exception, match=r"refine, band must be valid at the level h = 0.2 a_ref \(refine_h must be"):
+        Scene("tt5", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3, 0.2), family="tilt",
+              variants=({"profile": "flat", "b": 1e-4, "tilts": (1e-5,), "refine": ((-1.0, 0.1, 0.8), (-1.0, 0.25, 0.8))},))
+    with pytest.raises(Exception, match="tilts must be a non-empty list of angles"):
+        Scene("tt6", "x", "flat", b=1e-4, fe_model="3d", fe_levels=(0.3,), family="tilt",
+              variants=({"profile": "flat", "b": 1e-4, "tilts": ()},))
 
 
 @pytest.mark.slow  # an integration run of ~10 s; the fast suite stays under 5 min

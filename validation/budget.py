@@ -145,12 +145,10 @@ def size_cell(p: Point, store) -> dict:
 
 def _row_at(p: Point, s, res):
     """The row of a stored result ``res`` of the ``points`` scene ``s`` whose variant runs the point
-    ``p`` (``validation.families.points.point_variant``), or None."""
-    from .families.points import point_variant
-
+    ``p`` (``validation.families.points.Variant``), or None."""
     for r in (res or {}).get("points", []):
         i = r.get("variant")
-        if isinstance(i, int) and 0 <= i < len(s.variants) and p.matches(point_variant(s, s.variants[i])):
+        if isinstance(i, int) and 0 <= i < len(s.variants) and p.matches(s.typed_variants[i].scene(s)):
             return r
     return None
 

@@ -19,6 +19,8 @@ from dataclasses import dataclass, replace
 from common.errors import InputError
 from mdr.paper import R_INDENTER, STEEL_E, STEEL_NU
 
+from .families import number
+
 #: the defaults of a variant: 4 surfaces, grids of 128-256 pixels over 16 smooth contact radii, Hurst 0.8,
 #: the short cut-off at 4 pixels of the coarsest grid, the long one at a quarter period (no power at
 #: longer wavelengths: rough.surfaces)
@@ -60,17 +62,23 @@ class RoughVariant:
         return self.maps is not None
 
     @classmethod
-    def of(cls, v: dict, scene, a_ref) -> "RoughVariant":
+    def of(cls, v: dict, scene) -> "RoughVariant":
         """The variant ``v`` of ``scene`` checked (one line naming the scene, the variant and the key with
-        its valid range: ``InputError``) and converted; ``a_ref(scene, b)``: the smooth contact radius of
-        the scene's indenter with face radius b (the unit of ``period``)."""
+        its valid range: ``InputError``) and converted; ``period`` in units of the smooth contact radius of
+        the scene's indenter with the variant's face radius (``validation.scenes.a_ref``). The scene must
+        be the sphere or the truncated sphere under force control at a constant normal force."""
+        from .scenes import a_ref
+
         def bad(key, rng):
             return InputError(f"scene {scene.name}: rough variant {v!r}: {key} must be {rng}")
 
+        if scene.profile not in ("sphere", "truncated") or scene.drive != "force" or scene.dF != 0.0:
+            raise InputError(f"scene {scene.name}: rough variants need profile 'sphere' or 'truncated', drive "
+                             "'force' and dF = 0")
         unknown = sorted(set(v) - set(KEYS))
         if unknown:
             raise bad(unknown[0], f"one of the variant's keys ({', '.join(KEYS)})")
-        b = _number(v, "b", lambda x: 0.0 <= x < 0.5 * scene.R, bad, f"in [0, {0.5 * scene.R:g}) (m; the face "
+        b = number(v, "b", lambda x: 0.0 <= x < 0.5 * scene.R, bad, f"in [0, {0.5 * scene.R:g}) (m; the face "
                     "radius, 0 the sphere)") if "b" in v else (float(scene.b) if scene.profile == "truncated" else 0.0)
         a = a_ref(scene, b)
         if "maps" in v:
@@ -138,8 +146,8 @@ class RoughVariant:
                                  "surface was flattened by)")
         if "hardness" not in v:
             return self
-        hardness = _number(v, "hardness", lambda x: x > 0, bad, "> 0 (Pa; perfectly plastic asperities)")
-        preload = _number(v, "preload", lambda x: x >= scene.F0, bad,
+        hardness = number(v, "hardness", lambda x: x > 0, bad, "> 0 (Pa; perfectly plastic asperities)")
+        preload = number(v, "preload", lambda x: x >= scene.F0, bad,
                           f">= F0 = {scene.F0:g} N, with a hardness (the largest load the plastic surface was "
                           "flattened by)") if "preload" in v else float(scene.F0)
         return replace(self, hardness=hardness, preload=preload)
@@ -174,18 +182,6 @@ class RoughVariant:
             return resample(load_height_map(self.maps[int(seed)], self.pixel, square=True), int(n))
         p = self.surface(seed)
         return None if p is None else band_limited(p, int(n))
-
-
-def _number(v, key, ok, bad, rng) -> float:
-    try:
-        if isinstance(v[key], bool):
-            raise TypeError
-        x = float(v[key])
-    except (TypeError, ValueError):
-        raise bad(key, rng) from None
-    if not (math.isfinite(x) and ok(x)):
-        raise bad(key, rng)
-    return x
 
 
 def _grids(grids, bad) -> tuple:

@@ -19,9 +19,12 @@ Example (``docs/examples/scenes.toml`` holds a complete one, run by the tests)::
     amplitude = 0.1          # N: the tangential force amplitude (drive = "force")
 
 A scene names its ``family`` (``validation.scenes.FAMILIES``; default ``"pair"``: MDR against the FE
-model on both ladders, no variants); the other families take ``variants`` holding their key:
-``{block, cap}`` (``"validity"``), ``{a_over_R, nu}`` (``"curvature"``), ``{relax}``
-(``"assumptions3d"``) or ``{profile, b, tilts}`` (``"tilt"``).
+model on both ladders, no variants); the other families take ``variants``, tables each read into the
+family's typed ``Variant`` (``validation.families.<family>.Variant``, its docstring lists the keys and
+ranges): ``{block, cap}`` (``"validity"``), ``{a_over_R, nu}`` (``"curvature"``), ``{kx, b, F0, dF, ua,
+mu1, mu2}`` (``"points"``), ``{relax, b, E2, nu2}`` (``"assumptions3d"``), ``{profile, b, tilts,
+fe_levels, refine, band}`` (``"tilt"``) or ``{rms | maps, ...}`` (``"roughness"``,
+``validation.rough_variant``).
 """
 from __future__ import annotations
 

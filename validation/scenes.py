@@ -42,6 +42,7 @@ import hashlib
 import json
 import math
 from dataclasses import asdict, dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 from common.errors import InputError
@@ -233,41 +234,21 @@ class Scene:
         if keys is not None and (not self.variants or any(not set(keys) & set(v) for v in self.variants)):
             raise InputError(f"scene {self.name}: family {self.family!r} needs variants, each holding "
                              f"{' or '.join(keys)}")
-        relax = [v.get("relax") for v in self.variants if "relax" in v]
-        if relax and (self.fe_model != "3d" or len(relax) != len(self.variants)
-                      or not set(relax) <= set(ASSUMPTIONS_3D)):
-            raise InputError(f"scene {self.name}: variants that relax an assumption need fe_model='3d' and "
-                             f"relax in {', '.join(ASSUMPTIONS_3D)} on every variant")
-        tilted = [v for v in self.variants if "tilts" in v]
-        if tilted and (self.fe_model != "3d" or self.drive != "force" or len(tilted) != len(self.variants)
-                       or any(v.get("profile") not in ("flat", "truncated") or not v.get("b") for v in tilted)):
-            raise InputError(f"scene {self.name}: tilt variants need fe_model='3d', drive='force' and on every "
-                             "variant tilts, a profile flat or truncated and its b > 0")
-        for v in tilted:
-            for k in ("refine", "band"):
-                if k in v and len(v[k]) != len(v.get("fe_levels", self.fe_levels)):
-                    raise InputError(f"scene {self.name}: a tilt variant's {k} needs one {k} tuple per FE level "
-                                     f"({len(v.get('fe_levels', self.fe_levels))}), got {v[k]!r}")
-        self._check_rough()
+        self.typed_variants  # each variant checked once by its family's Variant (then kept)
         unknown = set(self.tolerance) - set(TOLERANCES)
         if unknown:
             raise InputError(f"scene {self.name}: unknown tolerance metric(s) {', '.join(sorted(unknown))}; "
                              f"valid: {', '.join(TOLERANCES)}")
 
-    def _check_rough(self):
-        """The roughness family's variants (``validation.rough_variant.RoughVariant.of`` checks each: the
-        sphere or the truncated sphere under force control at constant F_N, the surface's keys in range)."""
-        rough = [v for v in self.variants if "rms" in v or "maps" in v]
-        if not rough:
-            return
-        from .rough_variant import RoughVariant
+    @cached_property
+    def typed_variants(self) -> tuple:
+        """The variants checked and converted by the family's own ``Variant`` (``Variant.of(v, scene)``: a
+        frozen dataclass; an ``InputError`` naming the scene, the key and its range), once per scene."""
+        if not self.variants:
+            return ()
+        from .families import module
 
-        if self.family != "roughness" or len(rough) != len(self.variants) \
-                or self.profile not in ("sphere", "truncated") or self.drive != "force" or self.dF != 0.0:
-            raise InputError(f"scene {self.name}: rough variants need family 'roughness', profile 'sphere' or "
-                             "'truncated', drive 'force' and dF = 0 on every variant")
-        for v in rough:
-            RoughVariant.of(v, self, a_ref)
+        return tuple(module(self.family).Variant.of(v, self) for v in self.variants)
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene
@@ -299,12 +280,6 @@ class Scene:
         if self.drive == "force":
             check("amplitude", lambda v: v < self.mu * (self.F0 - self.dF),
                   f"below the friction limit mu (F0 - dF) = {self.mu * (self.F0 - self.dF):.4g} N (drive 'force')")
-        for v in self.variants:
-            if {"block", "cap"} & set(v):
-                if not set(v) <= {"block", "cap"} or not all(
-                        isinstance(x, (int, float)) and fin(x) and x > 2.5 for x in v.values()):
-                    raise InputError(f"scene {self.name}: a validity variant holds block and/or cap, sizes in "
-                                     f"contact radii > 2.5, got {v!r}")
         for e in ("E1", "E2"):
             check(e, lambda v: fin(v) and v > 0, "> 0 (Pa)")
         for n in ("nu1", "nu2"):
@@ -390,17 +365,10 @@ def tilt_sweep(b, ratios, F0=0.5) -> tuple:
 
 def a_ref(scene: Scene, b: float | None = None) -> float:
     """Half-space contact radius at the largest normal force (the FE mesh's a_ref); ``b``: of the scene's
-    indenter with that face radius instead (0: the sphere; a rough variant's ``rough_face``)."""
+    indenter with that face radius instead (0: the sphere)."""
     from fem.axisym.normal_run import reference_radius
     from mdr.materials import Materials
 
     E_star = Materials(scene.E1, scene.nu1, scene.E2, scene.nu2).E_star
     profile, b = (scene.profile, scene.b) if b is None else ("truncated" if b > 0 else "sphere", float(b))
     return reference_radius(profile, scene.R, b, scene.F0 + scene.dF, E_star)
-
-
-def rough_face(scene: Scene, v: dict) -> float:
-    """The face radius (m) of a rough variant ``v`` of ``scene``: its own ``b``, else the scene's
-    indenter's (0: the sphere)."""
-    return float(v["b"]) if "b" in v else (float(scene.b) if scene.profile == "truncated" else 0.0)
-

@@ -21,6 +21,22 @@ def module(family: str):
     return importlib.import_module(f"{__name__}.{family}")
 
 
+def number(v: dict, key: str, ok, bad, rng: str) -> float:
+    """A variant's number ``v[key]`` as a float, checked: finite and ``ok(x)``; else ``bad(key, rng)`` (the
+    family's ``InputError`` naming the scene, the variant, the key and its valid range ``rng``)."""
+    import math
+
+    try:
+        if isinstance(v[key], bool):
+            raise TypeError
+        x = float(v[key])
+    except (TypeError, ValueError):
+        raise bad(key, rng) from None
+    if not (math.isfinite(x) and ok(x)):
+        raise bad(key, rng)
+    return x
+
+
 def of_result(res: dict) -> str:
     """The family of a stored result (its scene's ``family``)."""
     return (res.get("scene") or {}).get("family") or "pair"

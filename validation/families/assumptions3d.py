@@ -5,16 +5,18 @@ mesh, with its own ladder's error bar and its settling towards the stationary cy
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from common.ladder import settling_error
+from common.errors import InputError
 from mdr.normal import approach_from_force
 
 from .. import metrics
-from . import result_of
-from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
+from . import number, result_of
+from ..scenes import ASSUMPTIONS_3D, SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
 from ..sides import fe_law, materials_of, pct_or, profile_of
 from ..text import LABELS, grade_text, num
 
@@ -70,18 +72,49 @@ def effect_settling(on: dict, off: dict, q: str, kind: str, floor: float = 0.0) 
     return settling_error(effects, floor=floor)
 
 
-def assumption_variant(s: Scene, v: dict) -> Scene:
-    """The scene of one variant of an assumptions scene: ``v`` may set ``b`` (a truncated sphere),
-    ``E2`` and ``nu2`` (the block's material); ``relax`` names the assumption."""
-    from dataclasses import replace
+@dataclass(frozen=True)
+class Variant:
+    """One variant of an assumptions scene: the assumption it relaxes (``relax``, one of
+    ``validation.scenes.ASSUMPTIONS_3D``: "direction", Mindlin's traction along x; "coupling", no
+    normal-tangential coupling) and optionally the indenter's face radius ``b`` (m, > 0: a truncated
+    sphere) and the block's material ``E2`` (Pa), ``nu2``; None: the scene's."""
 
-    kw = {k: float(v[k]) for k in ("b", "E2", "nu2") if k in v}
-    if kw.get("b"):
-        kw["profile"] = "truncated"
-    fmt = {"b": lambda x: f"b = {x * 1e6:g} um", "E2": lambda x: f"E2 = {x / 1e9:g} GPa",
-           "nu2": lambda x: f"nu2 = {x:g}"}
-    label = ", ".join(f(v[k]) for k, f in fmt.items() if k in v) or "sphere"
-    return replace(s, name=f"{s.name}[{v['relax']}: {label}]", variants=(), family="pair", **kw)
+    relax: str
+    b: float | None = None
+    E2: float | None = None
+    nu2: float | None = None
+
+    @classmethod
+    def of(cls, v: dict, scene: Scene) -> "Variant":
+        """The mapping ``v`` checked (the scene must be a 3D one; ``b`` in (0, R/2), ``E2`` > 0, ``nu2`` in
+        (-1, 0.5))."""
+        def bad(key, rng):
+            return InputError(f"scene {scene.name}: assumptions variant {v!r}: {key} must be {rng}")
+
+        unknown = sorted(set(v) - {"relax", "b", "E2", "nu2"})
+        if unknown:
+            raise bad(unknown[0], "one of the variant's keys (relax, b, E2, nu2)")
+        if scene.fe_model != "3d":
+            raise InputError(f"scene {scene.name}: variants that relax an assumption need fe_model='3d'")
+        if v.get("relax") not in ASSUMPTIONS_3D:
+            raise bad("relax", f"one of {', '.join(ASSUMPTIONS_3D)}")
+        rng = {"b": (lambda x: 0 < x < 0.5 * scene.R, f"in (0, {0.5 * scene.R:g}) (m; a truncated sphere's face)"),
+               "E2": (lambda x: x > 0, "> 0 (Pa)"), "nu2": (lambda x: -1 < x < 0.5, "in (-1, 0.5)")}
+        return cls(v["relax"], **{k: number(v, k, ok, bad, r) for k, (ok, r) in rng.items() if k in v})
+
+    @property
+    def label(self) -> str:
+        """What the variant changes: 'sphere', 'b = 20 um', 'E2 = 70 GPa, nu2 = 0.33'."""
+        fmt = (("b", lambda x: f"b = {x * 1e6:g} um"), ("E2", lambda x: f"E2 = {x / 1e9:g} GPa"),
+               ("nu2", lambda x: f"nu2 = {x:g}"))
+        return ", ".join(f(getattr(self, k)) for k, f in fmt if getattr(self, k) is not None) or "sphere"
+
+    def scene(self, s: Scene) -> Scene:
+        """The pair scene of this variant of ``s``: its face radius (a truncated sphere) and block."""
+        kw = {k: getattr(self, k) for k in ("b", "E2", "nu2") if getattr(self, k) is not None}
+        if kw.get("b"):
+            kw["profile"] = "truncated"
+        return replace(s, name=f"{s.name}[{self.relax}: {self.label}]", variants=(), family="pair", **kw)
 
 
 def pressure_against_mdr(s: Scene, levels) -> dict:
@@ -117,9 +150,9 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
 
     t0 = time.perf_counter()
     rows = []
-    for v in s.variants:
-        sv = assumption_variant(s, v)
-        relax = v["relax"]
+    for v in s.typed_variants:
+        sv = v.scene(s)
+        relax = v.relax
         levels = []
         for h in sv.fe_levels:
             law = fe_law(sv, h)
@@ -157,7 +190,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
                 err = max(err, floor[res])
             ev = metrics.effect_verdict(lad["value"], lad, None if tkey is None else tol[tkey], error=err)
             verdicts[q] = {**metrics.with_settling(ev, settle), "kind": kind, "resolution": floor[res], "ladder": lad}
-        rows.append({"variant": sv.name, "relax": relax, **{k: v[k] for k in ("b", "E2", "nu2") if k in v},
+        rows.append({"variant": sv.name, "relax": relax, **{k: getattr(v, k) for k in ("b", "E2", "nu2") if getattr(v, k) is not None},
                      "levels": levels, "verdicts": verdicts, "pressure": pressure_against_mdr(sv, levels),
                      **dict(zip(("holds", "grade"), metrics.judged_grade(verdicts))),
                      "traction_angle_max": levels[-1]["on"]["traction_angle_max"]})

@@ -5,12 +5,15 @@ with its error bar beside the tolerance (the parabolic profile is exact only as 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass, replace
 from pathlib import Path
+
+from common.errors import InputError
 
 from mdr.materials import Materials
 
 from .. import metrics
-from . import result_of
+from . import number, result_of
 from ..scenes import Scene
 from ..sides import run_fe, run_mdr
 from ..text import LABELS, grade_text, num
@@ -21,35 +24,60 @@ KEY = 'curvature'
 TITLE = 'curvature'
 
 
-def curvature_variant(s: Scene, v: dict) -> Scene:
-    """The sphere of scene ``s`` loaded to the contact radius a = a_over_R R (Hertz:
-    F0 = 4 E* a^3 / (3 R)), both bodies of Poisson ratio ``nu``, force amplitude mu F0 / 2.
+#: the contact radius over R a variant may load the sphere to (the cap is at most R high: 20 a at 5 %)
+A_OVER_R_MAX = 0.1
 
-    For the parabolic profile only a/R matters, and the FE body's shape in units of a is
-    the same for a given a/R whether F0 or R is varied; the sphere's cap is at most R high
-    (20 a at a/R = 5 %), so at large a/R the real sphere is also a small body."""
-    from dataclasses import replace
 
-    nu = float(v.get("nu", s.nu1))
-    E_star = Materials(s.E1, nu, s.E2, nu).E_star
-    a = float(v["a_over_R"]) * s.R
-    F0 = 4.0 * E_star * a ** 3 / (3.0 * s.R)
-    return replace(s, name=f"{s.name}[a/R={v['a_over_R']:g},nu={nu:g}]", F0=F0, dF=0.0,
-                   amplitude=0.5 * s.mu * F0, nu1=nu, nu2=nu, variants=(), family="pair")
+@dataclass(frozen=True)
+class Variant:
+    """One variant of a curvature scene: the sphere loaded to the contact radius a = ``a_over_R`` R, both
+    bodies of Poisson ratio ``nu`` (None: the scene's nu1)."""
+
+    a_over_R: float
+    nu: float | None = None
+
+    @classmethod
+    def of(cls, v: dict, scene: Scene) -> "Variant":
+        """The mapping ``v`` checked: ``a_over_R`` in (0, 0.1], optionally ``nu`` in (-1, 0.5)."""
+        def bad(key, rng):
+            return InputError(f"scene {scene.name}: curvature variant {v!r}: {key} must be {rng}")
+
+        unknown = sorted(set(v) - {"a_over_R", "nu"})
+        if unknown:
+            raise bad(unknown[0], "one of the variant's keys (a_over_R, nu)")
+        if scene.profile != "sphere":
+            raise InputError(f"scene {scene.name}: curvature variants need profile 'sphere', got {scene.profile!r}")
+        x = number(v, "a_over_R", lambda x: 0 < x <= A_OVER_R_MAX, bad, f"in (0, {A_OVER_R_MAX:g}]")
+        nu = number(v, "nu", lambda x: -1 < x < 0.5, bad, "in (-1, 0.5)") if "nu" in v else None
+        return cls(x, nu)
+
+    def scene(self, s: Scene) -> Scene:
+        """The sphere of scene ``s`` loaded to this contact radius (Hertz: F0 = 4 E* a^3 / (3 R)), both
+        bodies of Poisson ratio ``nu``, force amplitude mu F0 / 2, a pair scene.
+
+        For the parabolic profile only a/R matters, and the FE body's shape in units of a is
+        the same for a given a/R whether F0 or R is varied; the sphere's cap is at most R high
+        (20 a at a/R = 5 %), so at large a/R the real sphere is also a small body."""
+        nu = s.nu1 if self.nu is None else self.nu
+        E_star = Materials(s.E1, nu, s.E2, nu).E_star
+        a = self.a_over_R * s.R
+        F0 = 4.0 * E_star * a ** 3 / (3.0 * s.R)
+        return replace(s, name=f"{s.name}[a/R={self.a_over_R:g},nu={nu:g}]", F0=F0, dF=0.0,
+                       amplitude=0.5 * s.mu * F0, nu1=nu, nu2=nu, variants=(), family="pair")
 
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     """Half-space validity against the curvature a/R: every variant through both ladders
-    (``curvature_variant``), so the curvature effect (FE extrapolated - MDR) stands with its
+    (``Variant.scene``), so the curvature effect (FE extrapolated - MDR) stands with its
     error bar beside the tolerance, separated from the mesh error."""
     t0 = time.perf_counter()
     rows = []
-    for v in s.variants:
-        sv = curvature_variant(s, v)
+    for v in s.typed_variants:
+        sv = v.scene(s)
         mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
         fe_ladder = [run_fe(sv, h)[0] for h in sv.fe_levels]
         ver = scene_verdicts(sv, fe_ladder, mdr_ladder)
-        row = {"a_over_R": float(v["a_over_R"]), "nu": sv.nu1, "F0": sv.F0, "dofs": fe_ladder[-1]["dofs"],
+        row = {"a_over_R": v.a_over_R, "nu": sv.nu1, "F0": sv.F0, "dofs": fe_ladder[-1]["dofs"],
                "holds": metrics.conjunction(ver), "grade": metrics.scene_grade(ver), "verdicts": ver,
                "runtime_s": sum(x["runtime_s"]["total"] for x in fe_ladder)}
         for q in ("contact_radius", "stick_radius", "dissipation"):

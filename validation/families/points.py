@@ -21,11 +21,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
+from common.errors import InputError
+
 from .. import metrics
-from . import members_of, result_of_members
+from . import members_of, number, result_of_members
 from ..paper_points import RESOLUTION, SCENE_FIELDS
 from ..scenes import Scene
 from ..text import grade_text, num
@@ -38,27 +40,69 @@ TITLE = "the paper's points in the apparatus"
 KEPT = ("contact_radius", "dissipation", "slip_index", "loop_Fx", "loop_du")
 
 
-def point_variant(s: Scene, v: dict) -> Scene:
-    """The scene of one point: ``v`` sets ``kx`` and may set the other fields of a point
-    (``validation.paper_points.SCENE_FIELDS``: ``b``, 0 the sphere, else the truncated sphere's face radius;
-    the load F0, dF, the amplitude ``ua``, the friction mu1, mu2); the rest (ladders, steps, FE model)
-    is the scene's."""
-    kw = {SCENE_FIELDS[k]: float(x) for k, x in v.items() if k in SCENE_FIELDS}
-    b = kw.get("b", s.b)
-    load = "" if not {"F0", "dF", "ua", "mu1", "mu2"} & set(v) else f", F0 = {kw.get('F0', s.F0):g} N"
-    return replace(s, name=f"{s.name}[b = {b * 1e6:g} um, kx = {kw['kx'] / 1e6:g} N/um{load}]",
-                   profile="truncated" if b > 0 else "sphere", variants=(), family="pair", **kw)
+#: a point variant's fields and their valid ranges (``Variant.of``; ``R`` the scene's indenter radius)
+RANGES = {"kx": (lambda x, s: x > 0, "> 0 (N/m)"),
+          "b": (lambda x, s: 0 <= x < s.R, "in [0, R) (m; 0 the sphere)"),
+          "F0": (lambda x, s: x > 0, "> 0 (N)"),
+          "dF": (lambda x, s: x >= 0, ">= 0 (N), below F0"),
+          "ua": (lambda x, s: x > 0, "> 0 (m)"),
+          "mu1": (lambda x, s: x >= 0, ">= 0"),
+          "mu2": (lambda x, s: x >= 0, ">= 0")}
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One apparatus point of a points scene: its axis stiffness ``kx`` (N/m) and optionally the other
+    fields of a point (``validation.paper_points.Point``: ``b`` (0: the sphere, else the truncated sphere's
+    face radius), the load ``F0`` and ``dF``, the amplitude ``ua``, the friction ``mu1``, ``mu2``; None:
+    the scene's). The ladders, steps and FE model are the scene's."""
+
+    kx: float
+    b: float | None = None
+    F0: float | None = None
+    dF: float | None = None
+    ua: float | None = None
+    mu1: float | None = None
+    mu2: float | None = None
+
+    @classmethod
+    def of(cls, v: dict, scene: Scene) -> "Variant":
+        """The mapping ``v`` checked (``RANGES``; the point's scene then meets the scene's own checks)."""
+        def bad(key, rng):
+            return InputError(f"scene {scene.name}: point variant {v!r}: {key} must be {rng}")
+
+        unknown = sorted(set(v) - set(SCENE_FIELDS))
+        if unknown:
+            raise bad(unknown[0], f"one of the variant's keys ({', '.join(SCENE_FIELDS)})")
+        if "kx" not in v:
+            raise bad("kx", RANGES["kx"][1])
+        out = cls(**{k: number(v, k, lambda x, ok=ok: ok(x, scene), bad, rng)
+                     for k, (ok, rng) in RANGES.items() if k in v})
+        out.scene(scene)  # the point's scene checked whole (dF below F0, the drive's ranges)
+        return out
+
+    def given(self) -> dict:
+        """The fields the variant sets (the rest are the scene's)."""
+        return {k: getattr(self, k) for k in SCENE_FIELDS if getattr(self, k) is not None}
+
+    def scene(self, s: Scene) -> Scene:
+        """The pair scene of this point of ``s`` (the sphere where b = 0, else the truncated sphere)."""
+        kw = {SCENE_FIELDS[k]: x for k, x in self.given().items()}
+        b = kw.get("b", s.b)
+        load = "" if not {"F0", "dF", "ua", "mu1", "mu2"} & set(self.given()) else f", F0 = {kw.get('F0', s.F0):g} N"
+        return replace(s, name=f"{s.name}[b = {b * 1e6:g} um, kx = {kw['kx'] / 1e6:g} N/um{load}]",
+                       profile="truncated" if b > 0 else "sphere", variants=(), family="pair", **kw)
 
 
 def tasks(s: Scene) -> list:
     """One task per point (variant); the widest faces first (their finest meshes cost the most)."""
-    return sorted(({"variant": i} for i in range(len(s.variants))),
-                  key=lambda t: -float(s.variants[t["variant"]].get("b", s.b)))
+    b = [s.b if v.b is None else v.b for v in s.typed_variants]
+    return sorted(({"variant": i} for i in range(len(b))), key=lambda t: -b[t["variant"]])
 
 
 def member(s: Scene, task: dict) -> dict:
     """One point (``task["variant"]``), plain data: of an axisymmetric scene the pair family's run of
-    ``point_variant`` without files, reduced to the verdicts of ``KEPT`` and the FE contact radius; of
+    the point's scene (``Variant.scene``) without files, reduced to the verdicts of ``KEPT`` and the FE contact radius; of
     a 3D scene ``direction_member``. A solver that does not converge leaves the point ``failed`` (its
     row undetermined) and the scene goes on."""
     from .pair import run as run_pair
@@ -67,7 +111,7 @@ def member(s: Scene, task: dict) -> dict:
 
     t0 = time.perf_counter()
     i = int(task["variant"])
-    sv = point_variant(s, s.variants[i])
+    sv = s.typed_variants[i].scene(s)
     try:
         if s.fe_model == "3d":
             return {"variant": i, "b": sv.b, "kx": sv.kx, **direction_member(sv),
@@ -136,7 +180,7 @@ def _direction_row(s: Scene, m: dict) -> dict:
     ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
     grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
                                            else "beyond the budget's resolution")
-    return {"variant": m["variant"], **s.variants[m["variant"]], "b": m["b"], "kx": m["kx"], "failed": m.get("failed"),
+    return {"variant": m["variant"], **s.typed_variants[m["variant"]].given(), "b": m["b"], "kx": m["kx"], "failed": m.get("failed"),
             "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
             "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
             "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}

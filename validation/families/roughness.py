@@ -61,16 +61,19 @@ QUANTITIES = {"dissipation": "dissipation", "stiffness": "contact_radius"}
 MODELS = ("mdr_equivalent", "mdr_smooth")
 
 
+#: the family's typed variant (its home: ``validation.rough_variant``)
+Variant = RoughVariant
+
+
 def variant(s: Scene, i: int) -> RoughVariant:
-    """The scene's i-th variant, checked and converted (``validation.rough_variant.RoughVariant``)."""
-    return RoughVariant.of(s.variants[i], s, a_ref)
+    """The scene's i-th variant, checked and converted once (``Scene.typed_variants``)."""
+    return s.typed_variants[i]
 
 
 def tasks(s: Scene) -> list:
     """The scene's independent tasks: one per (variant, seed, grid), the finest grids first (the longest
     first keeps every worker busy to the end)."""
-    params = [variant(s, i) for i in range(len(s.variants))]  # once each: a measured variant reads its maps
-    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(params) for seed in v.seeds
+    out = [{"variant": i, "seed": seed, "n": n} for i, v in enumerate(s.typed_variants) for seed in v.seeds
            for n in v.grids]
     return sorted(out, key=lambda t: -t["n"])
 

@@ -3,16 +3,19 @@ aligned face on the same 3D mesh (the mesh error they share cancels) and against
 """
 from __future__ import annotations
 
+import math
 import time
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
+from common.errors import InputError
 from common.ladder import settling_error
 from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
 
 from .. import metrics
-from . import result_of
+from . import number, result_of
 from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene
 from ..sides import fe_law, materials_of, pct_or, run_mdr
 from ..text import grade_text, num
@@ -22,13 +25,91 @@ KEY = 'tilt'
 TITLE = 'tilt'
 
 
-def tilt_variant(s: Scene, v: dict) -> Scene:
-    """The aligned scene of one profile of a tilt scene (``v``: profile, b, tilts)."""
-    from dataclasses import replace
+@dataclass(frozen=True)
+class Variant:
+    """One profile of a tilt scene: the ``profile`` ("flat" or "truncated") with face radius ``b`` (m, > 0),
+    the ``tilts`` (rad, > 0) swept against the aligned face, its own 3D ``fe_levels`` (None: the scene's)
+    and per level the loaded edge's refinement (``meshes.half3d.Refinement``: ``refine`` a ball, ``band`` a
+    band along the rim arc; None: none)."""
 
-    name = f"{s.name}[{v['profile']} b = {v['b'] * 1e6:g} um{', banded edge' if 'band' in v else ''}]"
-    return replace(s, name=name, profile=v["profile"], b=float(v["b"]), variants=(), family="pair",
-                   fe_levels=tuple(v.get("fe_levels", s.fe_levels)))
+    profile: str
+    b: float
+    tilts: tuple
+    fe_levels: tuple | None = None
+    refinements: tuple | None = None
+
+    @classmethod
+    def of(cls, v: dict, scene: Scene) -> "Variant":
+        """The mapping ``v`` checked: a 3D, force-driven scene; ``profile``, ``b`` in (0, R), ``tilts`` a
+        non-empty list of angles in (0, pi/2); optionally ``fe_levels`` (the 3D model's range,
+        non-increasing) and, one per level, ``refine`` (x, h, radius) or ``band`` (h, width, angle[, growth])
+        in units of a_ref, each checked against the level's mesh (``meshes.half3d.Half3DMeshParams``)."""
+        from meshes.axisym import CONTACT_EXTENT_DEFAULT
+        from meshes.half3d import H_CONTACT_3D_RANGE, Half3DMeshParams, Refinement
+
+        def bad(key, rng):
+            return InputError(f"scene {scene.name}: tilt variant {v!r}: {key} must be {rng}")
+
+        unknown = sorted(set(v) - {"profile", "b", "tilts", "fe_levels", "refine", "band"})
+        if unknown:
+            raise bad(unknown[0], "one of the variant's keys (profile, b, tilts, fe_levels, refine, band)")
+        if scene.fe_model != "3d" or scene.drive != "force":
+            raise InputError(f"scene {scene.name}: tilt variants need fe_model='3d' and drive='force'")
+        if v.get("profile") not in ("flat", "truncated"):
+            raise bad("profile", "flat or truncated")
+        b = number(v, "b", lambda x: 0 < x < scene.R, bad, f"in (0, {scene.R:g}) (m; the face radius)")
+        try:
+            tilts = tuple(float(t) for t in v.get("tilts"))
+            ok = len(tilts) > 0 and all(0 < t < 0.5 * math.pi for t in tilts)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise bad("tilts", "a non-empty list of angles in (0, pi/2) (rad)")
+        lo, hi = H_CONTACT_3D_RANGE
+        levels = None
+        if "fe_levels" in v:
+            try:
+                levels = tuple(float(h) for h in v["fe_levels"])
+                ok = len(levels) > 0 and all(lo <= h <= hi for h in levels) \
+                    and all(x >= y for x, y in zip(levels, levels[1:]))
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise bad("fe_levels", f"a non-increasing list of element sizes / a_ref in [{lo:g}, {hi:g}]")
+        hs = levels or scene.fe_levels
+        refinements = None
+        if {"refine", "band"} & set(v):
+            extent = 1.0 if v["profile"] == "flat" else CONTACT_EXTENT_DEFAULT
+            for k in ("refine", "band"):
+                if k in v and (isinstance(v[k], str) or not hasattr(v[k], "__len__") or len(v[k]) != len(hs)):
+                    raise bad(k, f"one {k} tuple per FE level ({len(hs)})")
+            refinements = []
+            for j, h in enumerate(hs):
+                try:
+                    r = Refinement(**{k: v[k][j] for k in ("refine", "band") if k in v})
+                    Half3DMeshParams(a_ref=1.0, h_contact=h, contact_extent=extent, **r.mesh_fields())
+                except (InputError, TypeError) as e:
+                    raise bad("refine, band", f"valid at the level h = {h:g} a_ref ({e})") from None
+                refinements.append(r)
+            refinements = tuple(refinements)
+        return cls(v["profile"], b, tilts, levels, refinements)
+
+    @property
+    def banded(self) -> bool:
+        return any(r.band is not None for r in self.refinements or ())
+
+    def scene(self, s: Scene) -> Scene:
+        """The aligned pair scene of this profile of tilt scene ``s``."""
+        name = f"{s.name}[{self.profile} b = {self.b * 1e6:g} um{', banded edge' if self.banded else ''}]"
+        return replace(s, name=name, profile=self.profile, b=self.b, variants=(), family="pair",
+                       fe_levels=self.fe_levels or s.fe_levels)
+
+    def mesh_options(self, j: int) -> dict:
+        """The 3D law's mesh options at level ``j`` (``refine``, ``band``; the loaded edge refined)."""
+        if self.refinements is None:
+            return {}
+        r = self.refinements[j]
+        return {k: getattr(r, k) for k in ("refine", "band") if getattr(r, k) is not None}
 
 
 #: the metrics of a tilt, each against the aligned face: tolerance key of ``Scene.tolerances`` (None:
@@ -108,7 +189,7 @@ def _tilt_tolerance(q, tol, relative, W0, scale, si0=None):
     return tol["dissipation"] if relative else max(tol["dissipation"] * abs(W0) / scale, DISSIPATION_FLOOR)
 
 
-def _levels(sv: Scene, v: dict, tilts, log) -> list:
+def _levels(sv: Scene, v: Variant, tilts, log) -> list:
     """The 3D runs of one profile: per mesh level of ``sv.fe_levels`` one set-up (the loaded edge refined
     by the variant's ``refine``/``band``), the aligned face and every tilt driven together
     (``fem.contact_run.drive_3d_together``, settled), their keys per run."""
@@ -120,7 +201,7 @@ def _levels(sv: Scene, v: dict, tilts, log) -> list:
     levels = []
     for j, h in enumerate(sv.fe_levels):
         t0 = time.perf_counter()
-        law = fe_law(sv, h, **{k: v[k][j] for k in ("refine", "band") if k in v})  # the loaded edge refined
+        law = fe_law(sv, h, **v.mesh_options(j))  # the loaded edge refined
         setup = time.perf_counter() - t0
         runs = []
         laws = [law.assuming(tilt=th) for th in tilts]
@@ -150,7 +231,7 @@ def _levels(sv: Scene, v: dict, tilts, log) -> list:
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     """Misalignment of the flat face (``tilt`` family): per profile, the aligned face and every tilt
-    (``v["tilts"]``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.assuming``), the
+    (``Variant.tilts``, rad) on each 3D mesh level (one set-up per level, ``FEContact3D.assuming``), the
     normal load applied with friction active and the force-driven cycles of the scene
     (``fem.contact_run.drive_3d``), and MDR (aligned; its own ladder). Each tilt's metrics
     (``TILT_METRICS``) against the aligned 3D run on the same mesh: the mesh error the two share
@@ -166,11 +247,11 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     t_scene = time.perf_counter()
     tol = s.tolerances()
     rows = []
-    for v in s.variants:
-        sv = tilt_variant(s, v)
+    for v in s.typed_variants:
+        sv = v.scene(s)
         mat = materials_of(sv)
         thc = tilt_critical(sv.F0, sv.b, mat.E_star)
-        tilts = (0.0,) + tuple(float(t) for t in v["tilts"])
+        tilts = (0.0,) + v.tilts
         mdr_ladder = [run_mdr(sv, n) for n in sv.mdr_cells]
         mdr = mdr_ladder[-1]
         levels = _levels(sv, v, tilts, log)
@@ -228,7 +309,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
             if pt["aligned"]["dissipation"]["grade"] not in ("holds", "consistent within its spread"):
                 break
             below = pt["tilt"]
-        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc, "banded": "band" in v,
+        rows.append({"variant": sv.name, "profile": sv.profile, "b": sv.b, "theta_c": thc, "banded": v.banded,
                      "dissipation_unit": "relative" if rel3 else "4 mu F0 u_A",
                      "dissipation_unit_mdr": "relative" if relm else "4 mu F0 u_A",
                      "holds_below": below, "holds_below_ratio": None if below is None else below / thc,

@@ -3,8 +3,12 @@ shrunk towards the contact (multiples of a_ref) at one mesh level, against the d
 """
 from __future__ import annotations
 
+import math
 import time
+from dataclasses import dataclass
 from pathlib import Path
+
+from common.errors import InputError
 
 from .. import metrics
 from . import result_of
@@ -19,16 +23,63 @@ TITLE = 'validity'
 
 #: the bodies' size of the default FE model, in contact radii (meshes.axisym: block 200 a_ref, the cap as high)
 VALIDITY_DEFAULT_SIZE = 200.0
+#: the smallest body a variant may shrink to, in contact radii (the probe of the half-space comparable
+#: displacement sits inside a body of 2.5 a)
+VALIDITY_MIN_SIZE = 2.5
 
 
-def validity_label(v: dict) -> str:
-    """A validity variant's label, saying which body is shrunk: 'block 3 a (cap 200 a)', 'cap 3 a
-    (block 200 a)' or 'block 3 a, cap 3 a'."""
-    if "block" in v and "cap" in v:
-        return f"block {v['block']:g} a, cap {v['cap']:g} a"
-    (kind, x), = v.items()
-    other = "cap" if kind == "block" else "block"
-    return f"{kind} {x:g} a ({other} {VALIDITY_DEFAULT_SIZE:g} a)"
+@dataclass(frozen=True)
+class Variant:
+    """One variant of a validity scene: the FE block's and/or the cap's size in contact radii (a_ref; None:
+    the default body, ``VALIDITY_DEFAULT_SIZE``). ``Variant()`` is the default bodies, the row every
+    variant is compared with."""
+
+    block: float | None = None
+    cap: float | None = None
+
+    @classmethod
+    def of(cls, v: dict, scene: Scene) -> "Variant":
+        """The mapping ``v`` checked: the keys ``block`` and/or ``cap``, each a number > 2.5."""
+        ok = bool(v) and set(v) <= {"block", "cap"} and all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > VALIDITY_MIN_SIZE
+            for x in v.values())
+        if not ok:
+            raise InputError(f"scene {scene.name}: a validity variant holds block and/or cap, sizes in contact "
+                             f"radii > {VALIDITY_MIN_SIZE:g}, got {v!r}")
+        return cls(**{k: float(x) for k, x in v.items()})
+
+    @property
+    def is_default(self) -> bool:
+        return self.block is None and self.cap is None
+
+    @property
+    def sizes(self) -> tuple:
+        """(block, cap) in contact radii, the default body where the variant leaves one out."""
+        return (VALIDITY_DEFAULT_SIZE if self.block is None else self.block,
+                VALIDITY_DEFAULT_SIZE if self.cap is None else self.cap)
+
+    @property
+    def label(self) -> str:
+        """Which body is shrunk: 'block 3 a (cap 200 a)', 'cap 3 a (block 200 a)', 'block 3 a, cap 3 a'."""
+        if self.is_default:
+            return f"default ({VALIDITY_DEFAULT_SIZE:g} a)"
+        if self.block is not None and self.cap is not None:
+            return f"block {self.block:g} a, cap {self.cap:g} a"
+        kind, x, other = ("block", self.block, "cap") if self.cap is None else ("cap", self.cap, "block")
+        return f"{kind} {x:g} a ({other} {VALIDITY_DEFAULT_SIZE:g} a)"
+
+    def mesh_options(self, a: float) -> dict:
+        """The FE model's options (``validation.sides.run_fe``) for contact radius ``a`` (m): each body at
+        its own size (the default cap is as high as the block, so a block-only variant keeps the cap at
+        the default size explicitly), the displacement's probe inside a small body; {} for the default."""
+        if self.is_default:
+            return {}
+        block, cap = self.sizes
+        kw = {"block_size": block * a, "indenter_height": cap * a}
+        size = min(block, cap)
+        if size < 25:
+            kw["probe_depth"] = 0.5 * (1.25 + 0.8 * size) * a
+        return kw
 
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
@@ -40,17 +91,10 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
     closed = closed_forms(s)
     base, _ = run_fe(s, h)
     rows = []
-    for v in ({},) + tuple(s.variants):
-        # each body at its own size: the default cap is as high as the block, so a block-only variant
-        # keeps the cap at the default 200 a explicitly (else shrinking the block shrinks the cap)
-        block, cap = v.get("block", VALIDITY_DEFAULT_SIZE), v.get("cap", VALIDITY_DEFAULT_SIZE)
-        kw = {"block_size": block * a, "indenter_height": cap * a} if v else {}
-        size = min(block, cap)
-        if size < 25:
-            kw["probe_depth"] = 0.5 * (1.25 + 0.8 * size) * a
-        res = base if not v else run_fe(s, h, **kw)[0]
-        row = {"variant": "default (200 a)" if not v else validity_label(v),
-               "block_over_a": block, "cap_over_a": cap, "dofs": res["dofs"]}
+    for v in (Variant(),) + s.typed_variants:
+        res = base if v.is_default else run_fe(s, h, **v.mesh_options(a))[0]
+        block, cap = v.sizes
+        row = {"variant": v.label, "block_over_a": block, "cap_over_a": cap, "dofs": res["dofs"]}
         for q in ("contact_radius", "stick_radius", "dissipation"):
             row[q] = res[q]
             row[f"{q}_mdr_minus_fe"] = metrics.rel(mdr[q], res[q])
