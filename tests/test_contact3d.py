@@ -102,7 +102,7 @@ def test_cattaneo_mindlin(model, hertz, Q):
     _, _, _, mi, _ = model
     rf, _, p, _, _ = hertz
     g = MU * p
-    res = solve_tangential3d(rf.Dt, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, force=Q * MU * F / 2)
+    res = solve_tangential3d(rf, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, force=Q * MU * F / 2)
     q = res.q
     qn = np.hypot(q[:, 0], q[:, 1])
     assert np.all(qn <= g * (1 + 1e-9))  # Coulomb
@@ -125,7 +125,7 @@ def test_force_beyond_friction_limit_raises(model, hertz):
     rf, _, p, _, _ = hertz
     for f in (1.01, 1.0):  # at the limit itself there is no force-controlled solution either
         with pytest.raises(ConvergenceError, match="friction limit"):
-            solve_tangential3d(rf.Dt, mi.A, MU * p, np.zeros((mi.n, 2)), mi.on_plane,
+            solve_tangential3d(rf, mi.A, MU * p, np.zeros((mi.n, 2)), mi.on_plane,
                                force=f * float(mi.A @ (MU * p)))
 
 
@@ -140,7 +140,7 @@ def test_gross_slip_under_displacement_control(model, hertz):
     us = ref.gross_slip_displacement(HZ["d"], MU, MAT.E_star, MAT.G_star)
     short = []
     for k in (3, 30, 300):
-        res = solve_tangential3d(rf.Dt, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, u=k * us)
+        res = solve_tangential3d(rf, mi.A, g, np.zeros((mi.n, 2)), mi.on_plane, u=k * us)
         qn = np.hypot(res.q[:, 0], res.q[:, 1])
         assert np.allclose(qn[c], g[c], rtol=1e-9)  # all slide
         short.append(1 - 2 * mi.A @ res.q[:, 0] / (MU * F))
@@ -156,7 +156,7 @@ def test_cycle_dissipation(model, hertz):
     steps = 40
     Qa = 0.5 * MU * F
     t = np.arange(2 * steps + 1) / steps
-    cyc = tangential_history(rf.Dt, mi.A, MU * p, mi.on_plane, Fx=Qa * np.sin(2 * np.pi * t))
+    cyc = tangential_history(rf, mi.A, MU * p, mi.on_plane, Fx=Qa * np.sin(2 * np.pi * t))
     assert np.all(cyc.work >= -1e-12 * cyc.work.max())
     W = cyc.work[steps + 1:].sum()
     loop = np.trapezoid(cyc.Fx[steps:], cyc.u[steps:])
@@ -968,8 +968,8 @@ def test_force_control_fallback_agrees_with_newton(model, hertz):
     rf, _, p, _, _ = hertz
     g = MU * p
     P0 = np.zeros((mi.n, 2))
-    newton = solve_tangential3d(rf.Dt, mi.A, g, P0, mi.on_plane, force=0.3 * MU * F / 2)
-    secant = _tangential_force_by_secant(rf.Dt, mi.A, g, P0, mi.on_plane, 0.3 * MU * F / 2, None, 20000)
+    newton = solve_tangential3d(rf, mi.A, g, P0, mi.on_plane, force=0.3 * MU * F / 2)
+    secant = _tangential_force_by_secant(rf, mi.A, g, P0, mi.on_plane, 0.3 * MU * F / 2, None, 20000)
     assert newton.method == "newton" and secant.method == "secant"
     assert abs(secant.u / newton.u - 1) < 1e-6
     assert np.max(np.abs(secant.q - newton.q)) < 1e-6 * g.max()
@@ -1005,24 +1005,30 @@ def test_stick_ellipse_fit_recovers_cattaneo_mindlin_slack():
 
 
 def test_reduced_operators_are_formed_once_and_freed_with_their_flexibility():
-    """``fem.solid3d.newton_blocks._reduced``: the same (Dt, plane set) gives the same read-only arrays (formed
-    once per law, not per step), another plane set others, and the entry goes when Dt does."""
+    """``fem.solid3d.newton_blocks._reduced``: the same flexibility and plane set give the same read-only
+    arrays (formed once per law, not per step), another plane set others; they are the flexibility's own
+    (``RelativeFlexibility.operators``: another pair's are apart) and go when it does."""
     import gc
+    import weakref
 
-    from fem.solid3d import newton_blocks as contact
+    from fem.solid3d.contact import RelativeFlexibility
+    from fem.solid3d.newton_blocks import _reduced
 
     n = 6
     rng = np.random.default_rng(1)
     M = rng.normal(size=(2 * n, 2 * n))
     Dt = M @ M.T + 2 * n * np.eye(2 * n)
+    rf, other = RelativeFlexibility(np.eye(n), Dt), RelativeFlexibility(np.eye(n), Dt.copy())
     plane = np.array([True, True, False, False, False, False])
-    a, b = contact._reduced(Dt, plane), contact._reduced(Dt, plane)
+    a, b = _reduced(rf, plane), _reduced(rf, plane)
     assert all(x is y for x, y in zip(a, b)) and not a[1].flags.writeable
     yi, D, cd, dz_dv = a
     idx = np.concatenate([np.arange(n), n + yi])
     assert np.array_equal(D, Dt[np.ix_(idx, idx)]) and np.array_equal(dz_dv, np.eye(idx.size) - cd[:, None] * D)
-    assert contact._reduced(Dt, ~plane)[1].shape == (8, 8) and D.shape == (10, 10)
-    keys = [k for k in contact._REDUCED if k[0] == id(Dt)]
-    del Dt, a, b, D, dz_dv
+    assert _reduced(rf, ~plane)[1].shape == (8, 8) and D.shape == (10, 10)
+    c = _reduced(other, plane)
+    assert c[1] is not D and np.array_equal(c[1], D)
+    gone = weakref.ref(D)
+    del rf, a, b, D, dz_dv, yi, cd
     gc.collect()
-    assert not any(k in contact._REDUCED for k in keys)
+    assert gone() is None

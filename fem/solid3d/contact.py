@@ -48,7 +48,7 @@ per law are ``fem.solid3d.newton_blocks``.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
@@ -58,7 +58,7 @@ from common.errors import ConvergenceError
 from mdr.solve import regula_falsi_increasing
 
 from fem.solvers import blas_threads
-from fem.solid3d.newton_blocks import (_COLUMNS, _contact_block, _last_blocks, _newton_blocks, _pack, _reduced,
+from fem.solid3d.newton_blocks import (Operators, _contact_block, _newton_blocks, _pack, _reduced,
                                        _unpack)
 
 #: relative tolerance of the complementarity residuals (of the largest pressure / slip limit)
@@ -74,12 +74,15 @@ class RelativeFlexibility:
 
     ``Dn`` (n, n) normal, ``Dt`` (2n, 2n) tangential (x block, then y block), ``K`` (2n, n)
     the normal-tangential coupling (weighted tangential displacement per unit pressure,
-    ``D1_tz - D2_tz``; zero for identical materials).
+    ``D1_tz - D2_tz``; zero for identical materials). The matrices are fixed once made: the
+    ``operators`` the solves form from them are kept with them.
     """
 
     Dn: np.ndarray
     Dt: np.ndarray
     K: np.ndarray | None = None
+    #: the operators its solves keep between increments (``fem.solid3d.newton_blocks.Operators``)
+    operators: Operators = field(default_factory=Operators, repr=False, compare=False)
 
     @classmethod
     def from_bodies(cls, D1, D2):
@@ -166,9 +169,10 @@ class TangentialResult:
     method: str
 
 
-def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None, u0=None,
+def solve_tangential3d(rf, A, g, P_old, qy_zero, *, u=None, force=None, q0=None, u0=None,
                        max_iter=50, fista_iter=20000):
-    """One Coulomb increment (module docstring): displacement ``u`` (m) or the half model's
+    """One Coulomb increment (module docstring) of the pair ``rf`` (a :class:`RelativeFlexibility`: its Dt and
+    the operators kept with it): displacement ``u`` (m) or the half model's
     tangential force ``force`` (N; sum A_j q_xj) prescribed. ``g`` (n,) slip limits mu p (Pa),
     ``P_old`` (n, 2) the weighted slip of the last step, ``qy_zero`` (n,) the vertices whose q_y is held
     at 0: those on the symmetry plane y = 0 (the traction of free direction), or all of them (Mindlin's
@@ -178,7 +182,7 @@ def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None,
         raise ValueError("give exactly one of force and u")
     n = A.size
     # unknown layout: q_x (n), q_y at vertices off the plane (ny), [u]
-    yi, D, cd, dz_dv = _reduced(Dt, qy_zero)
+    yi, D, cd, dz_dv = _reduced(rf, qy_zero)
     m = D.shape[0]
     ex = np.concatenate([A, np.zeros(yi.size)])  # d s / d u, restricted
     Pold = _pack(np.asarray(P_old), yi)
@@ -193,12 +197,13 @@ def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None,
                                "force-controlled solution; drive the displacement instead)")
 
     unpack, pack = partial(_unpack, n=n, yi=yi), partial(_pack, yi=yi)
+    plane = np.asarray(qy_zero, dtype=bool).tobytes()
 
     def residual(v, dl):
         # the weighted relative displacement; D's product on the columns of the nonzero tractions (the
         # contact's, once projected), gathered once per pattern: the same sums of the same nonzero terms
         iv = np.flatnonzero(v)
-        s = dl * ex - _last_blocks(D, iv.tobytes(), lambda: D[:, iv], _COLUMNS) @ v[iv]
+        s = dl * ex - rf.operators.last(("columns", plane), iv.tobytes(), lambda: D[:, iv]) @ v[iv]
         r = unpack(s - Pold)  # slip increments (n, 2)
         q = unpack(v)
         z = q + np.column_stack([c * r[:, 0], cy * r[:, 1]])
@@ -254,7 +259,7 @@ def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None,
                 step[kept] = -sla.solve(Jkk, R[kept] - Jko @ R[out], check_finite=False)
                 lu = None
             else:
-                block = block or _contact_block(kept[kept < m], n, yi, dz_dv, dz_du)
+                block = block or _contact_block(rf, qy_zero, kept[kept < m], n, yi, dz_dv, dz_du)
                 lu = sla.lu_factor(block.matrix(z, g, fc, A, dscale), check_finite=False)
                 step[kept] = -sla.lu_solve(lu, R[kept], check_finite=False)
         except (sla.LinAlgError, ValueError):
@@ -271,12 +276,12 @@ def solve_tangential3d(Dt, A, g, P_old, qy_zero, *, u=None, force=None, q0=None,
             break
         v, dl, R, s, z = v + t * dv, dl + t * ddl, Rt, st, zt
     if fc:
-        return _tangential_force_by_secant(Dt, A, g, P_old, qy_zero, force, q0, fista_iter)
+        return _tangential_force_by_secant(rf, A, g, P_old, qy_zero, force, q0, fista_iter)
     vq, r = _fista(D, dl * ex - Pold, unpack, pack, g, fista_iter, tolR, v)
     return TangentialResult(unpack(vq), dl, unpack(r + Pold), fista_iter, "fista")
 
 
-def tangential_slope(Dt, A, g, qy_zero, q, r) -> float:
+def tangential_slope(rf, A, g, qy_zero, q, r) -> float:
     """d(sum_j A_j q_xj)/du (N/m, half model) of a displacement-controlled Coulomb increment at
     its solution: traction ``q`` (n, 2), slip increments ``r`` (n, 2) = s - P_old (weighted, m^3).
     The consistent tangent of the semi-smooth residual (:func:`solve_tangential3d`): stick
@@ -289,7 +294,7 @@ def tangential_slope(Dt, A, g, qy_zero, q, r) -> float:
     n = A.size
     if not np.any(g > 0):
         return 0.0
-    yi, D, cd, dz_dv = _reduced(Dt, qy_zero)
+    yi, D, cd, dz_dv = _reduced(rf, qy_zero)
     ex = np.concatenate([A, np.zeros(yi.size)])
     c = cd[:n]
     cy = np.zeros(n)
@@ -301,7 +306,7 @@ def tangential_slope(Dt, A, g, qy_zero, q, r) -> float:
     # fraction of the cost: the contact is part of the meshed interface)
     inside = g > 0
     kv = np.flatnonzero(np.concatenate([inside, inside[yi]]))
-    J, Pdu = _contact_block(kv, n, yi, dz_dv, Cvec * ex).tangent(z, g)
+    J, Pdu = _contact_block(rf, qy_zero, kv, n, yi, dz_dv, Cvec * ex).tangent(z, g)
     dv = sla.solve(J, Pdu, check_finite=False)
     return float(A[kv[kv < n]] @ dv[kv < n])
 
@@ -333,14 +338,14 @@ def _fista(D, b, unpack, pack, g, max_iter, tolR, v0):
                            f"(residual {R / (np.max(g) + 1e-300):.3g} of the largest slip limit)")
 
 
-def _tangential_force_by_secant(Dt, A, g, P_old, qy_zero, force, q0, fista_iter):
+def _tangential_force_by_secant(rf, A, g, P_old, qy_zero, force, q0, fista_iter):
     """Force control fallback: the total force is continuous and nondecreasing in u; regula
     falsi (Illinois) on displacement-controlled increments."""
     def total(dl):
-        out = solve_tangential3d(Dt, A, g, P_old, qy_zero, u=dl, q0=q0, fista_iter=fista_iter)
+        out = solve_tangential3d(rf, A, g, P_old, qy_zero, u=dl, q0=q0, fista_iter=fista_iter)
         return A @ out.q[:, 0] - force, out
 
-    scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(Dt)) / np.min(A)) + 1e-300
+    scale = float(np.max(np.abs(P_old)) / np.min(A) + np.max(g) * np.max(np.diag(rf.Dt)) / np.min(A)) + 1e-300
     _, out = regula_falsi_increasing(total, -scale, scale, 1e-10 * float(np.sum(A * g)),
                                      what="Coulomb increment under force control: secant search on u")
     out.method = "secant"
@@ -358,7 +363,7 @@ class Cycle3D:
     P: list  # weighted slip (n, 2) per step
 
 
-def tangential_history(Dt, A, g, qy_zero, Fx=None, u=None):
+def tangential_history(rf, A, g, qy_zero, Fx=None, u=None):
     """Run a tangential history (full-body forces ``Fx`` or displacements ``u``, starting from
     a tangentially unloaded contact) at fixed slip limits ``g`` (Pa). The friction work of an
     increment is sum_j q_j . (P_j,new - P_j,old) over the vertices in contact (weighted slip,
@@ -373,15 +378,15 @@ def tangential_history(Dt, A, g, qy_zero, Fx=None, u=None):
     out = Cycle3D(np.zeros(hist.size), np.zeros(hist.size), np.zeros(hist.size), [], [])
     contact = g > 0
     with blas_threads(1):
-        return _history(Dt, A, g, qy_zero, Fx, hist, P, q, dl, out, contact)
+        return _history(rf, A, g, qy_zero, Fx, hist, P, q, dl, out, contact)
 
 
-def _history(Dt, A, g, qy_zero, Fx, hist, P, q, dl, out, contact):
-    for k, h in enumerate(hist):
+def _history(rf, A, g, qy_zero, Fx, hist, P, q, dl, out, contact):
+    for k, load in enumerate(hist):
         if Fx is not None:
-            r = solve_tangential3d(Dt, A, g, P, qy_zero, force=h / WHOLE, q0=q, u0=dl)
+            r = solve_tangential3d(rf, A, g, P, qy_zero, force=load / WHOLE, q0=q, u0=dl)
         else:
-            r = solve_tangential3d(Dt, A, g, P, qy_zero, u=h, q0=q)
+            r = solve_tangential3d(rf, A, g, P, qy_zero, u=load, q0=q)
         q, dl = r.q, r.u
         Pn = r.s
         out.work[k] = WHOLE * float(np.sum((r.q * (Pn - P))[contact]))
@@ -415,14 +420,14 @@ def predict(state, A, g, u, Fx):
     return project_disk(q + f * dq, g), state.u + f * state.du
 
 
-def coulomb_increment(Dt, A, g, P_old, qy_zero, state, *, u=None, Fx=None) -> TangentialResult:
+def coulomb_increment(rf, A, g, P_old, qy_zero, state, *, u=None, Fx=None) -> TangentialResult:
     """The Coulomb increment of an uncoupled pair at fixed slip limits ``g`` = mu p: displacement-driven
     (``u``) or force-driven (``Fx``, the whole model's: the half model carries half), started from the
     last step's state moved by ``predict``; without any slip limit the contact takes the displacement."""
     if not np.any(g > 0):
-        return solve_tangential3d(Dt, A, g, P_old, qy_zero, u=float(state.u if u is None else u))
+        return solve_tangential3d(rf, A, g, P_old, qy_zero, u=float(state.u if u is None else u))
     if u is not None:
         q0, _ = predict(state, A, g, u, None)
-        return solve_tangential3d(Dt, A, g, P_old, qy_zero, u=u, q0=q0)
+        return solve_tangential3d(rf, A, g, P_old, qy_zero, u=u, q0=q0)
     q0, u0 = predict(state, A, g, None, Fx)
-    return solve_tangential3d(Dt, A, g, P_old, qy_zero, force=Fx / WHOLE, q0=q0, u0=u0)
+    return solve_tangential3d(rf, A, g, P_old, qy_zero, force=Fx / WHOLE, q0=q0, u0=u0)

@@ -15,8 +15,8 @@ from common.errors import ConvergenceError
 
 from fem.solid3d.contact import (TOL, RelativeFlexibility, TangentialResult, project_disk, solve_normal3d,
                                  solve_tangential3d)
-from fem.solid3d.newton_blocks import (_COLUMNS, _held_by, _last_blocks, _pack, _partner_rows, _partners,
-                                       _projection_derivative, _reduced, _unpack)
+from fem.solid3d.newton_blocks import (_pack, _partner_rows, _partners, _projection_derivative, _reduced,
+                                       _unpack)
 
 
 def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, qy_zero, *, F_n=None, d=None, u=None,
@@ -54,7 +54,7 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, qy_zero, *, F_n
                                          p0=p)
         Kp = K @ p_new if K is not None else np.zeros(2 * n)
         Kp2 = np.column_stack([Kp[:n], Kp[n:]])
-        res = solve_tangential3d(rf.Dt, A, mu * p_new, np.asarray(P_old) - Kp2, qy_zero, u=u,
+        res = solve_tangential3d(rf, A, mu * p_new, np.asarray(P_old) - Kp2, qy_zero, u=u,
                                  force=F_t, q0=q, u0=dl)
         dp = np.max(np.abs(p_new - p)) if p is not None else np.inf
         dq = np.max(np.abs(res.q - q))
@@ -67,22 +67,18 @@ def solve_coupled3d(rf: RelativeFlexibility, gap0, A, mu, P_old, qy_zero, *, F_n
                            f"passes (last change {dp / scale:.3g} of the largest pressure, {dq / scale:.3g} in q)")
 
 
-#: the packed coupling operators of the last few (K, qy_zero) pairs (``_coupled_operators``)
-_COUPLED: dict = {}
-
-
 def _coupled_operators(rf: RelativeFlexibility, qy_zero) -> tuple:
     """(Kp, Kp^T, dz/d(p, v)) of a dissimilar pair in the packed layout of ``_reduced``: K's rows of the
     packed unknowns (m, n), its transpose, and [diag(c) Kp, dz/dv] (m, n + m), the derivative of the
     trial traction z by the pressures and the tractions. Formed once per flexibility and plane set
-    (``_held_by``)."""
+    (held by ``rf.operators``)."""
     def build():
         n = rf.K.shape[1]
-        yi, _, cd, dz_dv = _reduced(rf.Dt, qy_zero)
+        yi, _, cd, dz_dv = _reduced(rf, qy_zero)
         Kp = rf.K[np.concatenate([np.arange(n), n + yi])]
         return Kp, np.ascontiguousarray(Kp.T), np.hstack([cd[:, None] * Kp, dz_dv])
 
-    return _held_by(_COUPLED, rf.K, qy_zero, build)
+    return rf.operators.held("coupled", qy_zero, build)
 
 
 # 131 lines, above the house limit of 120 for a stated reason: one Newton solve whose residual, line search
@@ -107,7 +103,7 @@ def _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, *, F_n, d, u, F_t, q0, u0, 
     halvings) until ||R|| decreases, and where that fails too, the whole Jacobian, backtracked the same
     way. Only the iterations depend on these choices, not the solution."""
     n = A.size
-    yi, D, cd, dz_dv = _reduced(rf.Dt, qy_zero)
+    yi, D, cd, dz_dv = _reduced(rf, qy_zero)
     m = D.shape[0]
     Kp, KpT, dz_dpv = _coupled_operators(rf, qy_zero)
     Dn = rf.Dn
@@ -135,8 +131,8 @@ def _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, *, F_n, d, u, F_t, q0, u0, 
         # the products on the columns of the unknowns that are not 0 (p: the active set, v: the contact,
         # after the first iterate), gathered once per pattern: the same sums of the same nonzero terms
         ip, iv = np.flatnonzero(p), np.flatnonzero(v)
-        Dn_, KpT_, D_, Kp_ = _last_blocks(rf.K, (plane, ip.tobytes(), iv.tobytes()),
-                                          lambda: (Dn[:, ip], KpT[:, iv], D[:, iv], Kp[:, ip]), _COLUMNS)
+        Dn_, KpT_, D_, Kp_ = rf.operators.last("coupled columns", (plane, ip.tobytes(), iv.tobytes()),
+                                               lambda: (Dn[:, ip], KpT[:, iv], D[:, iv], Kp[:, ip]))
         pi, vi = p[ip], v[iv]
         gap = gap0 - dd * A + Dn_ @ pi - KpT_ @ vi
         s = uu * ex - D_ @ vi + Kp_ @ pi
@@ -190,8 +186,8 @@ def _coupled_newton(rf, gap0, A, mu, P_old, qy_zero, *, F_n, d, u, F_t, q0, u0, 
             fresh = fac is None
             if fresh:  # the Jacobian at x, factorised (kept while the steps contract)
                 ia, kv = np.flatnonzero(act), np.flatnonzero(on)
-                blocks = _last_blocks(rf.K, (plane, key, fn),
-                                      lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi))
+                blocks = rf.operators.last("coupled blocks", (plane, key, fn),
+                                           lambda: _coupled_blocks(Dn, cn, KpT, dz_dpv, A, sA, ia, kv, n, sn, fn, yi))
                 tt, tn = _coupled_jacobian(blocks, z, g, dz_du, mu, ia.size, n, A, sA, st, fn, ft)
                 try:
                     fac, fac_key = _CoupledFactor(blocks, tt, tn, ia.size, kv.size, fn, ft, split_ok), key

@@ -402,7 +402,7 @@ class FEContact3D:
             return p, self._normal3d(p, float(dd), 0, not self.tilted), res
         p = nr.p if nr is not None else np.zeros(self.n)
         self._check_force_limit(Fx, nr.force if nr is not None else 0.0)
-        return p, nr, coulomb_increment(m.rf.Dt, mi.A, self.mu * p, np.asarray(state.P), self._qy_zero, state, u=u,
+        return p, nr, coulomb_increment(m.rf, mi.A, self.mu * p, np.asarray(state.P), self._qy_zero, state, u=u,
                                         Fx=Fx)
 
     def _tangential(self, ctx, u, Fx):
@@ -490,7 +490,7 @@ class FE3DTrial:
         res, _, (g, tr, r) = self._at(u)
         law = self.law
         with blas_threads(1):
-            k = tangential_slope(law.model.rf.Dt, law.model.mi.A, g, law._qy_zero, tr.q, r)
+            k = tangential_slope(law.model.rf, law.model.mi.A, g, law._qy_zero, tr.q, r)
         return res.Fx, WHOLE * k
 
     def commit(self, u):

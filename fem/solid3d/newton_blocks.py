@@ -2,11 +2,9 @@
 ``fem.solid3d.coupled``): the packed layout of the tangential tractions (q_x of every vertex, q_y of the
 vertices not in ``qy_zero``: off the symmetry plane, or none under Mindlin's traction along x), the
 flexibility reduced to it, the disk projection's derivative and the Jacobian blocks built from it, and the
-caches that keep a law's operators between its increments (held weakly: a finished law's go with it).
+operators a pair's solves keep between increments (``Operators``, owned by the pair's flexibility).
 """
 from __future__ import annotations
-
-import weakref
 
 import numpy as np
 
@@ -25,44 +23,52 @@ def _pack(q, yi):
     return np.concatenate([q[:, 0], q[yi, 1]])
 
 
-#: the reduced operators of the last few (Dt, qy_zero) pairs (``_reduced``): a law's flexibility is
-#: fixed, its steps many
-_REDUCED: dict = {}
-_REDUCED_MAX = 4
+class Operators:
+    """The operators a pair's solves keep between increments, owned by its flexibility
+    (``fem.solid3d.contact.RelativeFlexibility.operators``: they go with the model). ``held``: formed
+    once per name and set ``qy_zero`` (read-only; a law's flexibility is fixed, its steps many);
+    ``last``: per slot, what was built last and the key it was built for (the same kept unknowns: at
+    a constant normal force the contact, and so the key, mostly stays from one increment to the next).
+    Only the cost depends on them, not the numbers."""
+
+    def __init__(self):
+        self._held, self._last = {}, {}
+
+    def held(self, name: str, qy_zero, build) -> tuple:
+        """``build()``'s arrays (made read-only), formed once per ``name`` and ``qy_zero``."""
+        key = (name, np.asarray(qy_zero, dtype=bool).tobytes())
+        out = self._held.get(key)
+        if out is None:
+            out = build()
+            for a in out:
+                a.setflags(write=False)
+            self._held[key] = out
+        return out
+
+    def last(self, slot, key, build):
+        """``build()``, or what it built last in ``slot`` for the same ``key``."""
+        hit = self._last.get(slot)
+        if hit is not None and hit[0] == key:
+            return hit[1]
+        out = build()
+        self._last[slot] = (key, out)
+        return out
 
 
-def _held_by(cache: dict, M, qy_zero, build) -> tuple:
-    """``build()``'s read-only arrays, kept in ``cache`` per matrix ``M`` and set ``qy_zero``
-    (at most ``_REDUCED_MAX`` entries). ``M`` is held weakly: its entry goes when the law's flexibility
-    does (no memory kept for a finished law), and a new matrix at a reused address is never taken for
-    the old one."""
-    key = (id(M), np.asarray(qy_zero, dtype=bool).tobytes())
-    hit = cache.get(key)
-    if hit is not None and hit[0]() is M:
-        return hit[1]
-    out = build()
-    for a in out:
-        a.setflags(write=False)
-    if len(cache) >= _REDUCED_MAX:
-        cache.pop(next(iter(cache)))
-    cache[key] = (weakref.ref(M), out)
-    weakref.finalize(M, cache.pop, key, None)  # the law's flexibility gone: its operators too
-    return out
-
-
-def _reduced(Dt, qy_zero) -> tuple:
-    """(yi, D, cd, dz_dv) of the packed layout: the vertices ``yi`` not in ``qy_zero`` (their q_y is free), Dt
-    restricted to q_x of every vertex and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D.
-    Formed once per flexibility and ``qy_zero`` (read-only and shared, ``_held_by``)."""
+def _reduced(rf, qy_zero) -> tuple:
+    """(yi, D, cd, dz_dv) of the packed layout: the vertices ``yi`` not in ``qy_zero`` (their q_y is free), the
+    flexibility's Dt (``rf``: a ``fem.solid3d.contact.RelativeFlexibility``) restricted to q_x of every vertex
+    and q_y of ``yi``, cd = 1 / diag(D) and dz/dv = I - diag(cd) D. Formed once per flexibility and
+    ``qy_zero`` (read-only, held by ``rf.operators``)."""
     def build():
         n = np.size(qy_zero)
         yi = np.flatnonzero(~np.asarray(qy_zero, dtype=bool))
         idx = np.concatenate([np.arange(n), n + yi])  # rows/cols of Dt kept
-        D = Dt[np.ix_(idx, idx)]
+        D = rf.Dt[np.ix_(idx, idx)]
         cd = 1.0 / np.diag(D)  # c = 1 / diag(D): the scaling of the slip increments in z
         return yi, D, cd, np.eye(idx.size) - cd[:, None] * D
 
-    return _held_by(_REDUCED, Dt, qy_zero, build)
+    return rf.operators.held("reduced", qy_zero, build)
 
 
 def _partners(kv, n, yi, m) -> tuple:
@@ -138,15 +144,13 @@ class _ContactBlock:
         return J, self._fill(z, g, J)
 
 
-#: the last contact block of each reduced flexibility (``_contact_block``)
-_CONTACT_BLOCKS: dict = {}
-
-
-def _contact_block(kv, n, yi, dz_dv, dz_du) -> "_ContactBlock":
-    """``_ContactBlock(kv, n, yi, dz_dv, dz_du)``, or the one built last for the same flexibility, contact
-    and dz/du (a Coulomb increment and its tangent, and the increments of a constant contact, share it)."""
-    return _last_blocks(dz_dv, (kv.tobytes(), dz_du.tobytes()), lambda: _ContactBlock(kv, n, yi, dz_dv, dz_du),
-                        _CONTACT_BLOCKS)
+def _contact_block(rf, qy_zero, kv, n, yi, dz_dv, dz_du) -> "_ContactBlock":
+    """``_ContactBlock(kv, n, yi, dz_dv, dz_du)``, or the one built last for the same flexibility ``rf``, plane
+    set, contact and dz/du (a Coulomb increment and its tangent, and the increments of a constant contact,
+    share it; ``rf.operators``)."""
+    plane = np.asarray(qy_zero, dtype=bool).tobytes()
+    return rf.operators.last(("contact block", plane), (kv.tobytes(), dz_du.tobytes()),
+                             lambda: _ContactBlock(kv, n, yi, dz_dv, dz_du))
 
 
 def _newton_blocks(z, g, yi, dz_dv, dz_du, kept, out, fc, A, dscale) -> tuple:
@@ -209,23 +213,3 @@ def _projection_jacobian(z, g, yi, dz_dv, dz_du, rows=None):
     Pdz = np.vstack([rows_x, rows_y])
     Pdu = np.concatenate([Pxx * dz_du[:n], Pxy[yi] * dz_du[yi]])  # dz_y/du = 0
     return Pdz, Pdu
-
-
-#: the last gathered blocks of each dissimilar pair's coupling (``_last_blocks``)
-_BLOCKS: dict = {}
-#: the last gathered columns of each operator in a residual (``solve_tangential3d``'s, ``_coupled_newton``'s)
-_COLUMNS: dict = {}
-
-
-def _last_blocks(K, key, build, cache: dict = _BLOCKS):
-    """``build()``, or what it built last for the coupling ``K`` under the same ``key`` (the same kept
-    unknowns: at a constant normal force the contact, and so the key, mostly stays from one increment to
-    the next). One entry per K in ``cache``, held weakly as ``_held_by`` holds its operators."""
-    hit = cache.get(id(K))
-    if hit is not None and hit[0]() is K and hit[1] == key:
-        return hit[2]
-    blocks = build()
-    if hit is None or hit[0]() is not K:
-        weakref.finalize(K, cache.pop, id(K), None)
-    cache[id(K)] = (weakref.ref(K), key, blocks)
-    return blocks
