@@ -26,30 +26,30 @@ from mdr.loading import Loading
 def add_fe_options(c, friction: bool = True):
     """The FE model flags of ``python -m fem normal|contact`` and ``python -m mdr apparatus --law fem``
     (``friction=False``: without the tangential ``--friction-al-tol``)."""
-    g = c.add_argument_group("FE model (mesh, penalty, solver)")
-    g.add_argument("--h-contact", type=float, default=None,
+    group = c.add_argument_group("FE model (mesh, penalty, solver)")
+    group.add_argument("--h-contact", type=float, default=None,
                    help=f"element size in the contact zone / contact radius at the largest normal force "
                         f"(range [{H_CONTACT_RANGE[0]:g}, {H_CONTACT_RANGE[1]:g}]; default "
                         f"{H_CONTACT_DEFAULT:g} = a/{1 / H_CONTACT_DEFAULT:.0f}; --model 3d: range "
                         f"[{H_CONTACT_3D_RANGE[0]:g}, {H_CONTACT_3D_RANGE[1]:g}], default {H_CONTACT_3D_DEFAULT:g})")
-    g.add_argument("--contact-extent", type=float, default=None,
+    group.add_argument("--contact-extent", type=float, default=None,
                    help="radius of the finely meshed contact segment / a (> 1; default 1.25; --model 3d with the "
                         "flat punch: its face, 1)")
-    g.add_argument("--block-size", type=float, default=None,
+    group.add_argument("--block-size", type=float, default=None,
                    help="block radius and height in m (default 200 a; also bounds the indenter cap height)")
-    g.add_argument("--penalty", type=float, default=None,
+    group.add_argument("--penalty", type=float, default=None,
                    help=f"penalty factor alpha (> 0): normal{' and tangential' if friction else ''} stiffness "
                         f"alpha * E* / h per unit area (default {DEFAULT_PENALTY:g})")
-    g.add_argument("--al-tol", type=float, default=None,
+    group.add_argument("--al-tol", type=float, default=None,
                    help=f"normal augmented-Lagrangian stop: largest penetration / approach; 0 = pure penalty "
                         f"(default {DEFAULT_AL_TOL:g})")
     if friction:
-        g.add_argument("--friction-al-tol", type=float, default=None,
+        group.add_argument("--friction-al-tol", type=float, default=None,
                        help=f"tangential augmented-Lagrangian stop: largest multiplier change / largest slip "
                             f"limit; 0 = pure penalty (default {DEFAULT_FRICTION_AL_TOL:g})")
-    g.add_argument("--solver", choices=("auto", "cholmod", "pardiso", "superlu"), default="auto",
+    group.add_argument("--solver", choices=("auto", "cholmod", "pardiso", "superlu"), default="auto",
                    help="sparse factorisation backend (default auto)")
-    g.add_argument("--cache-dir", default=None,
+    group.add_argument("--cache-dir", default=None,
                    help="mesh cache directory (default $FRETTING_MESH_CACHE or ~/.cache/fretting-meshes)")
 
 

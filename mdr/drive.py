@@ -65,7 +65,7 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
     mu = loading.check_friction(law.mu)
     F0, steps = loading.F0, loading.steps
     t_start = time.perf_counter()
-    t, FN, drive = loading.times(), loading.normal_force(), loading.tangential()
+    t, FN, load = loading.times(), loading.normal_force(), loading.tangential()
     key = "u" if loading.drive == "displacement" else "Fx"
     kept = None
     ramp = loading.normal_loading_record() if state0 is None else None
@@ -73,13 +73,13 @@ def run_contact(law: ContactLaw, loading: Loading, *, state_at=None, state0=None
         state0 = normal_loading(law, loading)
     first = loading.last_cycle.start  # the last (stationary) cycle: steps first .. first + steps
     if state_at is None:
-        H = law.run(**{key: drive}, F_N=FN, record_from=first, state=state0)
+        H = law.run(**{key: load}, F_N=FN, record_from=first, state=state0)
     else:
         k = int(state_at)
         if not 0 <= k < t.size - 1:
             raise InputError(f"state_at must be a step index in [0, {t.size - 2}], got {state_at!r}")
-        H1 = law.run(**{key: drive[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1), state=state0)
-        H2 = law.run(**{key: drive[k + 1:]}, F_N=FN[k + 1:], state=H1.state, record_from=max(first - k - 1, 0))
+        H1 = law.run(**{key: load[:k + 1]}, F_N=FN[:k + 1], record_from=min(first, k + 1), state=state0)
+        H2 = law.run(**{key: load[k + 1:]}, F_N=FN[k + 1:], state=H1.state, record_from=max(first - k - 1, 0))
         kept = H1.state
         H = H1.then(H2)
     if on_history is not None:

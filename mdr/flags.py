@@ -8,37 +8,37 @@ from .profiles import make_profile
 
 
 def add_profile_args(p):
-    g = p.add_argument_group("indenter profile (SI units)")
-    g.add_argument("--profile", choices=["sphere", "truncated", "flat"], required=True,
+    group = p.add_argument_group("indenter profile (SI units)")
+    group.add_argument("--profile", choices=["sphere", "truncated", "flat"], required=True,
                    help="sphere (parabolic), truncated sphere (flat face of radius b), flat punch (radius b)")
-    g.add_argument("--R", type=float, default=None, help="sphere radius R in m (sphere, truncated)")
-    g.add_argument("--b", type=float, default=None, help="flat-face / punch radius b in m (truncated, flat)")
-    g.add_argument("--exact-cap", action="store_true",
+    group.add_argument("--R", type=float, default=None, help="sphere radius R in m (sphere, truncated)")
+    group.add_argument("--b", type=float, default=None, help="flat-face / punch radius b in m (truncated, flat)")
+    group.add_argument("--exact-cap", action="store_true",
                    help="exact spherical cap instead of the parabolic approximation (sphere, truncated)")
-    g.add_argument("--fillet", type=float, default=None, metavar="W",
+    group.add_argument("--fillet", type=float, default=None, metavar="W",
                    help="truncated: the kink at r = b rounded by a circular fillet of radial width W in m "
                         "(mdr.profiles.RoundedTruncatedSphere; default: the sharp kink)")
 
 
 def add_material_args(p):
-    g = p.add_argument_group("materials: indenter 1, block 2 (Pa)")
-    g.add_argument("--E1", type=float, default=STEEL_E, help="Young's modulus of the indenter (default 200e9)")
-    g.add_argument("--nu1", type=float, default=STEEL_NU, help="Poisson ratio of the indenter (default 0.29)")
-    g.add_argument("--E2", type=float, default=STEEL_E, help="Young's modulus of the block (default 200e9)")
-    g.add_argument("--nu2", type=float, default=STEEL_NU, help="Poisson ratio of the block (default 0.29)")
+    group = p.add_argument_group("materials: indenter 1, block 2 (Pa)")
+    group.add_argument("--E1", type=float, default=STEEL_E, help="Young's modulus of the indenter (default 200e9)")
+    group.add_argument("--nu1", type=float, default=STEEL_NU, help="Poisson ratio of the indenter (default 0.29)")
+    group.add_argument("--E2", type=float, default=STEEL_E, help="Young's modulus of the block (default 200e9)")
+    group.add_argument("--nu2", type=float, default=STEEL_NU, help="Poisson ratio of the block (default 0.29)")
 
 
 def add_contact_args(p):
-    g = p.add_argument_group("fretting load: F_N = F0 + dF sin(2 pi t + alpha); u = ua sin(2 pi t) or F_x = fa sin(2 pi t)")
-    g.add_argument("--mu", type=float, required=True, help="coefficient of friction (>= 0)")
-    g.add_argument("--F0", type=float, required=True, help="mean normal force in N (> 0)")
-    g.add_argument("--dF", type=float, default=0.0, help="normal force amplitude in N (0 <= dF <= F0)")
-    g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
-    drive = g.add_mutually_exclusive_group(required=True)
+    group = p.add_argument_group("fretting load: F_N = F0 + dF sin(2 pi t + alpha); u = ua sin(2 pi t) or F_x = fa sin(2 pi t)")
+    group.add_argument("--mu", type=float, required=True, help="coefficient of friction (>= 0)")
+    group.add_argument("--F0", type=float, required=True, help="mean normal force in N (> 0)")
+    group.add_argument("--dF", type=float, default=0.0, help="normal force amplitude in N (0 <= dF <= F0)")
+    group.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
+    drive = group.add_mutually_exclusive_group(required=True)
     drive.add_argument("--ua", type=float, help="tangential displacement amplitude in m (displacement control)")
     drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
-    g.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
-    g.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
+    group.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
+    group.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
 
 
 def profile_from_args(args):

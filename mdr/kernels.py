@@ -65,22 +65,22 @@ def normal_inputs(law, d):
     """Per step of the approaches d (shape batch + (T,)): (d_+, contact radius a, index of the
     one partly covered cell or -1, integral of g over its part in contact), exactly as
     ``MDRContact.normal_phase`` computes them (same calls of the profile)."""
-    g = law.grid
+    grid = law.grid
     batch = law.batch
-    n = g.n
+    n = grid.n
     dp = np.maximum(d, 0.0)
     a = np.where(d > 0, law.profile.g_inv(dp), 0.0)
-    x_max = g.x_max.reshape(batch + (1,))
+    x_max = grid.x_max.reshape(batch + (1,))
     if np.any(a > x_max * (1 + 1e-9)):
         raise InputError("the contact radius exceeds the spring grid: build the law with a larger F_max (or a_max)")
     a = np.minimum(a, x_max)
     S, T = int(np.prod(batch, dtype=int)), d.shape[-1]
     k = np.empty((S, T), dtype=np.int64)
-    full_cells(_flat(a, batch, (T,)), _flat(g.lo, batch, (n,)), _flat(g.width, batch, (n,)), k)
+    full_cells(_flat(a, batch, (T,)), _flat(grid.lo, batch, (n,)), _flat(grid.width, batch, (n,)), k)
     k = k.reshape(batch + (T,))
     has = (k < n) & (a > 0)
     kk = np.minimum(k, n - 1)
-    lo_k = np.take_along_axis(np.broadcast_to(g.lo, batch + (n,)), kk, axis=-1)
+    lo_k = np.take_along_axis(np.broadcast_to(grid.lo, batch + (n,)), kk, axis=-1)
     part = np.where(has & (a > lo_k), law.profile.cell_integral(lo_k, np.maximum(a, lo_k)), 0.0)
     return dp, a, np.where(has, kk, -1), part
 
@@ -92,17 +92,17 @@ def _flat(x, batch, tail=()):
                     order="C").reshape((-1,) + tuple(tail))
 
 
-def law_history(law, drive, d, state, force, rec0):
-    """``MDRContact.run`` through the compiled loop. drive, d: batch + (T,) arrays; state: the
+def law_history(law, load, d, state, force, rec0):
+    """``MDRContact.run`` through the compiled loop. load, d: batch + (T,) arrays; state: the
     LawState to start from; rec0: first recorded step (T: none). Returns a dict of the
     History's fields (arrays batch + (T,)), the recorded slack/slipping and the final
     (v, ell, u) of the state; raises as the step API does."""
     batch = law.batch
-    T = drive.shape[-1]
+    T = load.shape[-1]
     n = law.grid.n
     S = int(np.prod(batch, dtype=int))
     dp, a, kk, part = normal_inputs(law, d)
-    g = law.grid
+    grid = law.grid
     cells = lambda x: _flat(x, batch, (n,))  # noqa: E731
     steps = lambda x: _flat(x, batch, (T,))  # noqa: E731
     v, ell, u = cells(state.v), cells(state.ell), _flat(state.u, batch)
@@ -113,12 +113,12 @@ def law_history(law, drive, d, state, force, rec0):
     status = np.zeros(S, dtype=np.int64)
     info = np.zeros((S, 3))
     run_law(bool(force), steps(dp), steps(a), np.array(np.broadcast_to(kk, batch + (T,)), dtype=np.int64, order="C").reshape(S, T),
-            steps(part), steps(drive), cells(g.lo), cells(g.width), cells(g.int_g), cells(law.stick_nodes),
+            steps(part), steps(load), cells(grid.lo), cells(grid.width), cells(grid.int_g), cells(law.stick_nodes),
             float(law.E_star), float(law.G_star), _flat(law.mu, batch), 1.0 / float(law.stick_onset), AT_LIMIT,
             v, ell, u, int(rec0), out["u"], out["Fx"], out["FN"], out["c"], out["work"], r_slack, r_slip,
             bad, status, info)
     if force:
-        _raise_force_control(law, drive.reshape(S, T), out["FN"], bad, status, info)
+        _raise_force_control(law, load.reshape(S, T), out["FN"], bad, status, info)
     shape = batch + (T,)
     res = {key: val.reshape(shape) for key, val in out.items()}
     res["d"], res["a"] = dp, a
@@ -223,7 +223,7 @@ def apparatus_loop(law, bed, app, mu, FN, d, u3, cx, cp, first, state_at, g_acc,
     FN = np.broadcast_to(np.asarray(FN, dtype=float), shape)
     d = np.broadcast_to(np.asarray(d, dtype=float), shape)
     dp, a, kk, part = normal_inputs(law, d)
-    g = law.grid
+    grid = law.grid
     cells = lambda x: _flat(x, batch, (n,))  # noqa: E731
     steps = lambda x: _flat(x, batch, (T,))  # noqa: E731
     per = lambda x: _flat(x, batch)  # noqa: E731
@@ -248,7 +248,7 @@ def apparatus_loop(law, bed, app, mu, FN, d, u3, cx, cp, first, state_at, g_acc,
     info = np.zeros((S, 3))
     sa = -1 if state_at is None else int(state_at)
     run_apparatus_loop(steps(dp), steps(a), np.array(kk.reshape(S, T), dtype=np.int64, order="C"), steps(part), steps(FN),
-                       np.array(u3, dtype=float, order="C"), cells(g.lo), cells(g.width), cells(g.int_g),
+                       np.array(u3, dtype=float, order="C"), cells(grid.lo), cells(grid.width), cells(grid.int_g),
                        cells(law.stick_nodes), float(law.E_star), float(law.G_star), per(law.mu),
                        1.0 / float(law.stick_onset), AT_LIMIT, use_bed, *bargs,
                        per(cx), per(cp), per(app.m1 * g_acc), per(app.l1), per(app.l2), per(app.h), per(app.h2),

@@ -33,11 +33,11 @@ from .solve import MAX_ITER
 
 # ------------------------------------------------------------------ MDRContact.run
 @_jit
-def run_law(force_mode, dp, a, kk, part, drive, lo, width, int_g, nodes, E, G, mu, p, at_lim,
+def run_law(force_mode, dp, a, kk, part, load, lo, width, int_g, nodes, E, G, mu, p, at_lim,
             v, ell, u, rec0, o_u, o_Fx, o_FN, o_c, o_work, r_slack, r_slip, bad, status, info):
     """History of S scenes over T steps (arrays (S, T) per step, (S, n) per cell).
 
-    force_mode False: ``drive`` is the total displacement u; True: the tangential force.
+    force_mode False: ``load`` is the total displacement u; True: the tangential force.
     v, ell, u: the state, updated in place. Steps t >= rec0 record slack and slip flags.
     Force control: ``bad`` flags steps with |F_x| >= mu F_N (1 - 1e-12); a scene stops at
     such a step when F_x != 0 (status BEYOND_FRICTION) or when Newton fails
@@ -64,7 +64,7 @@ def run_law(force_mode, dp, a, kk, part, drive, lo, width, int_g, nodes, E, G, m
                         ells, vs, ellN, N, vmax, carried, v1)
             o_FN[s, t] = FN
             if force_mode:
-                target = drive[s, t]
+                target = load[s, t]
                 muFN = mu[s] * FN
                 if abs(target) >= muFN * (1 - 1e-12):
                     bad[s, t] = True
@@ -100,7 +100,7 @@ def run_law(force_mode, dp, a, kk, part, drive, lo, width, int_g, nodes, E, G, m
                 du = (us + x) - us
                 unew = us + du
             else:
-                unew = drive[s, t]
+                unew = load[s, t]
                 du = unew - us
             Fx, W, c = _commit(du, v1, vmax, ellN, carried, nodes[s], a[s, t], p, at_lim, vs, slack, slip, tmp1, tmp2)
             for j in range(n):

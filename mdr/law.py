@@ -228,9 +228,9 @@ class MDRContact:
         the steps from there on (``History.window_stick_radius``).
         """
         check_loads("run", d=d, F_N=F_N, u=u, Fx=Fx, history=True)
-        drive = np.asarray(finite("u (tangential displacement)" if u is not None else "Fx (tangential force)",
+        load = np.asarray(finite("u (tangential displacement)" if u is not None else "Fx (tangential force)",
                                   u if u is not None else Fx), dtype=float)
-        T = drive.shape[-1]
+        T = load.shape[-1]
         shape = self.batch + (T,)
         if d is None:
             F_N = np.broadcast_to(np.asarray(F_N, dtype=float), shape)
@@ -238,17 +238,17 @@ class MDRContact:
         else:
             d = finite("d (approach)", d)
         d = np.broadcast_to(np.asarray(d, dtype=float), shape)
-        drive = np.broadcast_to(drive, shape)
+        load = np.broadcast_to(load, shape)
         if state is None:
             state = self.rest_state()
         rec0 = T if record_from is None else int(record_from)
         if not 0 <= rec0 <= T:
             raise InputError(f"record_from must be a step index in [0, {T}], got {record_from!r}")
         if T and kernels.enabled() and type(self) is MDRContact:
-            return run_compiled(self, drive, d, state, Fx is not None, rec0, record_from is not None)
+            return run_compiled(self, load, d, state, Fx is not None, rec0, record_from is not None)
         if Fx is not None:
-            return run_force_steps(self, drive, d, state, rec0, record_from is not None)
-        return run_blocks(self, drive, d, state, block, rec0, record_from is not None)
+            return run_force_steps(self, load, d, state, rec0, record_from is not None)
+        return run_blocks(self, load, d, state, block, rec0, record_from is not None)
 
     # ------------------------------------------------------------ tractions
     def line_loads(self, state: LawState):

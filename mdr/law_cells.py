@@ -53,16 +53,15 @@ def normal_phase(profile, grid: SpringGrid, batch: tuple, E_star, G_star, mu, d)
     extra = d.ndim - nb
     if extra not in (0, 1) or d.shape[:nb] != batch:
         raise InputError(f"approach d must have shape {batch} or {batch} + (T,), got {d.shape}")
-    g = grid
 
     def cells(arr):  # batch + (n,) -> batch + (1,)*extra + (n,)
         return arr.reshape(batch + (1,) * extra + (arr.shape[-1],))
 
-    lo, width, int_g = cells(g.lo), cells(g.width), cells(g.int_g)
+    lo, width, int_g = cells(grid.lo), cells(grid.width), cells(grid.int_g)
     dp = np.maximum(d, 0.0)
     touching = d > 0
     a = np.where(touching, profile.g_inv(dp), 0.0)
-    x_max = g.x_max.reshape(batch + (1,) * extra)
+    x_max = grid.x_max.reshape(batch + (1,) * extra)
     if np.any(a > x_max * (1 + 1e-9)):
         raise InputError("the contact radius exceeds the spring grid: build the law with a larger F_max (or a_max)")
     a = np.minimum(a, x_max)
@@ -114,8 +113,9 @@ def stick_nodes(grid: SpringGrid, b):
     """Radii of the nodes the stick radius is resolved on (batch + (n,)): the cell midpoints,
     and the outer edge of a cell of a flat face of radius ``b`` (``flat_radius``; None: no flat
     face). The springs of such a cell are identical: where one sticks, the whole cell sticks."""
-    g = grid
-    return g.mid if b is None else np.where(g.edges[..., 1:] <= b[..., None] * (1 + 1e-12), g.edges[..., 1:], g.mid)
+    if b is None:
+        return grid.mid
+    return np.where(grid.edges[..., 1:] <= b[..., None] * (1 + 1e-12), grid.edges[..., 1:], grid.mid)
 
 
 def solve_du(phase: NormalPhase, v1, target, mu, G_star):

@@ -7,7 +7,7 @@
 - ``run_blocks``: displacement control without it: the normal phases of a block of time steps
   at once, then a time loop over the tangential update only.
 
-Assumptions: the caller (``MDRContact.run``) has checked the load and broadcast the drive
+Assumptions: the caller (``MDRContact.run``) has checked the tangential ``load`` (u or F_x, as the drive) and broadcast it
 (u or F_x) and the approaches d to batch + (T,), and checked ``rec0`` (the first recorded step,
 T: none). The law is read through its own methods (``step``, ``normal_phase``, ``_slack``,
 ``_tangential_force``, ``stick_nodes``), so the paths stay the ones of the law's step API.
@@ -30,23 +30,23 @@ def _recorded(law, T, rec0):
             for k, dt in (("slack", float), ("slipping", bool))}
 
 
-def run_compiled(law, drive, d, state, force, rec0, record) -> History:
+def run_compiled(law, load, d, state, force, rec0, record) -> History:
     """``run`` through the compiled loop of ``mdr.kernels`` (same results to round-off)."""
-    h = kernels.law_history(law, drive, d, state, force, rec0)
-    v, ell, u = h.pop("state")
+    hist = kernels.law_history(law, load, d, state, force, rec0)
+    v, ell, u = hist.pop("state")
     # the state's approach as the step API leaves it: as given (displacement control), d_+ (force control)
-    last = h["d"][..., -1] if force else d[..., -1]
-    rec = {k: h.pop(k) for k in ("slack", "slipping")}
-    return History(state=LawState(v=v, ell=ell, u=u, d=np.array(last)), **h, **(rec if record else {}))
+    last = hist["d"][..., -1] if force else d[..., -1]
+    rec = {k: hist.pop(k) for k in ("slack", "slipping")}
+    return History(state=LawState(v=v, ell=ell, u=u, d=np.array(last)), **hist, **(rec if record else {}))
 
 
-def run_force_steps(law, drive, d, state, rec0, record) -> History:
+def run_force_steps(law, load, d, state, rec0, record) -> History:
     """Force control step by step: ``drive`` the tangential force, one ``law.step`` per time step."""
-    T = drive.shape[-1]
+    T = load.shape[-1]
     out = {k: np.empty(law.batch + (T,)) for k in SERIES}
     rec = _recorded(law, T, rec0)
     for t in range(T):
-        res, state = law.step(state, d=d[..., t], Fx=drive[..., t])
+        res, state = law.step(state, d=d[..., t], Fx=load[..., t])
         for key in out:
             out[key][..., t] = getattr(res, key)
         if t >= rec0:
@@ -55,10 +55,10 @@ def run_force_steps(law, drive, d, state, rec0, record) -> History:
     return History(state=state, **out, **(rec if record else {}))
 
 
-def run_blocks(law, drive, d, state, block, rec0, record) -> History:
+def run_blocks(law, load, d, state, block, rec0, record) -> History:
     """Displacement control in blocks of time steps: ``drive`` the total tangential displacement;
     ``block`` steps per block (None: ~1e6 numbers per block array)."""
-    T = drive.shape[-1]
+    T = load.shape[-1]
     out = {k: np.empty(law.batch + (T,)) for k in SERIES}
     rec = _recorded(law, T, rec0)
     v, ell, u_prev = state.v.copy(), state.ell, state.u
@@ -80,7 +80,7 @@ def run_blocks(law, drive, d, state, block, rec0, record) -> History:
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = None if same else np.where(ells[..., 1:, :] > 0,
                                                np.minimum(1.0, ells[..., :-1, :] / ells[..., 1:, :]), 0.0)
-        du = np.diff(np.concatenate([u_prev[..., None], drive[..., t0:t1]], axis=-1), axis=-1)
+        du = np.diff(np.concatenate([u_prev[..., None], load[..., t0:t1]], axis=-1), axis=-1)
         # time-major, contiguous copies for the sequential loop
         tm = lambda x: np.ascontiguousarray(np.moveaxis(x, -2, 0))
         vmax_t, du_t = tm(ph.vmax), np.ascontiguousarray(np.moveaxis(du, -1, 0))[..., None]
@@ -118,7 +118,7 @@ def run_blocks(law, drive, d, state, block, rec0, record) -> History:
         out["work"][..., sl] = 2.0 * law.G_star * np.sum(ph.ell * ph.vmax * slip, axis=-1)
         ell = ph.ell[..., -1, :]
         v = v.copy()
-        u_prev = drive[..., t1 - 1]
-    out["u"][...] = drive
+        u_prev = load[..., t1 - 1]
+    out["u"][...] = load
     return History(state=LawState(v=v, ell=ell, u=np.array(u_prev, dtype=float), d=np.array(d[..., -1])), **out,
                    **(rec if record else {}))

@@ -62,8 +62,7 @@ class Grid:
         pressure at r = a): its force and every result change by a pixel's share as the edge crosses a
         centre, and a grid ladder of them is not monotone."""
         positive_int("sub", sub)
-        h = self.pixel
-        offsets = ((np.arange(sub) + 0.5) / sub - 0.5) * h
+        offsets = ((np.arange(sub) + 0.5) / sub - 0.5) * self.pixel
         return sum(f(self.radii((centre[0] - dx, centre[1] - dy))) for dx in offsets for dy in offsets) / sub ** 2
 
 
@@ -79,7 +78,7 @@ def saturated_pressure(surface, F, grid: Grid, E_star, hardness) -> np.ndarray:
     """The pressure (n, n) (Pa) of a rigid ``surface`` (heights, m: the highest point touches first) pressed
     with the force ``F`` on the periodic elastic half-space with the pressure capped at ``hardness`` (Pa):
     perfectly plastic asperities (the elastic-perfectly-plastic half-space of Almqvist et al. 2007,
-    Tribology International 40, 574). With the gap g0 = max(s) - s it minimises (1/2) p.Kp + p.g0 over
+    Tribology International 40, 574). With the gap g0 = max(z) - z it minimises (1/2) p.Kp + p.g0 over
     0 <= p <= H with sum(p) dA = F: contact (p > 0) closes the gap, a plastic pixel (p = H) penetrates.
     Solved as the symmetric box |p - H/2| <= H/2 (K of a constant is 0) by ``rough.boxqp.solve_box``."""
     n, dA = grid.n, grid.pixel ** 2
@@ -88,9 +87,9 @@ def saturated_pressure(surface, F, grid: Grid, E_star, hardness) -> np.ndarray:
         raise InputError(f"F = {F:.4g} N needs more than the hardness {H:.3g} Pa over the whole grid "
                          f"({H * n * n * dA:.4g} N): raise the hardness or the period")
     apply = periodic_displacement(grid, E_star)
-    s = np.asarray(surface, dtype=float)
+    z = np.asarray(surface, dtype=float)
     lim = np.full((n, n), 0.5 * H)
-    q = solve_box(apply, s.max() - s, lim, F - 0.5 * H * n * n * dA, -lim, dA, SATURATED_TOLERANCE,
+    q = solve_box(apply, z.max() - z, lim, F - 0.5 * H * n * n * dA, -lim, dA, SATURATED_TOLERANCE,
                   "saturated normal contact")
     return np.clip(q + 0.5 * H, 0.0, H)
 
@@ -116,24 +115,24 @@ def normal_contact(profile, materials, F, grid: Grid, heights: HeightMap | None 
         raise InputError(f"solver must be one of {', '.join(SOLVERS)}, got {solver!r}")
     F = positive("F", F)
     r = grid.radii()
-    s = _rigid_surface(profile, grid, heights)
+    z = _rigid_surface(profile, grid, heights)
     if hardness is not None:
-        return _contact_result(saturated_pressure(s, F, grid, materials.E_star, hardness), s, F, grid, r, materials,
+        return _contact_result(saturated_pressure(z, F, grid, materials.E_star, hardness), z, F, grid, r, materials,
                                hardness)
     if solver == "project":
-        return _contact_result(elastic_pressure(s, F, grid, materials.E_star), s, F, grid, r, materials, None)
+        return _contact_result(elastic_pressure(z, F, grid, materials.E_star), z, F, grid, r, materials, None)
     tm = require_tamaas()
     tm.set_log_level(tm.LogLevel.error)
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [grid.period, grid.period], [grid.n, grid.n])
     model.E, model.nu = float(materials.E_star), 0.0  # tamaas's E* = E / (1 - nu^2)
-    solver = tm.PolonskyKeerRey(model, s, TOLERANCE, tm.PolonskyKeerRey.pressure, tm.PolonskyKeerRey.pressure)
+    solver = tm.PolonskyKeerRey(model, z, TOLERANCE, tm.PolonskyKeerRey.pressure, tm.PolonskyKeerRey.pressure)
     try:
         solver.solve(F / grid.period ** 2)
     except tm.FloatingPointError as e:  # tamaas: a contact of one pixel has no complementarity error
         raise ConvergenceError(f"the contact at F = {F:.4g} N is a single pixel of {grid.pixel:.3g} m: raise the "
                                f"load or refine the grid ({e})") from e
     p = np.array(model.traction, dtype=float).reshape(grid.n, grid.n)
-    return _contact_result(p, s, F, grid, r, materials, None)
+    return _contact_result(p, z, F, grid, r, materials, None)
 
 
 def _rigid_surface(profile, grid: Grid, heights: HeightMap | None) -> np.ndarray:
@@ -170,14 +169,14 @@ def elastic_pressure(surface, F, grid: Grid, E_star, start=None) -> np.ndarray:
     Keer's constrained conjugate gradient (1999, Wear 231, 206; the algorithm of tamaas's
     ``PolonskyKeerRey``), which, unlike tamaas's, starts from a given pressure: ``start`` (n, n), e.g.
     the contact of a nearby load scaled to F, the force-approach curve's warm start (3.4x fewer
-    iterations on an rms 1 um surface's 24 loads). Converged where, with g = K p + max(s) - s and delta
+    iterations on an rms 1 um surface's 24 loads). Converged where, with g = K p + max(z) - z and delta
     its mean over the contact, |g - delta| and the overlap delta - g outside it are at most
     ``ELASTIC_TOLERANCE`` of the range of K p. A contact of one pixel is an answer (the pixel-wise
     discrete contact's; tamaas's solve can fail there, its error measure undefined)."""
     n, dA = grid.n, grid.pixel ** 2
     apply = periodic_displacement(grid, E_star)
-    s = np.asarray(surface, dtype=float)
-    gap0 = s.max() - s
+    z = np.asarray(surface, dtype=float)
+    gap0 = z.max() - z
     unit = np.zeros((n, n))
     unit[0, 0] = 1.0
     self_compliance = float(apply(unit)[0, 0])  # a pixel's displacement under its own unit pressure
@@ -226,8 +225,8 @@ def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_
     caller then solves on the grid)."""
     n, dA = grid.n, grid.pixel ** 2
     kernel, screen = _periodic_kernel(grid, float(E_star))
-    s = np.asarray(surface, dtype=float)
-    g0 = (s.max() - s).ravel()
+    z = np.asarray(surface, dtype=float)
+    g0 = (z.max() - z).ravel()
     start = np.asarray(start, dtype=float).ravel()
     cand = np.union1d(np.flatnonzero(start > 0), np.asarray(cells, dtype=np.int64))
     for _ in range(20):  # candidate sets
@@ -285,32 +284,32 @@ def dense_elastic_pressure(surface, F, grid: Grid, E_star, start, cells=(), max_
 SCREEN_MARGIN, SCREEN_MAX = 1e-4, 4000
 
 
-def _contact_result(p, s, F, grid, r, materials, hardness) -> dict:
-    """``normal_contact``'s keys of the pressure ``p`` on the rigid surface ``s``."""
+def _contact_result(p, z, F, grid, r, materials, hardness) -> dict:
+    """``normal_contact``'s keys of the pressure ``p`` on the rigid surface ``z``."""
     dA = grid.pixel ** 2
     area = float(np.count_nonzero(p > 0)) * dA
     M2 = float(np.sum(p * r ** 2)) * dA
     plastic = np.zeros(p.shape, dtype=bool) if hardness is None else p >= hardness * (1.0 - 1e-9)
-    d, spread = _approach(p, s, grid.pixel, float(materials.E_star), elastic=~plastic)
+    d, spread = _approach(p, z, grid.pixel, float(materials.E_star), elastic=~plastic)
     return {"plastic_area": float(np.count_nonzero(plastic)) * dA, "contact_area": area, "contact_radius_area": float(np.sqrt(area / np.pi)),
             "pressure_radius": float(np.sqrt(5.0 * M2 / (2.0 * F))), "p_max": float(p.max()),
             "force": float(p.sum()) * dA, "approach": d, "approach_spread": spread, "pressure": p,
-            "flattening": _flattening(p, s, grid, float(materials.E_star), plastic),
+            "flattening": _flattening(p, z, grid, float(materials.E_star), plastic),
             "period": grid.period, "n": grid.n}
 
 
-def _flattening(p, s, grid, E_star, plastic) -> np.ndarray:
+def _flattening(p, z, grid, E_star, plastic) -> np.ndarray:
     """The plastic pixels' penetration (n, n) (m, >= 0; 0 elsewhere): with u = K p the periodic
     half-space's displacement and delta the approach of the elastic contact pixels (where
-    u + max(s) - s = delta), a plastic pixel has u + max(s) - s < delta by its penetration. The surface
-    lowered by it, s - flattening, is the flattened surface whose elastic contact at the same force has
+    u + max(z) - z = delta), a plastic pixel has u + max(z) - z < delta by its penetration. The surface
+    lowered by it, z - flattening, is the flattened surface whose elastic contact at the same force has
     the same pressure (the capped solve's optimality conditions are the elastic one's there): it
     unloads elastically."""
     out = np.zeros(p.shape)
     elastic = (p > 0) & ~plastic
     if not plastic.any() or not elastic.any():
         return out
-    w = periodic_displacement(grid, E_star)(p) + s.max() - s
+    w = periodic_displacement(grid, E_star)(p) + z.max() - z
     delta = float(np.mean(w[elastic]))
     out[plastic] = np.maximum(delta - w[plastic], 0.0)
     return out
@@ -339,8 +338,8 @@ def contact_approach(p, surface, pixel, E_star) -> float:
 
 def _approach(p, surface, pixel, E_star, elastic=None) -> tuple:
     """The rigid approach d of the indenter since first contact (m) and its spread over the contact
-    (relative): in contact the half-space's displacement u is d minus the initial gap max(s) - s, so
-    d = u + max(s) - s, averaged with the pressure as weight (the spread: its range over d, the grid's
+    (relative): in contact the half-space's displacement u is d minus the initial gap max(z) - z, so
+    d = u + max(z) - z, averaged with the pressure as weight (the spread: its range over d, the grid's
     and the period's inconsistency); over the ``elastic`` pixels alone where given (a plastic pixel
     penetrates)."""
     c = (p > 0) if elastic is None else (p > 0) & elastic
@@ -405,7 +404,7 @@ def ensemble(profile, materials, F, grid: Grid, params, seeds) -> dict:
     if params.n != grid.n or not np.isclose(params.size, grid.period, rtol=1e-12):
         raise InputError(f"the roughness must lie on the grid: size {grid.period:g} m on n = {grid.n}, got size "
                          f"{params.size:g} m on n = {params.n}")
-    runs = [normal_contact(profile, materials, F, grid, generate(replace(params, seed=int(s)))) for s in seeds]
+    runs = [normal_contact(profile, materials, F, grid, generate(replace(params, seed=int(seed)))) for seed in seeds]
     out = {"seeds": seeds}
     for k in ENSEMBLE_KEYS:
         v = np.array([r[k] for r in runs])
@@ -434,15 +433,15 @@ def force_approach(profile, materials, loads, grid: Grid, heights: HeightMap | N
     if seeded:  # as if the last load resolved were the given contact
         p, kept = np.asarray(start[1], dtype=float), [float(positive("start force", start[0]))]
     if hardness is None:
-        s = _rigid_surface(profile, grid, heights)
+        z = _rigid_surface(profile, grid, heights)
     for F in loads:
         try:
             if hardness is None:  # elastic: each load from the last resolved one's contact, on its cells first
                 guess = None if p is None else p * (F / kept[-1])
-                dense = None if guess is None else dense_elastic_pressure(s, F, grid, materials.E_star, guess,
+                dense = None if guess is None else dense_elastic_pressure(z, F, grid, materials.E_star, guess,
                                                                           max_cells=DENSE_CURVE_MAX)
-                p = dense if dense is not None else elastic_pressure(s, F, grid, materials.E_star, guess)
-                d.append(contact_approach(p, s, grid.pixel, float(materials.E_star)))
+                p = dense if dense is not None else elastic_pressure(z, F, grid, materials.E_star, guess)
+                d.append(contact_approach(p, z, grid.pixel, float(materials.E_star)))
             else:
                 d.append(normal_contact(profile, materials, F, grid, heights, hardness=hardness)["approach"])
             kept.append(F)

@@ -71,8 +71,8 @@ def profile_variance_ratio(hurst: float) -> float:
     isotropic surface over the same band of |q|: Gamma(H + 1/2) / (sqrt(pi) Gamma(H + 1)) for the power
     law C(q) ~ q^(-2 (1 + H)) (the profile's spectrum int C(sqrt(qx^2 + qy^2)) dqy ~ qx^(-1 - 2H); exact
     for a band wide against its edges): 0.64 at H = 0.5, 0.54 at 0.8, 0.5 at 1."""
-    h = in_range("hurst", hurst, 0.0, 1.0, lo_open=True)
-    return math.gamma(h + 0.5) / (math.sqrt(math.pi) * math.gamma(h + 1.0))
+    hurst = in_range("hurst", hurst, 0.0, 1.0, lo_open=True)
+    return math.gamma(hurst + 0.5) / (math.sqrt(math.pi) * math.gamma(hurst + 1.0))
 
 
 @dataclass(frozen=True)

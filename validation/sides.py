@@ -38,7 +38,7 @@ def peak_index(s: Scene) -> int:
     return s.loading.last_peak()[0]
 
 
-def drive(s: Scene, law):
+def run_scene_loading(s: Scene, law):
     """Run the scene's loading with ``law``; returns (result dict, state at the peak step). A 3D FE law
     driven directly runs through ``fem.contact_run.drive_3d`` for its 3D keys, as ``python -m fem contact
     --model 3d`` does; every result states the normal loading that preceded its cycles (``normal_loading``:
@@ -87,7 +87,7 @@ def run_mdr(s: Scene, n: int) -> dict:
 
     def once():
         law = _mdr_law(s, n)
-        out, st = drive(s, law)
+        out, st = run_scene_loading(s, law)
         return law, out, st
 
     (law, out, st), t = _timed_median(once)
@@ -132,7 +132,7 @@ def time_step_error(s: Scene, first: dict, *, n: int | None = None, h: float | N
         raise ValueError("give exactly one of n (MDR cells) and h (FE mesh level)")
     if law is None:
         law = _mdr_law(s, n) if n is not None else fe_law(s, h)
-    runs = [first] + [drive(replace(s, steps=k * s.steps), law)[0] for k in TIME_STEP_FACTORS[1:]]
+    runs = [first] + [run_scene_loading(replace(s, steps=k * s.steps), law)[0] for k in TIME_STEP_FACTORS[1:]]
     W = [r["dissipation"] for r in runs]
     u_A = u_amp(runs[0])
     # changes below ZERO x 4 mu F0 u_A are the loop integral's round-off (a sticking face's 3e-20 J
@@ -182,7 +182,7 @@ def _run_fe(s: Scene, h, law, t0, vtu_path=None) -> tuple[dict, dict]:
     from fem.axisym.output import write_fretting_vtu, write_vtu
 
     t1 = time.perf_counter()
-    out, st = drive(s, law)
+    out, st = run_scene_loading(s, law)
     t2 = time.perf_counter()
     if s.fe_model == "3d":
         return _fe3d_outputs(s, law, out, st, h, t0, t1, t2)

@@ -38,8 +38,8 @@ def lame(E, nu):
 
 def strain_mode0(u, r):
     """(e_rr, e_zz, e_tt, e_rz) of a mode-0 field (skfem DiscreteField) at radii r."""
-    g = u.grad
-    return g[0, 0], g[1, 1], u[0] / r, 0.5 * (g[0, 1] + g[1, 0])
+    grad = u.grad
+    return grad[0, 0], grad[1, 1], u[0] / r, 0.5 * (grad[0, 1] + grad[1, 0])
 
 
 def elasticity_mode0(lame_lambda, lame_mu):
