@@ -37,8 +37,8 @@ def add_contact_args(p):
     drive = group.add_mutually_exclusive_group(required=True)
     drive.add_argument("--ua", type=float, help="tangential displacement amplitude in m (displacement control)")
     drive.add_argument("--fa", type=float, help="tangential force amplitude in N (force control, < mu F_N)")
-    group.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported)")
-    group.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4)")
+    group.add_argument("--cycles", type=int, default=3, help="number of cycles (>= 2; the last one is reported; default 3)")
+    group.add_argument("--steps", type=int, default=400, help="time steps per cycle (multiple of 4; default 400)")
 
 
 def profile_from_args(args):

@@ -46,8 +46,8 @@ class Loading:
     ``dF`` and ``alpha`` may be batch arrays (one value per scene of a batch law, the apparatus's
     studies); every other field is one number. ``normal_steps`` >= 0: the normal loading before the
     cycles, from rest to F_N(0) in that many steps with friction active and F_x = 0 (``mdr.drive.
-    normal_loading``; with coupling, slip during it locks traction in, Spence 1975); 0: none, the first step
-    of the cycles applies the normal force with the tangential load."""
+    normal_loading``; with coupling, slip during it locks traction in, Spence 1975); 0: none, the cycles'
+    first sample (t = 0, where the tangential load is zero) applies the normal force at once."""
 
     F0: float
     amplitude: float

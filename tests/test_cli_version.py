@@ -15,7 +15,8 @@ VERSION = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["versi
 DOI = "10.3390/machines11040484"
 
 
-@pytest.mark.parametrize("module", ["validation.compare", "validation.budget", "mdr", "fem"])
+@pytest.mark.parametrize("module", ["validation.compare", "validation.budget", "validation.docs",
+                                    "validation.error_calibration", "mdr", "fem"])
 def test_every_command_prints_its_version_and_what_to_cite(module):
     r = subprocess.run([sys.executable, "-m", module, "--version"], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 0, r.stderr

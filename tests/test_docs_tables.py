@@ -11,7 +11,7 @@ PAGE = """# A page
 
 Some words 1.5 %.
 
-<!-- generated: demo (python -m validation.docs) -->
+<!-- generated: demo (python -m validation.docs --write) -->
 | a | b |
 |---|---|
 | x | 1.00 (0.50 + 0.01): **holds** |

@@ -326,7 +326,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Run the scene catalogue through the MDR and FE contact models and write a report "
                     "(report.md, results.json, figures, VTU) saying where the half-space model holds.")
     p.add_argument("--quick", action="store_true",
-                   help="representative subset on coarser ladders (under 2 minutes on 2 cores)")
+                   help="representative subset on coarser ladders (about 30 s on 2 cores once the meshes are cached, about a minute on a first run)")
     p.add_argument("--scenes", metavar="NAME,...", help="comma-separated scene names (see --list)")
     p.add_argument("--scene-file", metavar="PATH",
                    help="run your own scenes from a TOML file of [[scene]] tables instead of the catalogue "

@@ -2,7 +2,7 @@
 
 A page of ``docs/`` marks each generated table between two lines::
 
-    <!-- generated: NAME (python -m validation.docs) -->
+    <!-- generated: NAME (python -m validation.docs --write) -->
     | ... the table ... |
     <!-- end generated -->
 
@@ -16,18 +16,19 @@ difference.
 """
 from __future__ import annotations
 
-import argparse
 import json
 import re
 import sys
 from pathlib import Path
+
+from common.cli import OneLineParser
 
 from . import families
 from .report import scene_outcome, summary_cell
 from .text import num
 
 DOCS = Path(__file__).resolve().parent.parent / "docs"
-BEGIN = re.compile(r"^<!-- generated: ([a-z0-9_-]+) \(python -m validation\.docs\) -->$")
+BEGIN = re.compile(r"^<!-- generated: ([a-z0-9_-]+) \(python -m validation\.docs --write\) -->$")
 END = "<!-- end generated -->"
 #: --check: two numbers agree within CHECK_REL of the larger plus CHECK_ABS (the tables print 2-3 digits)
 CHECK_REL, CHECK_ABS = 0.15, 0.02
@@ -179,7 +180,7 @@ def check(scenes: dict, docs=DOCS) -> list:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m validation.docs", description=__doc__.split("\n\n")[0])
+    ap = OneLineParser(prog="python -m validation.docs", description=__doc__.split("\n\n")[0])
     ap.add_argument("--results", default="results", help="output folder of a full catalogue run (default ./results)")
     mode = ap.add_mutually_exclusive_group(required=True)
     mode.add_argument("--write", action="store_true", help="rewrite the generated tables of docs/*.md and the README")
