@@ -1,0 +1,304 @@
+"""A fretting rig as typed data: what an error budget of one's own rig starts from (``load_rig``).
+
+A rig file (TOML, SI units) describes the indenter, the two bodies' materials and sizes, the loading, the
+apparatus, the specimens' stated tolerances and the results of interest; ``docs/examples/willert2023.toml``
+is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a worked example of another::
+
+    [rig]          name, title, resolution (of the slip index, default 0.01)
+    [indenter]     profile (sphere | truncated | flat), R, b (the face radius of the rig's own indenter),
+                   kink_rounding (the widest fillet the kink may have: a bound, m)
+    [materials]    E1, nu1 (indenter), E2, nu2 (block)
+    [bodies]       cap_height (the indenter above the contact), block_height (the contact above the
+                   bedding), block_width
+    [loading]      F0, dF, ua (the piezo amplitude), mu1, mu2, cycles, steps
+    [apparatus]    kx and any field of ``mdr.apparatus.Apparatus`` (the plates' reading, the bedding)
+    [tolerances]   tilt (rad, a bound: "less than"), and [tolerances.roughness]: each surface's rms
+                   height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
+                   spherical part), face (its flat face), block; hurst
+    [[result]]     key, title, and points = [{b, F0, dF, ua, mu1, mu2, kx}, ...] (each a change of the
+                   loading, apparatus or indenter's b) or sweep = {field = [values], ...} (every
+                   combination)
+
+Every field is checked against its range once, here (``InputError``: one line naming the file, the table,
+the field and its range); a result's point is a ``validation.paper_points.Point`` (the loading, the axis
+stiffness and the face radius; its indenter radius and materials are the rig's, ``Rig.indenter`` and
+``Rig.materials``). The paper's file holds the constants the code keeps for the paper, and its points are
+the error budget's (``tests/test_rig.py``); a budget computed from a rig file of one's own is not built yet.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+from common.errors import InputError
+from mdr.materials import Materials
+
+from .paper_points import RESOLUTION, Point, Result
+
+#: the largest tilt bound a rig file may state (rad): one degree; a bound given in degrees reads far above
+TILT_MAX = math.pi / 180
+#: the largest rms height a rig file may state (m): a value in micrometres reads far above
+RQ_MAX = 100e-6
+PROFILES = ("sphere", "truncated", "flat")
+#: a point's fields (``validation.paper_points.Point``) a result may set or sweep
+POINT_FIELDS = tuple(f.name for f in fields(Point))
+
+
+@dataclass(frozen=True)
+class Indenter:
+    """The indenter: its ``profile`` family, the sphere's radius ``R`` (m), its face radius ``b`` (m; 0 for
+    the sphere) and the widest rounding of its kink, ``kink_rounding`` (m, a bound)."""
+
+    profile: str
+    R: float
+    b: float = 0.0
+    kink_rounding: float = 0.0
+
+
+@dataclass(frozen=True)
+class Bodies:
+    """The finite bodies (m): the indenter's height above the contact, the contact's height above the
+    bedding and the block's width."""
+
+    cap_height: float
+    block_height: float
+    block_width: float
+
+
+@dataclass(frozen=True)
+class Roughness:
+    """The surfaces' rms heights Rq (m; a profile's, ISO 4287, over the ISO 4288 band of its value; 0: not
+    stated): the indenter's spherical part, its flat face, the block; the spectrum's Hurst exponent."""
+
+    sphere: float = 0.0
+    face: float = 0.0
+    block: float = 0.0
+    hurst: float = 0.8
+
+
+@dataclass(frozen=True)
+class Rig:
+    """A rig (module docstring): its points are the ``results``' (``Result``, each holding
+    ``validation.paper_points.Point`` s)."""
+
+    name: str
+    title: str
+    indenter: Indenter
+    materials: Materials
+    bodies: Bodies
+    loading: dict
+    apparatus: dict
+    tilt: float
+    roughness: Roughness
+    results: tuple
+    resolution: float = RESOLUTION
+
+    def points(self) -> tuple:
+        """Every result's points, each once, in the order of the results."""
+        out = []
+        for r in self.results:
+            out += [p for p in r.points if p not in out]
+        return tuple(out)
+
+
+class _Table:
+    """One table of a rig file being read: its values taken one by one, each checked, the error naming the
+    file, the table, the field and its range; ``done`` refuses what is left (an unknown field)."""
+
+    def __init__(self, where: str, table, name: str):
+        if not isinstance(table, dict):
+            raise InputError(f"{where}: [{name}] must be a table")
+        self.where, self.name, self.left = where, name, dict(table)
+
+    def bad(self, key, rng):
+        return InputError(f"{self.where}: [{self.name}] {key} must be {rng}, got {self.left.get(key, '(missing)')!r}")
+
+    def number(self, key, ok, rng, default=None) -> float:
+        if key not in self.left:
+            if default is None:
+                raise InputError(f"{self.where}: [{self.name}] {key} is missing ({rng})")
+            return default
+        v = self.left[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not ok(float(v)):
+            raise self.bad(key, rng)
+        return float(self.left.pop(key))
+
+    def integer(self, key, ok, rng, default) -> int:
+        v = self.left.get(key, default)
+        if isinstance(v, bool) or not isinstance(v, int) or not ok(v):
+            raise self.bad(key, rng)
+        self.left.pop(key, None)
+        return v
+
+    def text(self, key, choices=None, default=None) -> str:
+        v = self.left.get(key, default)
+        if not isinstance(v, str) or (choices is not None and v not in choices):
+            raise self.bad(key, f"one of {', '.join(choices)}" if choices else "a text")
+        self.left.pop(key, None)
+        return v
+
+    def done(self, valid):
+        if self.left:
+            raise InputError(f"{self.where}: [{self.name}] unknown field {sorted(self.left)[0]!r}; valid fields: "
+                             f"{', '.join(valid)}")
+
+
+def _indenter(where, t) -> Indenter:
+    t = _Table(where, t, "indenter")
+    profile = t.text("profile", PROFILES)
+    R = t.number("R", lambda x: x > 0, "> 0 (m)")
+    b = t.number("b", lambda x: 0 <= x < R and (profile != "sphere" or x == 0) and (profile == "sphere" or x > 0),
+                 "in (0, R) (m) for a truncated sphere or a flat punch, 0 for the sphere", 0.0)
+    k = t.number("kink_rounding", lambda x: 0 <= x < max(b, 1e-300), "in [0, b) (m; the widest fillet of the kink, "
+                 "a bound)", 0.0)
+    t.done(("profile", "R", "b", "kink_rounding"))
+    return Indenter(profile, R, b, k)
+
+
+def _materials(where, t) -> Materials:
+    t = _Table(where, t, "materials")
+    kw = {}
+    for k in ("E1", "E2"):
+        kw[k] = t.number(k, lambda x: x > 0, "> 0 (Pa)")
+    for k in ("nu1", "nu2"):
+        kw[k] = t.number(k, lambda x: -1 < x < 0.5, "in (-1, 0.5)")
+    t.done(("E1", "nu1", "E2", "nu2"))
+    return Materials(**kw)
+
+
+def _bodies(where, t) -> Bodies:
+    t = _Table(where, t, "bodies")
+    out = Bodies(*(t.number(k, lambda x: x > 0, "> 0 (m)") for k in ("cap_height", "block_height", "block_width")))
+    t.done(("cap_height", "block_height", "block_width"))
+    return out
+
+
+def _loading(where, t) -> dict:
+    t = _Table(where, t, "loading")
+    F0 = t.number("F0", lambda x: x > 0, "> 0 (N)")
+    out = {"F0": F0, "dF": t.number("dF", lambda x: 0 <= x < F0, "in [0, F0) (N)", 0.0),
+           "ua": t.number("ua", lambda x: x > 0, "> 0 (m; the piezo amplitude)"),
+           "mu1": t.number("mu1", lambda x: x >= 0, ">= 0 (the contact's friction)"),
+           "mu2": t.number("mu2", lambda x: x >= 0, ">= 0 (the bedding's friction)"),
+           "cycles": t.integer("cycles", lambda x: x >= 3, "an integer >= 3", 4),
+           "steps": t.integer("steps", lambda x: x >= 8 and x % 4 == 0, "a multiple of 4, >= 8", 120)}
+    t.done(tuple(out))
+    return out
+
+
+def _apparatus(where, t) -> dict:
+    from mdr.apparatus import Apparatus
+
+    valid = tuple(f.name for f in fields(Apparatus) if f.name != "mu2")
+    if not isinstance(t, dict):
+        raise InputError(f"{where}: [apparatus] must be a table")
+    unknown = sorted(set(t) - set(valid))
+    if unknown:
+        raise InputError(f"{where}: [apparatus] unknown field {unknown[0]!r}; valid fields: {', '.join(valid)} "
+                         "(mu2 is the loading's)")
+    if "kx" not in t:
+        raise InputError(f"{where}: [apparatus] kx is missing (> 0, N/m: the tangential stiffness of the normal axis)")
+    try:
+        Apparatus(**t)
+    except (InputError, TypeError, ValueError) as e:
+        raise InputError(f"{where}: [apparatus] {e}") from None
+    return dict(t)
+
+
+def _tolerances(where, t) -> tuple:
+    t = _Table(where, t, "tolerances")
+    tilt = t.number("tilt", lambda x: 0 <= x <= TILT_MAX, f"in [0, {TILT_MAX:.4g}] (rad: at most one degree; "
+                    "a bound in degrees is refused)", 0.0)
+    r = _Table(where, t.left.pop("roughness", {}), "tolerances.roughness")
+    rq = {k: r.number(k, lambda x: 0 <= x <= RQ_MAX, f"in [0, {RQ_MAX:g}] (m: an rms height; a value in "
+                      "micrometres is refused)", 0.0) for k in ("sphere", "face", "block")}
+    hurst = r.number("hurst", lambda x: 0 < x <= 1, "in (0, 1]", 0.8)
+    r.done(("sphere", "face", "block", "hurst"))
+    t.done(("tilt", "roughness"))
+    return tilt, Roughness(**rq, hurst=hurst)
+
+
+def _point(where, indenter: Indenter, loading: dict, apparatus: dict, given: dict) -> Point:
+    """A point of the rig: the rig's own values (indenter's b, loading, apparatus's kx) changed by ``given``."""
+    base = {"b": indenter.b, "kx": float(apparatus["kx"]),
+            **{k: loading[k] for k in ("F0", "dF", "ua", "mu1", "mu2")}}
+    unknown = sorted(set(given) - set(POINT_FIELDS))
+    if unknown:
+        raise InputError(f"{where}: unknown point field {unknown[0]!r}; valid: {', '.join(POINT_FIELDS)}")
+    kw = dict(base)
+    for k, v in given.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise InputError(f"{where}: {k} must be a number, got {v!r}")
+        kw[k] = float(v)
+    ok = {"b": 0 <= kw["b"] < indenter.R and (indenter.profile != "sphere" or kw["b"] == 0),
+          "kx": kw["kx"] > 0, "F0": kw["F0"] > 0, "dF": 0 <= kw["dF"] < kw["F0"], "ua": kw["ua"] > 0,
+          "mu1": kw["mu1"] >= 0, "mu2": kw["mu2"] >= 0}
+    for k, good in ok.items():
+        if not good:
+            raise InputError(f"{where}: a point's {k} is out of range, got {kw[k]!r} (b in [0, R), kx, F0, ua > 0, "
+                             "dF in [0, F0), mu1, mu2 >= 0)")
+    return Point(**kw)
+
+
+def _results(where, tables, indenter, loading, apparatus) -> tuple:
+    if not isinstance(tables, list) or not tables:
+        raise InputError(f"{where}: at least one [[result]] table (key, title, points or sweep) is needed")
+    out = []
+    for i, r in enumerate(tables, 1):
+        w = f"{where}: result {i}"
+        t = _Table(w, r, "result")
+        key, title = t.text("key"), t.text("title", default="")
+        points, sweep = t.left.pop("points", None), t.left.pop("sweep", None)
+        t.done(("key", "title", "points", "sweep"))
+        if (points is None) == (sweep is None):
+            raise InputError(f"{w}: give points (a list of tables) or sweep (a table of lists), one of them")
+        if points is not None:
+            if not isinstance(points, list) or not points or not all(isinstance(p, dict) for p in points):
+                raise InputError(f"{w}: points must be a non-empty list of tables")
+            given = points
+        else:
+            if not isinstance(sweep, dict) or not sweep or not all(isinstance(v, list) and v for v in sweep.values()):
+                raise InputError(f"{w}: sweep must be a table of non-empty lists")
+            given = [dict(zip(sweep, combo)) for combo in itertools.product(*sweep.values())]
+        out.append(Result(key, title, tuple(_point(w, indenter, loading, apparatus, g) for g in given)))
+    if len({r.key for r in out}) != len(out):
+        raise InputError(f"{where}: two results share a key")
+    return tuple(out)
+
+
+def load_rig(path) -> Rig:
+    """The rig of a TOML file, every field checked (module docstring); ``InputError`` in one line naming the
+    file, the table and the field with its range, on a missing or unreadable file, bad TOML, a missing or
+    unknown table or field, or a value out of range."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text())
+    except OSError as e:
+        raise InputError(f"rig file {str(path)!r} cannot be read: {e.strerror or e}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"rig file {str(path)!r} is not valid TOML: {e}") from None
+    where = path.name
+    tables = ("rig", "indenter", "materials", "bodies", "loading", "apparatus", "tolerances", "result")
+    unknown = sorted(set(data) - set(tables))
+    if unknown:
+        raise InputError(f"{where}: unknown table [{unknown[0]}]; valid tables: {', '.join(tables)}")
+    missing = [k for k in tables if k not in data and k != "tolerances"]
+    if missing:
+        raise InputError(f"{where}: missing table [{missing[0]}]")
+    head = _Table(where, data["rig"], "rig")
+    name, title = head.text("name"), head.text("title", default="")
+    resolution = head.number("resolution", lambda x: 0 < x < 1, "in (0, 1) (of the slip index)", RESOLUTION)
+    head.done(("name", "title", "resolution"))
+    indenter = _indenter(where, data["indenter"])
+    loading = _loading(where, data["loading"])
+    apparatus = _apparatus(where, data["apparatus"])
+    tilt, roughness = _tolerances(where, data.get("tolerances", {}))
+    if indenter.profile == "sphere" and tilt:
+        tilt = 0.0  # a tilted sphere is the same sphere displaced
+    return Rig(name=name, title=title, indenter=indenter, materials=_materials(where, data["materials"]),
+               bodies=_bodies(where, data["bodies"]), loading=loading, apparatus=apparatus, tilt=tilt,
+               roughness=roughness, results=_results(where, data["result"], indenter, loading, apparatus),
+               resolution=resolution)
