@@ -155,3 +155,4 @@ def test_speed_error_points_measure_each_level_against_the_answer_it_approximate
     v = {"dissipation": {"fem_ladder": {"extrapolated": 1.01}, "mdr_ladder": {"extrapolated": None}}}
     pts = figures.speed_error_points({"scene": scene, "closed_form": None, "verdicts": v, "speed_error": rows})
     assert [p["model"] for p in pts] == ["FE", "FE"] and pts[1]["error"] == pytest.approx(0.01 / 1.01)
+    assert {p["against"] for p in pts} == {"own extrapolation"}  # never pooled with a truth's distance

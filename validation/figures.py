@@ -160,18 +160,23 @@ def speed_error_points(result: dict) -> list:
             if ok and W != ref:
                 out.append({"model": model, "group": result["scene"].get("group", ""),
                             "scene": result["scene"].get("name", ""), "level": k, "runtime_s": t,
-                            "error": abs(W / ref - 1)})
+                            "error": abs(W / ref - 1), "against": "closed form" if closed else "own extrapolation"})
     return out
 
 
 def speed_error_figure(points: list, title: str):
-    """Dissipation error against run time, one curve per model and scene group: at each ladder level
-    the median run time and the median error over the group's scenes (log-log; ``speed_error_points``)."""
+    """Dissipation error against run time, one curve per model, scene group and reference: at each ladder
+    level the median run time and the median error over the group's scenes (log-log;
+    ``speed_error_points``). Errors against a closed form (solid) and against a ladder's own extrapolated
+    answer (dashed: its convergence, no distance to a truth) are never pooled."""
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     markers = dict(zip(sorted({p["group"] for p in points}), "osD^v<>ph*"))
-    for model, color in (("MDR", C_MDR), ("FE", C_FE)):
+    kinds = [(model, color, against, ls) for model, color in (("MDR", C_MDR), ("FE", C_FE))
+             for against, ls in (("closed form", "-"), ("own extrapolation", "--"))]
+    for model, color, against, ls in kinds:
         for group, mk in markers.items():
-            sel = [p for p in points if p["model"] == model and p["group"] == group]
+            sel = [p for p in points if p["model"] == model and p["group"] == group
+                   and p.get("against", "closed form") == against]
             levels = sorted({p["level"] for p in sel})
             pts = [(float(np.median([p["runtime_s"] for p in sel if p["level"] == k])),
                     float(np.median([p["error"] for p in sel if p["level"] == k]))) for k in levels]
@@ -179,8 +184,8 @@ def speed_error_figure(points: list, title: str):
             if pts:
                 t, e = zip(*pts)
                 n = len({p["scene"] for p in sel})
-                ax.loglog(t, e, marker=mk, color=color, lw=1.2, ms=6,
-                          label=f"{model}, {group} ({n} scene{'s' if n > 1 else ''})")
+                ax.loglog(t, e, marker=mk, color=color, lw=1.2, ms=6, ls=ls,
+                          label=f"{model}, {group} ({n} scene{'s' if n > 1 else ''}): against {against}")
     _plain_log_ticks(ax)
     ax.set_xlabel("run time of one ladder level (s)")
     ax.set_ylabel("|dissipation / reference - 1|")
@@ -189,7 +194,8 @@ def speed_error_figure(points: list, title: str):
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7)
     else:
-        ax.text(0.5, 0.5, "no finite, nonzero dissipation error to plot", transform=ax.transAxes, ha="center")
+        ax.text(0.5, 0.5, "no finite, nonzero dissipation error to plot:\nthe scene hardly dissipates, or no ladder "
+                          "extrapolates", transform=ax.transAxes, ha="center")
     fig.tight_layout()
     return fig
 

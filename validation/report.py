@@ -346,7 +346,7 @@ def write_report(out, names, status: dict, *, hard_cases=None, json_path=None, q
           for p in figures.speed_error_points(r)]
     if se:
         plots["pareto"] = lambda path: figures.save(figures.speed_error_figure(
-            se, "each model's ladder against the closed form, or its own extrapolated answer\n"
+            se, "ladders against the closed form (solid) or their own extrapolation (dashed)\n"
                 "(median over the scenes of a group at each level)"), path)
     summary_figs = {key: SUMMARY_FIGURES[key] for key in plots}
 
