@@ -7,7 +7,8 @@ next, with either sign. Such a ladder is seldom monotone, so Richardson's extrap
 ladder_error``) cannot bound it, although the error itself is small. MDR's grid quantises its stick edge
 and the kink of a truncated sphere the same way, by a fraction of a cell.
 
-What: for each side and metric of a profile class (``profile_class``) a bound E(h) = C h^p of one level's
+What: for each side and metric of a profile class (``profile_class``: ``smooth``, a kink inside the contact;
+``edge``, a kink at its edge) a bound E(h) = C h^p of one level's
 error against the limit h -> 0 (``Bound``), in the metric's unit: h the element size over the contact
 radius (FE) or one over the cells (MDR), the radii's bound in units of the contact radius, the
 dissipation's in units of 4 mu F0 u_A (the slip index's). C is the envelope of the errors measured on
@@ -46,34 +47,44 @@ class Bound:
 
 #: the largest face radius over the reference contact radius (b / a_ref) of the class ``smooth``: the
 #: sphere and the truncated sphere whose kink lies well inside the contact, whose edges the mesh
-#: quantises. Beyond it the kink sits at the contact edge (the pressure singular there, as under the flat
-#: punch, whose edge is fixed): those ladders converge steadily and Richardson's extrapolation bounds them,
-#: and no calibrated bound exists (one calibrated on the smooth class failed there: 2.7-5.7 x its bound)
+#: quantises. Beyond it, class ``edge``: the kink sits at the contact edge (the pressure steep there, as
+#: under the flat punch), where a contact radius falls on the kink's node or one beyond, a quantisation by
+#: up to a whole element (a bound calibrated on the smooth class failed there: 2.7-5.7 x its bound)
 SMOOTH_MAX_B = 0.75
 
 
 def profile_class(profile: str, b: float, a_ref: float) -> str | None:
-    """The class of a profile's calibrated bounds (``smooth``), None where there is none."""
+    """The class of a profile's calibrated bounds: ``smooth`` (the sphere, a kink inside the contact) or
+    ``edge`` (a kink at the contact edge); None for the flat punch, whose edge is fixed (its ladders
+    converge steadily and bound their own error)."""
     if profile == "sphere" or (profile == "truncated" and b <= SMOOTH_MAX_B * a_ref):
         return "smooth"
-    return None
+    return "edge" if profile == "truncated" else None
 
 
 #: the measured envelopes (C, p): max |error| / h^p over the calibration (``envelope``), before ``SAFETY``.
-#: FE (h = element size / a): the sphere under the closed-form load (sphere-md), the truncated sphere b = 20 um
-#: (geom-b20um) and the sphere in the apparatus (exp-fig4), each at 13 meshes from a/20 to a/160 against
-#: a/320. MDR (h = 1 / cells): the same scenes at 10 grids from 100 to 1600 cells against 12800. The
-#: stick edge's and the kink's quantisation is first order on both sides; MDR's slip index and loops,
-#: whose edges enter through integrals, converge at second order.
+#: FE (h = element size / a): class smooth: the sphere under the closed-form load (sphere-md), the truncated
+#: sphere b = 20 um (geom-b20um) and the sphere in the apparatus (exp-fig4), each at 13 meshes from a/20 to
+#: a/160 against a/320; class edge: the truncated spheres b = 30, 50, 100 um (geom-b30um, geom-b50um,
+#: geom-b100um) the same way. MDR (h = 1 / cells): the same scenes at 10 grids from 100 to 1600 cells
+#: (edge: 19 grids from 25) against 12800. The stick edge's and the kink's quantisation is first order on
+#: both sides; MDR's slip index and loops, whose edges enter through integrals, converge at second order
+#: where the kink lies inside the contact and at first order where it is the contact edge.
 _ENVELOPES = {
     ("fem", "smooth"): {"contact_radius": (0.113, 1.0), "stick_radius": (0.37, 1.0), "slip_index": (0.00446, 1.0),
                         "pressure_profile": (0.0566, 1.0), "traction_profile": (0.675, 1.0),
                         "loop_Fx": (0.00484, 1.0), "loop_du": (0.0231, 1.0)},
     ("mdr", "smooth"): {"stick_radius": (0.0177, 1.0), "slip_index": (0.228, 2.0), "traction_profile": (1.5, 1.0),
                         "loop_Fx": (0.171, 2.0), "loop_du": (1.26, 2.0)},
+    ("fem", "edge"): {"contact_radius": (0.641, 1.0), "stick_radius": (0.379, 1.0), "slip_index": (0.0249, 1.0),
+                      "pressure_profile": (0.55, 1.0), "traction_profile": (0.688, 1.0), "loop_du": (0.127, 1.0)},
+    ("mdr", "edge"): {"stick_radius": (0.0628, 1.0), "slip_index": (0.00065, 1.0), "traction_profile": (0.0113, 1.0),
+                      "loop_du": (0.0033, 1.0)},
 }
 CALIBRATION = {("fem", "smooth"): "sphere-md, geom-b20um, exp-fig4: 13 meshes a/20-a/160 against a/320",
-               ("mdr", "smooth"): "sphere-md, geom-b20um, exp-fig4: 10 grids 100-1600 cells against 12800"}
+               ("mdr", "smooth"): "sphere-md, geom-b20um, exp-fig4: 10 grids 100-1600 cells against 12800",
+               ("fem", "edge"): "geom-b30um, geom-b50um, geom-b100um: 13 meshes a/20-a/160 against a/320",
+               ("mdr", "edge"): "geom-b30um, geom-b50um, geom-b100um: 19 grids 25-1600 cells against 12800"}
 
 
 def bound(side: str, metric: str, cls: str | None) -> Bound | None:
@@ -114,14 +125,21 @@ WHY = {"contact_radius": "the contact edge lies inside an element (the pressure'
 
 
 def table() -> list:
-    """The bounds in use (markdown): per metric, each side's C h^p with its unit and why it is quantised."""
-    lines = ["| metric | FE: bound (h = element size / a) | MDR: bound (h = 1 / cells) | why the error jumps |",
+    """The bounds in use (markdown): per metric, each side's C h^p of each class with its unit and why it is
+    quantised."""
+    lines = ["| metric | FE: bound (h = element size / a), smooth; edge | MDR: bound (h = 1 / cells), smooth; edge "
+             "| why the error jumps |",
              "|---|---|---|---|"]
     for q, why in WHY.items():
         cells = []
         for side in ("fem", "mdr"):
-            b = bound(side, q, "smooth")
             unit = " a" if q.endswith("radius") else ""
-            cells.append("exact (converged)" if b is None else f"{b.C:.3g} h^{b.p:g}{unit}")
+            text = []
+            for cls in ("smooth", "edge"):
+                b = bound(side, q, cls)
+                exact = side == "mdr" and q in ("contact_radius", "pressure_profile")  # MDR's normal contact
+                text.append(("exact (converged)" if exact else "its ladder's own") if b is None
+                            else f"{b.C:.3g} h^{b.p:g}{unit}")
+            cells.append("; ".join(text))
         lines.append(f"| {q.replace('_', ' ')} | {cells[0]} | {cells[1]} | {why} |")
     return lines
