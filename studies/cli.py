@@ -136,8 +136,8 @@ def build_parser():
     g.add_argument("--dF", type=float, default=0.1, help="normal force amplitude in N (default 0.1)")
     g.add_argument("--alpha", type=float, default=0.0, help="phase of the normal force in rad")
     g.add_argument("--ua", type=float, required=True, help="piezo amplitude u_A in m")
-    g.add_argument("--cycles", type=int, default=4, help="cycles (the last one is reported)")
-    g.add_argument("--steps", type=int, default=200, help="steps per cycle (multiple of 4)")
+    g.add_argument("--cycles", type=int, default=4, help="cycles (the last one is reported; default 4)")
+    g.add_argument("--steps", type=int, default=200, help="steps per cycle (multiple of 4; default 200)")
     g.add_argument("--R-bed", dest="R_bed", type=float, default=5e-3, help="radius of the bedding half-spheres in m")
     g.add_argument("--plate-model", choices=list(PLATE_MODELS), default="axial",
                    help=PLATE_HELP)
