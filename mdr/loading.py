@@ -173,7 +173,10 @@ class Loading:
 
     def normal_loading_record(self) -> dict:
         """What a result states of the normal loading before its cycles (its key ``normal_loading``): the
-        steps (0: none), with friction active and F_x = 0."""
+        steps, with friction active and F_x = 0; ``{"steps": 0}`` where there is none (the cycles' first
+        sample applies the normal force)."""
+        if not self.normal_steps:
+            return {"steps": 0}
         return {"steps": self.normal_steps, "friction": True, "F_x": 0.0}
 
     def as_inputs(self) -> dict:
