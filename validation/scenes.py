@@ -246,9 +246,11 @@ class Scene:
         frozen dataclass; an ``InputError`` naming the scene, the key and its range), once per scene."""
         if not self.variants:
             return ()
-        from .families import module
+        import importlib
 
-        return tuple(module(self.family).Variant.of(v, self) for v in self.variants)
+        # the family's module by its name (``FAMILIES``): the families stand on this module, not it on them
+        family = importlib.import_module(f"{__package__}.families.{self.family}")
+        return tuple(family.Variant.of(v, self) for v in self.variants)
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene
