@@ -3,8 +3,14 @@
 from .errors import InputError
 
 #: the tangential traction: "free" (two components, its direction free to turn with the slip) or "x"
-#: (q_y = 0 everywhere: Mindlin's assumption, as in the axisymmetric model and MDR; on the same
-#: discretisation the pair of the two isolates the effect of the direction from the discretisation error)
+#: (q_y = 0 everywhere: Mindlin's assumption; on the same discretisation the pair of the two isolates the
+#: effect of the direction from the discretisation error). Where each model makes it:
+#: - MDR: "x" by construction (one tangential spring per cell, along x: ``mdr.law``, ``mdr.law_traction``);
+#: - the axisymmetric FE model: "x" by construction (one tangential force per contact pair: the
+#:   assumptions of ``fem.axisym.friction``);
+#: - the 3D FE model: either, default "free" (``fem.solid3d.law.FEContact3D(traction=...)``, ``.assuming``;
+#:   ``python -m fem contact --model 3d --traction``);
+#: - the rough half-space: either, default "x" (``rough.tangential.TangentialContact(traction=...)``).
 TRACTIONS = ("free", "x")
 
 
