@@ -9,6 +9,9 @@ it, displacement-controlled ones are compared at u - c_bulk Fx with c_bulk from
 axis probes and Cerruti's half-space solution (fem.bulk), which uses no
 half-space contact stiffness: the initial tangential stiffness 2 G* a is a
 result here, not built in.
+
+Over 500 lines for a stated reason: its tests share the module's axisymmetric laws (``sphere``, set up
+once); split, each part would set them up again.
 """
 import dataclasses
 

@@ -13,6 +13,9 @@ The finite bodies' compliance changes the approach (never compared here) but nei
 nor, to O((b/L)^2) for a block of size L = 20 b, the pressure at a given force: every check is at
 the force. Under a tangential force Q < mu F the flat punch sticks completely (q/p = Q/F wherever
 the Cattaneo-Mindlin assumptions hold; the MDR law gives c = b) and slides as a whole at mu F.
+
+Over 500 lines for a stated reason: its tests share the module's 3D models (``truncated``, ``punch``,
+``refined``: meshes and condensed interfaces set up once); split, each part would set them up again.
 """
 import numpy as np
 import pytest

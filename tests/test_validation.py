@@ -1,6 +1,9 @@
 """validation.compare: report structure, figures, atomic per-scene storage, metrics (fast suite).
 
 The physics of the full catalogue is asserted in tests/test_validation_full.py (slow).
+
+Over 500 lines for a stated reason: its tests share the module's quick comparison (``quick_report``,
+about a minute); split, each part would run it again.
 """
 from __future__ import annotations
 

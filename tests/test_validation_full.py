@@ -9,6 +9,9 @@ Asserts the agreement the physics predicts, each against an independent truth:
 - the one stick radius converges on both ladders (MDR error bar < 1 %, FE < 2 %);
 - the half-space assumption fails as the block shrinks towards the contact radius and as
   the curvature a/R grows: there the verdicts must fail.
+
+Over 500 lines for a stated reason: every test reads the one full catalogue run of the module's
+fixture ``full_run`` (minutes); split, each part would run the catalogue again.
 """
 from __future__ import annotations
 
