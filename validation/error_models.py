@@ -66,7 +66,8 @@ def profile_class(profile: str, b: float, a_ref: float) -> str | None:
 #: FE (h = element size / a): class smooth: the sphere under the closed-form load (sphere-md), the truncated
 #: sphere b = 20 um (geom-b20um) and the sphere in the apparatus (exp-fig4), each at 13 meshes from a/20 to
 #: a/160 against a/320; class edge: the truncated spheres b = 30, 50, 100 um (geom-b30um, geom-b50um,
-#: geom-b100um) the same way. MDR (h = 1 / cells): the same scenes at 10 grids from 100 to 1600 cells
+#: geom-b100um) the same way (held out: geom-b600um, whose contact and stick radii and slip index are
+#: exact on every mesh, so it tests the profiles' and the loop's bounds only). MDR (h = 1 / cells): the same scenes at 10 grids from 100 to 1600 cells
 #: (edge: 19 grids from 25) against 12800. The stick edge's and the kink's quantisation is first order on
 #: both sides; MDR's slip index and loops, whose edges enter through integrals, converge at second order
 #: where the kink lies inside the contact and at first order where it is the contact edge.

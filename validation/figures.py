@@ -176,7 +176,7 @@ def speed_error_figure(points: list, title: str):
     for model, color, against, ls in kinds:
         for group, mk in markers.items():
             sel = [p for p in points if p["model"] == model and p["group"] == group
-                   and p.get("against", "closed form") == against]
+                   and p["against"] == against]
             levels = sorted({p["level"] for p in sel})
             pts = [(float(np.median([p["runtime_s"] for p in sel if p["level"] == k])),
                     float(np.median([p["error"] for p in sel if p["level"] == k]))) for k in levels]

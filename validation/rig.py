@@ -233,13 +233,14 @@ def _point(where, indenter: Indenter, loading: dict, apparatus: dict, given: dic
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
             raise InputError(f"{where}: {k} must be a number, got {v!r}")
         kw[k] = float(v)
-    ok = {"b": 0 <= kw["b"] < indenter.R and (indenter.profile != "sphere" or kw["b"] == 0),
-          "kx": kw["kx"] > 0, "F0": kw["F0"] > 0, "dF": 0 <= kw["dF"] < kw["F0"], "ua": kw["ua"] > 0,
-          "mu1": kw["mu1"] >= 0, "mu2": kw["mu2"] >= 0}
-    for k, good in ok.items():
+    from .families.points import RANGES  # a point's ranges: one home, the points family's variant
+
+    for k, (ok, rng) in RANGES.items():
+        good = ok(kw[k], indenter) and (k != "dF" or kw["dF"] < kw["F0"]) \
+            and (k != "b" or indenter.profile != "sphere" or kw["b"] == 0)
         if not good:
-            raise InputError(f"{where}: a point's {k} is out of range, got {kw[k]!r} (b in [0, R), kx, F0, ua > 0, "
-                             "dF in [0, F0), mu1, mu2 >= 0)")
+            raise InputError(f"{where}: a point's {k} is out of range, got {kw[k]!r} (it must be {rng}"
+                             f"{'; 0 for the sphere' if k == 'b' else ''})")
     return Point(**kw)
 
 

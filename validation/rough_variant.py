@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 from common.errors import InputError
 from mdr.paper import R_INDENTER, STEEL_E, STEEL_NU
 
-from .families import number
+from .families import number, variant_keys
 
 #: the defaults of a variant: 4 surfaces, grids of 128-256 pixels over 16 smooth contact radii, Hurst 0.8,
 #: the short cut-off at 4 pixels of the coarsest grid, the long one at a quarter period (no power at
@@ -69,15 +69,10 @@ class RoughVariant:
         be the sphere or the truncated sphere under force control at a constant normal force."""
         from .scenes import a_ref
 
-        def bad(key, rng):
-            return InputError(f"scene {scene.name}: rough variant {v!r}: {key} must be {rng}")
-
         if scene.profile not in ("sphere", "truncated") or scene.drive != "force" or scene.dF != 0.0:
             raise InputError(f"scene {scene.name}: rough variants need profile 'sphere' or 'truncated', drive "
                              "'force' and dF = 0")
-        unknown = sorted(set(v) - set(KEYS))
-        if unknown:
-            raise bad(unknown[0], f"one of the variant's keys ({', '.join(KEYS)})")
+        bad = variant_keys(scene, "rough", v, KEYS)
         b = number(v, "b", lambda x: 0.0 <= x < 0.5 * scene.R, bad, f"in [0, {0.5 * scene.R:g}) (m; the face "
                     "radius, 0 the sphere)") if "b" in v else (float(scene.b) if scene.profile == "truncated" else 0.0)
         a = a_ref(scene, b)

@@ -21,6 +21,21 @@ def module(family: str):
     return importlib.import_module(f"{__name__}.{family}")
 
 
+def variant_keys(scene, kind: str, v: dict, keys):
+    """The error of a family's variant ``v`` (of the kind ``kind``) of ``scene``, ``bad(key, rng)``: one line
+    naming the scene, the variant and the key with its valid range; returned after refusing a key of ``v``
+    that is not one of ``keys``."""
+    from common.errors import InputError
+
+    def bad(key, rng):
+        return InputError(f"scene {scene.name}: {kind} variant {v!r}: {key} must be {rng}")
+
+    unknown = sorted(set(v) - set(keys))
+    if unknown:
+        raise bad(unknown[0], f"one of the variant's keys ({', '.join(keys)})")
+    return bad
+
+
 def number(v: dict, key: str, ok, bad, rng: str) -> float:
     """A variant's number ``v[key]`` as a float, checked: finite and ``ok(x)``; else ``bad(key, rng)`` (the
     family's ``InputError`` naming the scene, the variant, the key and its valid range ``rng``)."""

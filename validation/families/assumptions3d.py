@@ -15,7 +15,7 @@ from common.errors import InputError
 from mdr.normal import approach_from_force
 
 from .. import metrics
-from . import number, result_of
+from . import number, result_of, variant_keys
 from ..scenes import ASSUMPTIONS_3D, SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene, a_ref
 from ..sides import fe_law, materials_of, pct_or, profile_of
 from ..text import LABELS, grade_text, num
@@ -88,12 +88,7 @@ class Variant:
     def of(cls, v: dict, scene: Scene) -> "Variant":
         """The mapping ``v`` checked (the scene must be a 3D one; ``b`` in (0, R/2), ``E2`` > 0, ``nu2`` in
         (-1, 0.5))."""
-        def bad(key, rng):
-            return InputError(f"scene {scene.name}: assumptions variant {v!r}: {key} must be {rng}")
-
-        unknown = sorted(set(v) - {"relax", "b", "E2", "nu2"})
-        if unknown:
-            raise bad(unknown[0], "one of the variant's keys (relax, b, E2, nu2)")
+        bad = variant_keys(scene, "assumptions", v, ("relax", "b", "E2", "nu2"))
         if scene.fe_model != "3d":
             raise InputError(f"scene {scene.name}: variants that relax an assumption need fe_model='3d'")
         if v.get("relax") not in ASSUMPTIONS_3D:

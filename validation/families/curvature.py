@@ -13,7 +13,7 @@ from common.errors import InputError
 from mdr.materials import Materials
 
 from .. import metrics
-from . import number, result_of
+from . import number, result_of, variant_keys
 from ..scenes import Scene
 from ..sides import run_fe, run_mdr
 from ..text import LABELS, grade_text, num
@@ -39,12 +39,7 @@ class Variant:
     @classmethod
     def of(cls, v: dict, scene: Scene) -> "Variant":
         """The mapping ``v`` checked: ``a_over_R`` in (0, 0.1], optionally ``nu`` in (-1, 0.5)."""
-        def bad(key, rng):
-            return InputError(f"scene {scene.name}: curvature variant {v!r}: {key} must be {rng}")
-
-        unknown = sorted(set(v) - {"a_over_R", "nu"})
-        if unknown:
-            raise bad(unknown[0], "one of the variant's keys (a_over_R, nu)")
+        bad = variant_keys(scene, "curvature", v, ("a_over_R", "nu"))
         if scene.profile != "sphere":
             raise InputError(f"scene {scene.name}: curvature variants need profile 'sphere', got {scene.profile!r}")
         x = number(v, "a_over_R", lambda x: 0 < x <= A_OVER_R_MAX, bad, f"in (0, {A_OVER_R_MAX:g}]")

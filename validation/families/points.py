@@ -24,10 +24,8 @@ import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from common.errors import InputError
-
 from .. import metrics
-from . import members_of, number, result_of_members
+from . import members_of, number, result_of_members, variant_keys
 from ..paper_points import RESOLUTION, SCENE_FIELDS
 from ..scenes import Scene
 from ..text import grade_text, num
@@ -68,12 +66,7 @@ class Variant:
     @classmethod
     def of(cls, v: dict, scene: Scene) -> "Variant":
         """The mapping ``v`` checked (``RANGES``; the point's scene then meets the scene's own checks)."""
-        def bad(key, rng):
-            return InputError(f"scene {scene.name}: point variant {v!r}: {key} must be {rng}")
-
-        unknown = sorted(set(v) - set(SCENE_FIELDS))
-        if unknown:
-            raise bad(unknown[0], f"one of the variant's keys ({', '.join(SCENE_FIELDS)})")
+        bad = variant_keys(scene, "point", v, tuple(SCENE_FIELDS))
         if "kx" not in v:
             raise bad("kx", RANGES["kx"][1])
         out = cls(**{k: number(v, k, lambda x, ok=ok: ok(x, scene), bad, rng)

@@ -15,7 +15,7 @@ from common.ladder import settling_error
 from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
 
 from .. import metrics
-from . import number, result_of
+from . import number, result_of, variant_keys
 from ..scenes import SETTLE_MAX_CYCLES, SETTLE_TOL_3D, Scene
 from ..sides import fe_law, materials_of, pct_or, run_mdr
 from ..text import grade_text, num
@@ -47,12 +47,7 @@ class Variant:
         from meshes.axisym import CONTACT_EXTENT_DEFAULT
         from meshes.half3d import H_CONTACT_3D_RANGE, Half3DMeshParams, Refinement
 
-        def bad(key, rng):
-            return InputError(f"scene {scene.name}: tilt variant {v!r}: {key} must be {rng}")
-
-        unknown = sorted(set(v) - {"profile", "b", "tilts", "fe_levels", "refine", "band"})
-        if unknown:
-            raise bad(unknown[0], "one of the variant's keys (profile, b, tilts, fe_levels, refine, band)")
+        bad = variant_keys(scene, "tilt", v, ("profile", "b", "tilts", "fe_levels", "refine", "band"))
         if scene.fe_model != "3d" or scene.drive != "force":
             raise InputError(f"scene {scene.name}: tilt variants need fe_model='3d' and drive='force'")
         if v.get("profile") not in ("flat", "truncated"):
