@@ -27,11 +27,14 @@ from mdr.profiles import FlatPunch, Sphere, TruncatedSphere
 RES = dict(cycles=3, steps=120, n=100)
 
 
-def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=0.0, res=RES, app_kw=None):
+def _slip_index(profile, kx, mu1=0.2, mu2=0.1, F0=0.5, dF=0.1, ua=150e-9, alpha=0.0, res=RES, app_kw=None,
+                materials=None):
     """Slip index of ``profile`` in the apparatus (``app_kw``: further Apparatus fields,
-    e.g. plate_model and R_bed, scalars or arrays of the batch shape)."""
-    law = MDRContact(profile, Materials(), mu1, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None,
-                     n=res["n"]) if not isinstance(profile, FlatPunch) else MDRContact(profile, Materials(), mu1, n=8)
+    e.g. plate_model and R_bed, scalars or arrays of the batch shape; ``materials``: the pair's,
+    default the paper's steel on steel)."""
+    mat = materials or Materials()
+    law = MDRContact(profile, mat, mu1, F_max=F0 + dF, F_min=F0 - dF if dF < F0 else None,
+                     n=res["n"]) if not isinstance(profile, FlatPunch) else MDRContact(profile, mat, mu1, n=8)
     loading = Loading.apparatus(F0, dF, alpha, ua, cycles=res["cycles"], steps=res["steps"])
     out = run_apparatus(law, Apparatus(kx=kx, mu2=mu2, **(app_kw or {})), loading)
     return out["slip_index"], out

@@ -16,7 +16,10 @@ import pytest
 
 from mdr.materials import Materials
 from validation import budget as B
-from validation.paper_points import loop_point
+from validation import budget_cells as C
+from validation.paper_points import Point, loop_point
+
+PAPER = C.paper_inputs()
 
 MAT = Materials()
 
@@ -27,26 +30,26 @@ MAT = Materials()
     (0.004, 0.0, "bound", "negligible"), (float("nan"), 0.0, "measured", "undetermined"),
     (None, None, "measured", "undetermined"), (0.02, float("inf"), "spread", "undetermined")])
 def test_the_verdict_rule(effect, error, kind, verdict):
-    assert B.cell(effect, error, kind, "x")["verdict"] == verdict
+    assert C.cell(effect, error, kind, "x")["verdict"] == verdict
 
 
 def test_a_result_matters_if_one_point_does_and_is_negligible_only_if_all_are():
-    small, big, gap = B.cell(0.001, 0.001, "measured", "a"), B.cell(0.05, 0.001, "measured", "b"), B.missing("tilt")
-    assert B.combine([small, big, gap], "x")["verdict"] == "matters"
-    assert B.combine([small, gap], "x")["verdict"] == "undetermined"
-    assert B.combine([small, small], "x")["verdict"] == "negligible"
+    small, big, gap = C.cell(0.001, 0.001, "measured", "a"), C.cell(0.05, 0.001, "measured", "b"), C.missing("tilt")
+    assert C.combine([small, big, gap], "x")["verdict"] == "matters"
+    assert C.combine([small, gap], "x")["verdict"] == "undetermined"
+    assert C.combine([small, small], "x")["verdict"] == "negligible"
     assert "python -m validation.compare --scenes tilt" in gap["source"]
     # the cell shown is the one that decides: a point that matters, not a larger but uncertain one
-    vague = B.cell(-0.2, 0.25, "measured", "c")
-    shown = B.combine([vague, big], "x")
+    vague = C.cell(-0.2, 0.25, "measured", "c")
+    shown = C.combine([vague, big], "x")
     assert shown["verdict"] == "matters" and shown["effect"] == 0.05
-    assert B.combine([vague, small], "x")["effect"] == -0.2  # undetermined: the largest bound
+    assert C.combine([vague, small], "x")["effect"] == -0.2  # undetermined: the largest bound
 
 
 def test_exact_zeros_on_the_sphere():
     p = loop_point("fig4")
     assert p.b == 0
-    for c in (B.kink_cell(p), B.tilt_cell(p, lambda name: None)):
+    for c in (C.kink_cell(p, PAPER), C.tilt_cell(p, lambda name: None, PAPER)):
         assert c["effect"] == 0.0 and c["kind"] == "exact" and c["verdict"] == "negligible"
 
 
@@ -58,25 +61,20 @@ def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
 
     row = {"b": 600e-6, "variant": "tilt[b]", "banded": True, "levels": [{"runs": [{"slip_index": 1e-6}]}],
            "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
-    c = B.tilt_cell(loop_point("fig6"), lambda name: {"tilt": [row]} if name == "tilt" else None)
+    c = C.tilt_cell(loop_point("fig6"), lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
     assert c["kind"] == "bound" and c["verdict"] == "undetermined" and c["effect"] == 0.03
-    assert B.cell(0.03, 1e-4, "measured", "x")["verdict"] == "matters"
+    assert C.cell(0.03, 1e-4, "measured", "x")["verdict"] == "matters"
     assert B.cell_text(c).startswith("<= 0.03")
 
 
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():
     p = loop_point("fig6")
-    wide = B.kink_cell(p)
+    wide = C.kink_cell(p, PAPER)
     assert abs(wide["effect"]) < 1e-3  # b = 0.6 mm: the fillet is 0.5 % of the radius (measured 1.6e-5)
     assert wide["verdict"] == "negligible"
-    q = B.Point(b=20e-6)
-    e3 = B.kink_cell(q)["effect"]
-    old = B.FILLET_MAX
-    try:
-        B.FILLET_MAX = 0.5e-6
-        e05 = B.kink_cell(q)["effect"]
-    finally:
-        B.FILLET_MAX = old
+    q = Point(b=20e-6)
+    e3 = C.kink_cell(q, PAPER)["effect"]
+    e05 = C.kink_cell(q, replace(PAPER, fillet=0.5e-6))["effect"]
     assert abs(e05) < abs(e3)
 
 
@@ -99,11 +97,11 @@ def test_the_command_refuses_a_folder_without_scenes_in_one_line(tmp_path):
 
 
 def test_scaled_turns_a_relative_effect_into_a_slip_index_change():
-    c = B.scaled(B.cell(0.1, 0.01, "measured", "x"), 0.5)
+    c = C.scaled(C.cell(0.1, 0.01, "measured", "x"), 0.5)
     assert c["effect"] == pytest.approx(0.05) and c["error"] == pytest.approx(0.005) and c["verdict"] == "matters"
-    a = B.cell(0.02, 0.001, "absolute", "x")
-    assert B.scaled(a, 0.5) is a
-    assert math.isclose(B.scaled(B.cell(0.1, 0.01, "bound", "x"), 0.05)["effect"], 0.005)
+    a = C.cell(0.02, 0.001, "absolute", "x")
+    assert C.scaled(a, 0.5) is a
+    assert math.isclose(C.scaled(C.cell(0.1, 0.01, "bound", "x"), 0.05)["effect"], 0.005)
 
 
 def _pair_result(fe, md, err=1e-4, bounded=True):
@@ -117,22 +115,22 @@ def test_the_curvature_is_measured_at_the_point_where_a_scene_runs_it():
     a non-finite one falls back to the sphere's bound (here: its scene missing, undetermined)."""
     from validation.catalogue import CATALOGUE
 
-    p6, p2 = loop_point("fig6"), B.Point(b=10e-6)
-    i = next(i for i, v in enumerate(CATALOGUE["halfspace-points"].variants) if B.Point(**v) == p2)
+    p6, p2 = loop_point("fig6"), Point(b=10e-6)
+    i = next(i for i, v in enumerate(CATALOGUE["halfspace-points"].variants) if Point(**v) == p2)
     rows = [{"variant": i, "b": 10e-6, "kx": p2.kx, "slip_index_fem": 0.4221, "slip_index_mdr": 0.4224,
              "error": 6e-4, "bounded": False, "a_over_R": 0.0046}]
     stored = {"exp-fig6": _pair_result(0.5312, 0.5315), "halfspace-points": {"points": rows}}
-    c = B.curvature_cell(p6, stored.get)
+    c = C.curvature_cell(p6, stored.get, PAPER)
     assert c["source"] == "exp-fig6" and c["kind"] == "absolute" and c["verdict"] == "negligible"
     assert c["effect"] == pytest.approx(-3e-4) and c["error"] == pytest.approx(2e-4)
-    c = B.curvature_cell(p2, stored.get)
+    c = C.curvature_cell(p2, stored.get, PAPER)
     assert c["source"] == "halfspace-points" and c["verdict"] == "negligible" and "spread" in c["note"]
     stored["exp-fig6"] = _pair_result(0.5312, 0.5812)
-    assert B.curvature_cell(p6, stored.get)["verdict"] == "matters"
+    assert C.curvature_cell(p6, stored.get, PAPER)["verdict"] == "matters"
     stored["exp-fig6"] = _pair_result(float("nan"), 0.5315)
-    c = B.curvature_cell(p6, stored.get)
+    c = C.curvature_cell(p6, stored.get, PAPER)
     assert c["verdict"] == "undetermined" and "validity-curvature" in c["source"]
-    assert B.curvature_cell(replace(p2, kx=5e6), stored.get)["source"] != "halfspace-points"  # not that point
+    assert C.curvature_cell(replace(p2, kx=5e6), stored.get, PAPER)["source"] != "halfspace-points"  # not that point
 
 
 def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
@@ -143,7 +141,7 @@ def test_every_point_with_a_face_has_a_scene_that_runs_it_in_the_apparatus():
     hs = CATALOGUE["halfspace-points"]
     runs = [s for s in CATALOGUE.values() if s.family == "pair" and s.drive == "apparatus"]
     runs += [v.scene(hs) for v in hs.typed_variants]
-    for r in B.results():
+    for r in PAPER.results:
         for p in r.points:
             n = sum(p.matches(s) for s in runs)
             assert n == 1 or (p.b == 0 and n <= 1), (r.key, p, n)
@@ -157,12 +155,12 @@ def test_the_direction_is_measured_at_the_point_where_a_3d_scene_runs_it():
 
     s = CATALOGUE["direction-points"]
     p = loop_point("fig6")
-    i = next(i for i, v in enumerate(s.variants) if B.Point(**v) == p)
+    i = next(i for i, v in enumerate(s.variants) if Point(**v) == p)
     row = {"variant": i, "effect": 3e-7, "error": 2e-7, "ladder_status": "two levels"}
     stored = {"direction-points": {"points": [row]}}
-    c = B.direction_cell(p, stored.get)
+    c = C.direction_cell(p, stored.get, PAPER)
     assert c["source"] == "direction-points" and c["kind"] == "absolute" and c["verdict"] == "negligible"
     row["effect"] = 0.05
-    assert B.direction_cell(p, stored.get)["verdict"] == "matters"
-    c = B.direction_cell(loop_point("fig7"), stored.get)  # another point: not this row
+    assert C.direction_cell(p, stored.get, PAPER)["verdict"] == "matters"
+    c = C.direction_cell(loop_point("fig7"), stored.get, PAPER)  # another point: not this row
     assert c["source"] != "direction-points" and c["verdict"] == "undetermined"

@@ -39,7 +39,7 @@ def _members(scale_by_reading, contact=SP.SPHERE, seeds=(0, 1, 2)):
 def test_the_smooth_spheres_own_curve_is_no_roughness(fig):
     R = BR.Readings(_members({0: 1.0}, seeds=(0,)))
     p = loop_point(fig)
-    from validation.budget import point_slip_index
+    from validation.paper_points import point_slip_index
 
     e = BR.reading_effect(R, 0.0, 0, p, point_slip_index(p), 0.0)
     assert e is None  # one surface per grid: no spread, no effect
@@ -105,7 +105,7 @@ def test_the_spheres_form_beyond_its_grid_widens_the_range_as_a_curvature():
     no change; a flatter sphere (stiffer contact) slips more, a sharper one less; small kappa acts
     linearly (half the curvature, half the change, within 15 %); the cell's range holds the form."""
     p = loop_point("fig5")
-    from validation.budget import point_slip_index
+    from validation.paper_points import point_slip_index
 
     smooth = point_slip_index(p)
     assert BR.form_effect(p, 0.0, smooth) == [0.0, 0.0]

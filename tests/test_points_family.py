@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import pytest
 
-from validation.budget import Point, point_slip_index
+from validation.paper_points import Point, point_slip_index
 from validation.families import points
 from validation.catalogue import CATALOGUE
 
@@ -61,7 +61,7 @@ def test_the_traction_direction_costs_the_loop_of_fig4_nothing_in_the_apparatus(
 def test_a_point_that_failed_leaves_its_row_undetermined_and_the_scene_goes_on(tmp_path):
     """A member without an answer (a solver that did not converge) gives an undetermined row, the table
     and the figure render it, and the budget's cell at that point reads no number from it."""
-    from validation.budget import measured_in_apparatus
+    from validation.budget_cells import measured_in_apparatus, paper_inputs
 
     s = CATALOGUE["halfspace-points"]
     v = s.variants[-2]
@@ -72,4 +72,4 @@ def test_a_point_that_failed_leaves_its_row_undetermined_and_the_scene_goes_on(t
     assert any("| 600 |" in line for line in points.table(res))
     assert (tmp_path / points.figure(res, tmp_path)["points"]).stat().st_size > 0
     p = Point(b=v["b"], kx=v["kx"])
-    assert measured_in_apparatus(p, {"halfspace-points": res}.get) is None
+    assert measured_in_apparatus(p, {"halfspace-points": res}.get, paper_inputs()) is None

@@ -20,7 +20,7 @@ def test_the_paper_rig_file_is_the_paper_the_code_holds():
     each field within 1e-9 relative (the file's 0.07 is the code's 0.2 x 0.35)."""
     from mdr.materials import Materials
     from mdr.paper import B_TABLE1, KX_TABLE1, R_INDENTER, TABLE2
-    from validation.budget import BLOCK_HEIGHT, FILLET_MAX
+    from validation.budget_cells import BLOCK_HEIGHT, FILLET_MAX
     from validation.paper_points import results, same
     from validation.scenes import TILT_BOUND
     from validation.spectra import PAPER_RQ

@@ -232,7 +232,7 @@ def test_the_smooth_face_driven_by_the_apparatus_is_mdr_at_the_papers_points():
     from rough.normal import Grid, force_approach
     from mdr.materials import Materials
     from mdr.profiles import TruncatedSphere
-    from validation.budget import point_slip_index
+    from validation.paper_points import point_slip_index
     from validation.paper_points import Point, rough_points
     from validation.rough_variant import RoughVariant
     from validation.scenes import a_ref

@@ -47,7 +47,7 @@ from common.errors import ConvergenceError, InputError
 from mdr.materials import Materials
 
 from . import spectra as SP
-from .paper_points import RESOLUTION, Point, point_slip_index, rough_row_b, slip_indices
+from .paper_points import PAPER, RESOLUTION, Point, Setup, point_slip_index, rough_row_b, slip_indices
 from .scenes import ROUGH_FACES_B
 
 R_INDENTER = SP.R_INDENTER
@@ -160,12 +160,12 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
             "rms_window": m0["rms_window"], "form_curvature": m0["form_curvature"] * SP.R_INDENTER}
 
 
-def grade_range(lo: float, hi: float, err: float) -> str:
+def grade_range(lo: float, hi: float, err: float, resolution: float = RESOLUTION) -> str:
     """The verdict of a range of effects with a bar: ``matters`` only where all of it lies beyond the
     resolution on one side, ``negligible`` where all of it lies within."""
-    if max(abs(lo), abs(hi)) + err <= RESOLUTION:
+    if max(abs(lo), abs(hi)) + err <= resolution:
         return "negligible"
-    if hi + err < -RESOLUTION or lo - err > RESOLUTION:
+    if hi + err < -resolution or lo - err > resolution:
         return "matters"
     return "undetermined"
 
@@ -207,6 +207,13 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:
     smooth = point_slip_index(replace(p, b=b))
     per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)}
     return range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
+
+
+def rig_roughness_cell(p: Point, inp) -> dict:
+    """A rig of one's own: its roughness (``Rig.roughness``) is not yet run through readings of its own
+    spectra (the readings above are the paper's values on its indenter): undetermined, saying so."""
+    return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
+            "source": "roughness readings", "note": "a rig's own roughness readings are not computed yet"}
 
 
 def surface_checks(m: dict, kind: str) -> dict:
@@ -360,28 +367,30 @@ def plates_consistency(log=None) -> list:
     return rows
 
 
-def plates_cell(p: Point, admitted: set) -> dict:
-    """The slip index over the readings of the brass plates the paper's loops admit against this project's
-    reference reading (axial, R_bed 5 mm; itself a reading, so the range holds 0): MDR in the apparatus,
-    all readings in one batch; each reading's error the change from 100 to 400 spring cells."""
+def plates_cell(p: Point, admitted: set, setup: Setup = PAPER, what: str = "plates") -> dict:
+    """The slip index over the readings of the brass plates the paper's loops admit (for a rig of one's
+    own that states none: every reading) against this project's reference reading (axial, R_bed 5 mm;
+    itself a reading, so the range holds 0): MDR in the setup's apparatus, all readings in one batch;
+    each reading's error the change from 100 to 400 spring cells."""
     from mdr.profiles import TruncatedSphere
     from studies.paper import RES, _slip_index
 
     readings = plate_readings()
     k = len(readings)
-    kw = {"plate_model": np.array([m for m, _ in readings]), "R_bed": np.array([rb for _, rb in readings])}
+    kw = {**setup.app_kw, "plate_model": np.array([m for m, _ in readings]),
+          "R_bed": np.array([rb for _, rb in readings])}
 
     def each(n):
-        prof = TruncatedSphere(np.full(k, R_INDENTER), np.full(k, p.b))
+        prof = TruncatedSphere(np.full(k, setup.R), np.full(k, p.b))
         si, _ = _slip_index(prof, np.full(k, p.kx), mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=kw)
+                            res={**RES, "n": n}, app_kw=kw, materials=setup.materials)
         return np.asarray(si, dtype=float)
 
     coarse, fine = each(100), each(400)
     per = {reading_name(r): {"effect": float(fine[j] - fine[0]), "slip_index": float(fine[j]),
                              "error": float(abs(fine[j] - fine[0] - coarse[j] + coarse[0])), "surfaces_sd": 0.0,
                              "sem": 0.0, "form_curvature": 0.0} for j, r in enumerate(readings)}
-    return range_cell(per, admitted, "MDR apparatus", "plates")
+    return range_cell(per, admitted, "MDR apparatus", what)
 
 
 def readings_markdown(b: dict) -> list:

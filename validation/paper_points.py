@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from mdr.materials import Materials
 from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, R_INDENTER, TABLE2
 
 #: the resolution of a result read from the paper's figures, as a change of the slip index (the
@@ -56,6 +57,25 @@ class Point:
 
 
 @dataclass(frozen=True)
+class Setup:
+    """What a rig's points share and a point does not hold: the indenter's radius ``R`` (m), the pair's
+    ``materials`` (``mdr.materials.Materials``) and the apparatus's fields other than ``kx`` and ``mu2``
+    (``apparatus``: (name, value) pairs of ``mdr.apparatus.Apparatus``; () its defaults, the project's
+    reading of the paper's plates and bedding). ``PAPER``: the paper's (R = 6 mm, steel on steel)."""
+
+    R: float = R_INDENTER
+    materials: Materials = Materials()
+    apparatus: tuple = ()
+
+    @property
+    def app_kw(self) -> dict:
+        return dict(self.apparatus)
+
+
+PAPER = Setup()
+
+
+@dataclass(frozen=True)
 class Result:
     """One of the paper's results: its key, title and points."""
 
@@ -64,14 +84,13 @@ class Result:
     points: tuple
 
 
-def contact_radius(p: Point) -> float:
-    """The smooth indenter's half-space contact radius (m) at the point's largest force F0 + dF (steel on
-    steel, R = 6 mm)."""
+def contact_radius(p: Point, setup: Setup = PAPER) -> float:
+    """The smooth indenter's half-space contact radius (m) at the point's largest force F0 + dF (the
+    setup's R and materials)."""
     from fem.axisym.normal_run import reference_radius
-    from mdr.materials import Materials
 
     kind = "sphere" if p.b == 0 else "truncated"
-    return reference_radius(kind, R_INDENTER, p.b or None, p.F0 + p.dF, Materials().E_star)
+    return reference_radius(kind, setup.R, p.b or None, p.F0 + p.dF, setup.materials.E_star)
 
 
 def rough_row_b(p: Point) -> float:
@@ -111,14 +130,16 @@ def results() -> tuple:
             Result("table2", "Table 2 point: b = 0.6 mm and 10 um", (Point(b=B_TABLE1), Point(b=10e-6))))
 
 
-def slip_indices(profiles, points, app_kw=None, n=100):
-    """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``)."""
+def slip_indices(profiles, points, app_kw=None, n=100, setup: Setup = PAPER):
+    """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``), the setup's
+    materials and apparatus (``app_kw`` changes its fields)."""
     from studies.paper import RES, _slip_index
 
     out = []
+    kw = {**setup.app_kw, **(app_kw or {})} or None
     for prof, p in zip(profiles, points):
         si, _ = _slip_index(prof, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=app_kw)
+                            res={**RES, "n": n}, app_kw=kw, materials=setup.materials)
         out.append(float(np.asarray(si).ravel()[0]))
     return out
 
@@ -130,8 +151,8 @@ def difference_with_grid(fun, n=(100, 400)):
     return vals[-1], abs(vals[-1] - vals[0])
 
 
-def point_slip_index(p: Point, n: int = 400) -> float:
-    """The point's slip index: MDR in the apparatus, the sharp profile, the reference plates."""
+def point_slip_index(p: Point, n: int = 400, setup: Setup = PAPER) -> float:
+    """The point's slip index: MDR in the setup's apparatus, the sharp profile."""
     from mdr.profiles import TruncatedSphere
 
-    return slip_indices([TruncatedSphere(R_INDENTER, p.b)], [p], n=n)[0]
+    return slip_indices([TruncatedSphere(setup.R, p.b)], [p], n=n, setup=setup)[0]

@@ -1,0 +1,228 @@
+"""The error budget of a rig of one's own (``validation.rig_budget``, ``python -m validation.budget
+--scene-file``).
+
+Truths: the paper's rig file gives the paper's budget inputs; the scenes generated for it run the very
+computations the catalogue runs at the paper's points (the same scene data, so the same numbers); a field
+edited in a rig file changes the fingerprints of exactly the scenes it enters (the store reruns only
+those); a cell reads its own rig's scenes (a dissimilar pair's coupling, Dundurs' beta, measured by the 3D
+model; one material: exactly 0); the size bound follows the rows' order (the effect falls with either
+body's size); a bad rig file is refused in one line before any work."""
+import math
+import subprocess
+import sys
+from dataclasses import fields, replace
+from pathlib import Path
+
+import pytest
+
+from validation import budget_cells as C
+from validation import rig_budget as RB
+from validation.rig import load_rig
+from validation.sources import code_version
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER_FILE = ROOT / "docs" / "examples" / "willert2023.toml"
+MINE = ROOT / "docs" / "examples" / "my_rig.toml"
+
+
+def _edited(tmp_path, old: str, new: str, src=MINE) -> Path:
+    text = src.read_text()
+    assert old in text, old
+    path = tmp_path / "rig.toml"
+    path.write_text(text.replace(old, new, 1))
+    return path
+
+
+def test_the_paper_rig_file_gives_the_paper_inputs():
+    """willert2023.toml's inputs are the paper's (``budget_cells.paper_inputs``) but for the scenes: the
+    setup, the bodies, the bounds, the points and the resolution (within 1e-9 relative)."""
+    from validation.paper_points import same
+
+    mine, paper = RB.inputs(load_rig(PAPER_FILE)), C.paper_inputs()
+    assert mine.setup.R == paper.setup.R and mine.setup.materials == paper.setup.materials
+    assert mine.setup.app_kw == paper.setup.app_kw == {}
+    assert math.isinf(mine.cap_height) and math.isinf(paper.cap_height)  # the cap is the whole sphere
+    for f in ("block", "fillet", "tilt", "resolution"):
+        assert same(getattr(mine, f), getattr(paper, f)), f
+    pts = [p for r in mine.results for p in r.points]
+    ref = [p for r in paper.results for p in r.points]
+    assert len(pts) == len(ref) and all(same(getattr(p, f.name), getattr(q, f.name))
+                                        for p, q in zip(pts, ref) for f in fields(p))
+
+
+#: the fields of a scene that name or describe it; the others make its numbers
+_NAMES = ("name", "title", "notes", "group", "quick", "variants", "family", "tolerance")
+
+
+def _same_physics(s, t) -> bool:
+    """The scenes' data that make their numbers equal, numbers within 1e-9 relative (the file's 0.07 is
+    the code's 0.2 x 0.35)."""
+    from validation.paper_points import same
+
+    def eq(x, y):
+        if isinstance(x, float) or isinstance(y, float):
+            return isinstance(x, (int, float)) and isinstance(y, (int, float)) and same(x, y)
+        if isinstance(x, tuple) and isinstance(y, tuple):
+            return len(x) == len(y) and all(eq(a, b) for a, b in zip(x, y))
+        return x == y
+
+    return all(eq(getattr(s, f.name), getattr(t, f.name)) for f in fields(s) if f.name not in _NAMES)
+
+
+def test_the_paper_rig_runs_the_catalogues_computations_at_its_points():
+    """One code path: at every point of willert2023.toml the curvature and the direction cells read a run
+    whose scene data equal the catalogue's run of that point (the experiment and k_x scenes, the rows of
+    halfspace-points and direction-points; numbers within 1e-9 relative), so the rig's budget reproduces
+    the paper's cells there, within rounding of the inputs, far inside their bars. The size and tilt scenes differ: the rig's measures its
+    own sizes and bound only (the catalogue's sweeps them)."""
+    from validation.catalogue import CATALOGUE
+
+    paper = C.paper_inputs()
+    rig = {s.name: s for s in RB.scenes(load_rig(PAPER_FILE))}
+    runs = {}
+    for kind, fe in (("points", "axisym"), ("direction", "3d")):
+        s = rig[f"willert2023-{kind}"]
+        runs[fe] = [v.scene(s) for v in s.typed_variants]
+    cat_axisym = [s for s in paper.scenes if s.family == "pair" and s.drive == "apparatus"]
+    cat_axisym += [v.scene(CATALOGUE["halfspace-points"]) for v in CATALOGUE["halfspace-points"].typed_variants]
+    cat_3d = [v.scene(CATALOGUE["direction-points"]) for v in CATALOGUE["direction-points"].typed_variants]
+    for r in paper.results:
+        for p in r.points:
+            for fe, cat in (("axisym", cat_axisym), ("3d", cat_3d)):
+                mine = [s for s in runs[fe] if p.matches(s)]
+                theirs = [s for s in cat if p.matches(s)]
+                assert len(mine) == 1, (fe, p)
+                if fe == "axisym" and p.b == 0 and not theirs:
+                    continue  # a sphere's point the catalogue bounds by validity-curvature
+                assert theirs and any(_same_physics(mine[0], t) for t in theirs), (fe, p)
+
+
+def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
+    """The store skips a scene whose fingerprint is unchanged (``validation.compare.run_all``): editing the
+    tilt bound changes the tilt scene's only, the kink's rounding none (MDR computes it in the budget),
+    the block's height the size scene's only, the block's material every scene's."""
+    v = code_version()
+
+    def prints(path):
+        return {s.name: s.fingerprint(v) for s in RB.scenes(load_rig(path))}
+
+    base = prints(MINE)
+    assert set(base) == {f"my-rig-{k}" for k in ("validity", "points", "direction", "coupling", "tilt")}
+    for old, new, touched in (("tilt = 5e-4", "tilt = 4e-4", {"my-rig-tilt"}),
+                              ("kink_rounding = 1e-6", "kink_rounding = 2e-6", set()),
+                              ("block_height = 5e-3", "block_height = 3e-3", {"my-rig-validity"}),
+                              ("E2 = 70e9", "E2 = 110e9", set(base))):
+        now = prints(_edited(tmp_path, old, new))
+        changed = {k for k in base if now.get(k) != base[k]} | (set(now) - set(base))
+        assert changed == touched, (old, changed)
+
+
+def test_scenes_follow_the_rig():
+    """One material: no coupling scene (its cell exactly 0); no tilt bound or no face: no tilt scene; every
+    point of the rig run by exactly one variant of its points and direction scenes."""
+    rig = load_rig(PAPER_FILE)
+    names = {s.name for s in RB.scenes(rig)}
+    assert "willert2023-coupling" not in names and "willert2023-tilt" in names
+    assert "willert2023-tilt" not in {s.name for s in RB.scenes(replace(rig, tilt=0.0))}
+    p = rig.results[0].points[0]
+    c = C.coupling_cell(p, lambda name: None, RB.inputs(rig))
+    assert c["kind"] == "exact" and c["effect"] == 0.0
+    mine = load_rig(MINE)
+    for s in RB.scenes(mine):
+        if s.family == "points":
+            runs = [v.scene(s) for v in s.typed_variants]
+            assert all(sum(p.matches(r) for r in runs) == 1 for p in mine.points()), s.name
+
+
+def test_the_coupling_of_a_dissimilar_pair_is_read_from_its_3d_scene():
+    """my_rig (steel on aluminium, beta = +0.117): the coupling cell is the rig's own 3D row of the point's
+    face radius, a relative change of the dissipation; an injected 5 % with a small bar matters once scaled
+    by a slip index near 1; without the stored scene it is undetermined and names the scene to run."""
+    inp = RB.inputs(load_rig(MINE))
+    p = inp.results[0].points[0]
+    row = {"relax": "coupling", "b": p.b, "verdicts": {"dissipation": {"effect": -0.002, "error": 0.001}}}
+    store = {"my-rig-coupling": {"assumptions3d": [{**row, "b": None}, row]}}.get
+    c = C.coupling_cell(p, store, inp)
+    assert c["effect"] == -0.002 and c["source"] == "my-rig-coupling" and "+0.117" in c["note"]
+    row["verdicts"]["dissipation"] = {"effect": 0.05, "error": 0.002}
+    assert C.scaled(C.coupling_cell(p, store, inp), 0.9)["verdict"] == "matters"
+    gap = C.coupling_cell(p, lambda name: None, inp)
+    assert gap["verdict"] == "undetermined" and "my-rig-coupling" in gap["source"]
+
+
+def test_the_size_bound_takes_the_tightest_row_not_larger_than_the_rig():
+    """The effect falls with either body's size: a row with both bodies no larger than the point's bounds
+    it, so does the sum of the one-body rows; the cell is the smallest such bound; bodies of at least the
+    FE model's default (200 a) count as its half-space (0); none measured small enough: undetermined."""
+    inp = RB.inputs(load_rig(MINE))
+    p = inp.results[0].points[0]
+    a = C.contact_radius(p, inp.setup)
+    block = inp.block / a  # 87 a
+    tight = replace(inp, block=20 * a, cap_height=30 * a)
+
+    def rows(*r):
+        return {s.name: {"validity": [{"block_over_a": b, "cap_over_a": c, "dissipation_vs_default": e}
+                                      for b, c, e in r]} for s in inp.scenes if s.family == "validity"}.get
+
+    assert 50 < block < 200 and math.isinf(inp.cap_height)
+    assert C.size_cell(p, rows(), replace(inp, block=300 * a))["effect"] == 0.0
+    c = C.size_cell(p, rows((10.0, 200.0, -0.004), (200.0, 10.0, -0.001), (10.0, 10.0, -0.006), (30.0, 30.0, -0.0001)), tight)
+    assert c["effect"] == pytest.approx(-0.005) and c["kind"] == "bound"  # 10 a + 10 a rows; (30, 30) too large
+    c = C.size_cell(p, rows((15.0, 25.0, -0.002), (10.0, 200.0, -0.004), (200.0, 10.0, -0.001)), tight)
+    assert c["effect"] == pytest.approx(-0.002)
+    assert C.size_cell(p, rows((50.0, 200.0, -0.001)), tight)["effect"] is None
+
+
+@pytest.mark.parametrize("old,new,named", [
+    ("mu1 = 0.3", "mu1 = -0.3", "mu1"),
+    ("E2 = 70e9", "E2 = 70e9\ncolour = 1", "colour"),
+    ("tilt = 5e-4", "tilt = 0.05", "tilt"),
+    ('profile = "truncated"', 'profile = "flat"', "flat"),
+])
+def test_a_bad_rig_file_is_refused_in_one_line_before_any_work(tmp_path, old, new, named):
+    out = tmp_path / "out"
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--scene-file", str(_edited(tmp_path, old, new)),
+                        "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and named in r.stderr, r.stderr
+    assert not out.exists()
+
+
+def test_a_missing_rig_file_is_refused_in_one_line(tmp_path):
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--scene-file", str(tmp_path / "none.toml"),
+                        "--out", str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "none.toml" in r.stderr
+
+
+@pytest.mark.slow
+def test_my_rig_end_to_end(tmp_path):
+    """The README's command on docs/examples/my_rig.toml (2 processes): every column of the table for
+    both results, the coupling measured by the rig's own 3D scene (steel on aluminium: a nonzero effect
+    with its bar), the table written as budget-my-rig.md; run again, every scene is skipped; the tilt bound
+    edited, only the tilt scene runs again."""
+    import json
+
+    out = tmp_path / "out"
+
+    def run(path):
+        r = subprocess.run([sys.executable, "-m", "validation.budget", "--scene-file", str(path), "--out", str(out),
+                            "--jobs", "2", "--json", str(tmp_path / "b.json")], capture_output=True, text=True,
+                           timeout=1800)
+        assert r.returncode == 0, r.stderr[-3000:]
+        return r, json.loads((tmp_path / "b.json").read_text())
+
+    r, b = run(MINE)
+    assert (out / "budget-my-rig.md").read_text().startswith("# The error budget of the rig my-rig")
+    assert [row["key"] for row in b["rows"]] == ["point", "sphere-ua"]
+    for row in b["rows"]:
+        assert set(row["cells"]) == {"size", "curvature", "direction", "coupling", "tilt", "roughness", "kink",
+                                     "plates"}
+    c = b["rows"][0]["cells"]["coupling"]
+    assert c["source"] == "my-rig-coupling" and c["effect"] not in (None, 0.0) and c["error"] > 0
+    for row in b["rows"]:
+        for col in ("size", "curvature", "direction"):
+            assert row["cells"][col]["effect"] is not None, (row["key"], col)
+    assert b["rows"][0]["cells"]["size"]["source"] == "my-rig-validity"
+    r, _ = run(MINE)
+    assert r.stderr.count("[skip]") == 5 and "done:" not in r.stderr
+    r, _ = run(_edited(tmp_path, "tilt = 5e-4", "tilt = 4e-4"))
+    assert r.stderr.count("[skip]") == 4 and "my-rig-tilt done" in r.stderr

@@ -1,0 +1,121 @@
+"""The error budget of a rig of one's own (``validation.rig.Rig``): the scenes that measure its cells,
+generated from the rig (``scenes``), and the budget's inputs (``inputs``).
+
+Each cell takes the cheapest model that measures it at the rig's points:
+
+- *half-space size* (``<name>-validity``, family ``validity``): the axisymmetric FE model with the cap
+  and the block at the rig's sizes over the largest contact radius of its points, against the default
+  bodies (200 a) on the same mesh, under force control at the rig's load (force amplitude half the
+  smallest friction limit, partial slip); a bound at every point (smaller contacts see larger bodies);
+- *curvature* (``<name>-points``, family ``points``, axisymmetric): every point in the apparatus, the FE
+  model (the cap's real sphere) against MDR on both ladders;
+- *traction direction* (``<name>-direction``, family ``points``, 3D): every point in the apparatus, the
+  traction of free direction against along x on the same mesh;
+- *coupling* (``<name>-coupling``, family ``assumptions3d``; only for a dissimilar pair, Dundurs' beta
+  not 0): the 3D model with the normal-tangential coupling against without, on the same mesh, at the
+  rig's load under force control, per face radius of its points;
+- *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
+  the face tilted by the bound against the aligned face on the same 3D mesh;
+- *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
+  ``validation.budget_readings.plates_cell``), computed by the budget itself.
+
+The scenes run in the apparatus with the rig's k_x and mu2 and the apparatus's other fields at their
+defaults (``mdr.apparatus.Apparatus``): a cell is a difference of two models in the same apparatus. The
+store skips a scene whose fingerprint (its data and the code) is unchanged, so a field edited in the rig
+file reruns only the scenes it enters.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict
+
+from .budget_cells import Inputs
+from .paper_points import Setup, contact_radius
+from .scenes import FE_LEVELS_3D, TILT_LEVELS_3D, Scene
+
+#: the 3D levels of the direction's points scene (as the catalogue's ``direction-points``)
+DIRECTION_LEVELS_3D = (0.2, 0.14)
+
+
+def setup_of(rig) -> Setup:
+    """The rig's indenter radius, materials and apparatus fields other than k_x."""
+    return Setup(rig.indenter.R, rig.materials, tuple(sorted((k, v) for k, v in rig.apparatus.items() if k != "kx")))
+
+
+def _bodies(rig) -> tuple:
+    """(cap, block) (m): the indenter's height above the contact where it is lower than the sphere's
+    radius, else infinite (the FE model's cap is the sphere up to its equator: its finite size is in
+    the curvature cell); the block's smaller extent, its height or half its width."""
+    b = rig.bodies
+    return (b.cap_height if b.cap_height < rig.indenter.R else float("inf"),
+            min(b.block_height, 0.5 * b.block_width))
+
+
+def _base(rig) -> dict:
+    """The fields every scene of the rig shares: its indenter, materials and loading."""
+    m, L = rig.materials, rig.loading
+    return dict(profile="truncated" if rig.indenter.b > 0 else "sphere", b=rig.indenter.b, R=rig.indenter.R,
+                E1=m.E1, nu1=m.nu1, E2=m.E2, nu2=m.nu2, F0=L["F0"], dF=L["dF"], mu=L["mu1"], mu2=L["mu2"])
+
+
+def _force_amplitude(rig) -> float:
+    """Half the smallest friction limit of the rig's load: partial slip under force control."""
+    L = rig.loading
+    return 0.5 * L["mu1"] * (L["F0"] - L["dF"])
+
+
+def scenes(rig) -> tuple:
+    """The scenes that measure the rig's cells (module docstring), in the order of the budget's columns."""
+    from .families.validity import VALIDITY_DEFAULT_SIZE
+
+    setup, base, points = setup_of(rig), _base(rig), rig.points()
+    name = rig.name
+    out = []
+    a = max(contact_radius(p, setup) for p in points)
+    inp_cap, inp_block = _bodies(rig)
+    sizes = {"cap": inp_cap / a, "block": inp_block / a}
+    variant = {k: x for k, x in sizes.items() if x < VALIDITY_DEFAULT_SIZE}
+    if variant:
+        out.append(Scene(f"{name}-validity", f"{rig.title or name}: the bodies' size", **base, drive="force",
+                         amplitude=_force_amplitude(rig), fe_levels=(1 / 40,), mdr_cells=(400,), variants=(variant,),
+                         family="validity", group="validity",
+                         notes="The rig's cap and block over the largest contact radius of its points, against the "
+                               "default 200 a bodies on the same mesh (h = a/40), force control at the rig's load."))
+    apparatus = dict(drive="apparatus", amplitude=rig.loading["ua"], kx=float(rig.apparatus["kx"]), family="points")
+    variants = tuple(asdict(p) for p in points)
+    out.append(Scene(f"{name}-points", f"{rig.title or name}: the half-space at the points", **base, **apparatus,
+                     cycles=4, steps=120, variants=variants, group="validity",
+                     notes="Every point of the rig in its apparatus: the axisymmetric FE model against MDR."))
+    out.append(Scene(f"{name}-direction", f"{rig.title or name}: the traction direction at the points", **base,
+                     **apparatus, cycles=3, steps=60, fe_model="3d", fe_levels=DIRECTION_LEVELS_3D,
+                     variants=variants, group="3d",
+                     notes="Every point of the rig in its apparatus: the 3D model, traction free against along x."))
+    bs = sorted({p.b for p in points})
+    if abs(rig.materials.dundurs_beta) >= 1e-12:
+        out.append(Scene(f"{name}-coupling", f"{rig.title or name}: the normal-tangential coupling",
+                         **{**base, "profile": "sphere", "b": 0.0},
+                         drive="force", amplitude=_force_amplitude(rig), fe_model="3d", fe_levels=FE_LEVELS_3D,
+                         cycles=4, steps=60, family="assumptions3d", group="3d",
+                         variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
+                         notes="The 3D model with the coupling of the rig's pair against without, on the same mesh, "
+                               "force control at the rig's load, per face radius of its points."))
+    faces = [b for b in bs if b > 0]
+    if rig.tilt > 0 and faces:
+        out.append(Scene(f"{name}-tilt", f"{rig.title or name}: the face tilted by its bound", **{**base, "b": faces[0]},
+                         drive="force", amplitude=_force_amplitude(rig), fe_model="3d", fe_levels=TILT_LEVELS_3D,
+                         cycles=4, steps=40, family="tilt", group="3d",
+                         variants=tuple({"profile": "truncated", "b": b, "tilts": (rig.tilt,)} for b in faces),
+                         notes="Each face of the rig's points tilted by the rig's bound against the aligned face "
+                               "on the same 3D mesh, force control at the rig's load."))
+    return tuple(out)
+
+
+def inputs(rig) -> Inputs:
+    """The budget's inputs of the rig: its setup, bodies, bounds, results, resolution and ``scenes``;
+    InputError for a flat punch (the budget's points are the sphere and the truncated sphere)."""
+    from common.errors import InputError
+
+    if rig.indenter.profile == "flat":
+        raise InputError(f"rig {rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
+                         "sphere (a flat punch is the truncated sphere of a large R)")
+    return Inputs(rig.name, setup_of(rig), *_bodies(rig), rig.indenter.kink_rounding, rig.tilt, rig.results,
+                  rig.resolution, scenes(rig))
