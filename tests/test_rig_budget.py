@@ -226,3 +226,75 @@ def test_my_rig_end_to_end(tmp_path):
     assert r.stderr.count("[skip]") == 5 and "done:" not in r.stderr
     r, _ = run(_edited(tmp_path, "tilt = 5e-4", "tilt = 4e-4"))
     assert r.stderr.count("[skip]") == 4 and "my-rig-tilt done" in r.stderr
+
+
+def asdict_(x):
+    from dataclasses import asdict
+
+    return asdict(x)
+
+
+def _hertz_members(contact, seeds=(0, 0)):
+    """Members on ``contact`` whose curves are its smooth sphere's own Hertz curve (its R and materials)."""
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from mdr import reference as ref
+
+    F = contact.F_ref * np.geomspace(1e-2, 1.5, 24)
+    E = contact.mat().E_star
+    d = [float(ref.hertz(f, contact.R, E)["d"]) for f in F]
+    return [{"reading": 0, "contact": asdict(contact), "seed": s, "n": n, "rms_window": 1e-7, "form_curvature": 0.0,
+             "curve": {"d": d, "F": F.tolist()}} for s in seeds for n in contact.grids]
+
+
+def test_the_rigs_rough_contacts_carry_the_rig():
+    """my_rig's rough contacts: the sphere's and the face's of b = 50 um (it reaches into the sphere's
+    contact), each with the rig's R, materials and rms heights, elastic readings only (no hardness stated),
+    their curves reaching above every point's largest force; the paper's contacts keep the catalogue's
+    flattening load (validation.scenes.ROUGH_PRELOAD)."""
+    from validation import spectra as SP
+    from validation.scenes import ROUGH_PRELOAD
+
+    rig = load_rig(MINE)
+    cs = RB.rough_contacts(rig)
+    assert [c.b for c in cs] == [0.0, 50e-6]
+    for c in cs:
+        assert c.R == rig.indenter.R and c.mat() == rig.materials and c.hardness is None
+        assert dict(c.rq) == {"sphere": 0.4e-6, "face": 0.8e-6, "block": 0.8e-6}
+        assert 1.5 * c.F_ref > max(p.F0 + p.dF for p in rig.points())
+        assert not any(c.runs(r) for r in SP.READINGS if r.plastic) and all(c.runs(r) for r in SP.READINGS
+                                                                              if not r.plastic)
+    assert SP.PRELOAD * SP.F_REF == pytest.approx(ROUGH_PRELOAD, rel=1e-12)
+    assert RB.rough_contacts(replace(rig, roughness=type(rig.roughness)())) == ()
+
+
+def test_the_rigs_smooth_curve_is_no_roughness_and_its_cell_stays_undetermined():
+    """MDR with the equivalent profile of the rig's smooth sphere's own Hertz curve (steel on aluminium,
+    R = 10 mm) is that sphere in the rig's apparatus: no effect beyond the curve's sampling; read with the
+    paper's steel the same curve is a different profile (the rig's materials reach the readings). The
+    rig's cell shows its range but is undetermined while the equivalent profile's error in its apparatus
+    is not measured, even where the range lies far beyond the resolution."""
+    from validation import budget_readings as BR
+    from validation.paper_points import PAPER, point_slip_index
+
+    inp = RB.inputs(load_rig(MINE))
+    sphere = inp.contacts[0]
+    p = inp.results[1].points[1]  # the sphere at 200 nm
+    R = BR.Readings(_hertz_members(sphere), inp.contacts, inp.setup)
+    smooth = point_slip_index(p, setup=inp.setup)
+    e = BR.reading_effect(R, 0.0, 0, p, smooth, None)
+    assert abs(e["effect"]) < 3e-3 and e["equivalent"] is None
+    assert BR.Readings.profile(R.members(0.0, 0)[-1][0]).materials == inp.setup.materials
+    # the same curve read as the paper's steel is another profile: its contact radius at the top load
+    steel = {**_hertz_members(sphere)[0], "contact": {**asdict_(sphere), "materials": (200e9, 0.29, 200e9, 0.29)}}
+    a = [float(BR.Readings.profile(m).g_inv(m["curve"]["d"][-1])) for m in (_hertz_members(sphere)[0], steel)]
+    assert a[1] < 0.9 * a[0]
+    assert BR.Readings(_hertz_members(sphere), inp.contacts, PAPER).setup is PAPER
+    c = BR.rig_roughness_cell(p, R)
+    assert c["verdict"] == "undetermined" and c["incomplete"] and "not measured" in c["note"]
+    far = {**c, "range": [-0.3, -0.2], "error": 0.01}
+    assert C.grade(far, 0.01)["verdict"] == "undetermined"
+    assert C.grade({**far, "incomplete": False}, 0.01)["verdict"] == "matters"
+    assert "no rms" in BR.rig_roughness_cell(p, None)["note"]

@@ -42,7 +42,9 @@ Where the cells come from (``COLUMNS``; the paper's scenes named, a rig's are ``
   loops admit (``validation.consistency``), MDR in the apparatus at every point (the roughness through
   each surface's equivalent profile, its error including what that misses of the rough half-space in
   the catalogue's scenes ``roughness`` and ``roughness-faces``). A rig of one's own: the plates over
-  every reading unless it states its ``plate_model`` (then exactly 0); its roughness not computed yet;
+  every reading unless it states its ``plate_model`` (then exactly 0); the roughness over every reading
+  of its own rms values on its own contacts (``rig_budget.rough_contacts``; elastic), undetermined while
+  the equivalent profile's error in its apparatus is not measured;
 - *kink rounding*: computed here with the MDR apparatus at every point: the fillet of the kink
   (``mdr.profiles.RoundedTruncatedSphere``, of the stated widest rounding; the paper's "less than the
   rms roughness", ``budget_cells.FILLET_MAX``) against the sharp kink, a bound.
@@ -108,15 +110,20 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
             from .spectra import curves
 
             folder = readings_dir if isinstance(out, dict) else Path(out) / "readings"
-            members = curves(BR.contacts(), folder, jobs=jobs, log=log)
-        R = BR.Readings(members)
+            members = curves(inp.contacts, folder, jobs=jobs, log=log)
+        R = BR.Readings(members, inp.contacts)
         result["consistency"] = BR.consistency(R, log, jobs)
         admitted = BR.admitted_names(result["consistency"])
         result["plates_consistency"] = BR.plates_consistency(log)
         plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}
         eq_error = BR.equivalent_error(store)
     elif mdr_cells:
-        plates_ok = None if "plate_model" in inp.setup.app_kw else {BR.reading_name(r) for r in BR.plate_readings()}
+        plates_stated = "plate_model" in inp.setup.app_kw
+        R = None
+        if inp.contacts:
+            from .spectra import curves
+
+            R = BR.Readings(curves(inp.contacts, Path(out) / "readings", jobs=jobs, log=log), inp.contacts, inp.setup)
     rows = []
     for r in inp.results:
         log(f"budget: {r.title}")
@@ -131,10 +138,9 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
                 per["roughness"] = [BR.roughness_cell(p, R, admitted, eq_error) for p in r.points]
                 per["plates"] = [BR.plates_cell(p, plates_ok) for p in r.points]
             else:
-                per["roughness"] = [BR.rig_roughness_cell(p, inp) for p in r.points]
-                per["plates"] = [cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated")
-                                 if plates_ok is None else BR.plates_cell(p, plates_ok, inp.setup, "plates, none stated (every reading)")
-                                 for p in r.points]
+                per["roughness"] = [BR.rig_roughness_cell(p, R) for p in r.points]
+                per["plates"] = [cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated") if plates_stated
+                                 else BR.plates_cell(p, None, inp.setup, "plates, none stated") for p in r.points]
         cells = {col: combine([grade(c, inp.resolution) for c in cs], SOURCES.get(col, TITLES[col]))
                  for col, cs in per.items()}
         rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],

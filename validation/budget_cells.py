@@ -29,8 +29,9 @@ class Inputs:
     whole sphere up to its equator, as the FE model's cap; the block's smaller extent, its height above
     the bedding or half its width), the kink's ``fillet`` bound (m), the ``tilt`` bound
     (rad), its ``results`` (``validation.paper_points.Result``), the ``resolution`` of the slip index,
-    the ``scenes`` that measure its cells and whether its readings are the paper's (``paper``: the
-    roughness spectrum and the plates checked against the paper's loops)."""
+    the ``scenes`` that measure its cells, its rough ``contacts`` (``validation.spectra.Contact``; none
+    where it states no roughness) and whether its readings are the paper's (``paper``: the roughness
+    spectrum and the plates checked against the paper's loops)."""
 
     name: str
     setup: Setup
@@ -41,6 +42,7 @@ class Inputs:
     results: tuple
     resolution: float
     scenes: tuple
+    contacts: tuple = ()
     paper: bool = False
 
     def of_family(self, family: str, fe_model: str | None = None) -> tuple:
@@ -50,12 +52,13 @@ class Inputs:
 def paper_inputs() -> Inputs:
     """The paper's rig (Willert 2023; ``docs/examples/willert2023.toml`` holds the same values) with the
     catalogue's scenes."""
+    from .budget_readings import contacts
     from .catalogue import CATALOGUE
     from .paper_points import results
     from .scenes import TILT_BOUND
 
     return Inputs("willert2023", PAPER, float("inf"), BLOCK_HEIGHT, FILLET_MAX, TILT_BOUND, results(), RESOLUTION,
-                  tuple(CATALOGUE.values()), paper=True)
+                  tuple(CATALOGUE.values()), contacts(), paper=True)
 
 
 # ------------------------------------------------------------------------------- the verdicts
@@ -79,11 +82,11 @@ def cell(effect, error, kind, source, note="", resolution=RESOLUTION) -> dict:
 
 def grade(c: dict, resolution: float) -> dict:
     """The cell graded against ``resolution`` (a range cell by ``budget_readings.grade_range``; one with an
-    admitted reading its grid does not resolve stays undetermined)."""
+    admitted reading its grid does not resolve, or a bar known to be incomplete, stays undetermined)."""
     from .budget_readings import grade_range
 
     if c.get("kind") == "range":
-        v = "undetermined" if c.get("range") is None or c.get("unresolved") else \
+        v = "undetermined" if c.get("range") is None or c.get("unresolved") or c.get("incomplete") else \
             grade_range(*c["range"], c["error"], resolution)
     else:
         v = verdict(c["effect"], c["error"], c["kind"], resolution)

@@ -80,9 +80,12 @@ def equivalent_error(store):
 
 class Readings:
     """The equivalent profiles of every reading's surfaces on every contact (``members``: from
-    ``validation.spectra.curves``), with the slip indices they give at points computed once each."""
+    ``validation.spectra.curves`` on ``contacts``, default the paper's), with the slip indices they give
+    at points (in the apparatus of ``setup``) computed once each."""
 
-    def __init__(self, members: list):
+    def __init__(self, members: list, contacts: tuple | None = None, setup: Setup = PAPER):
+        self.contacts = {c.b: c for c in (contacts or globals()["contacts"]())}
+        self.setup = setup
         self.by = {}
         for m in members:
             key = (m["contact"]["b"], m["reading"])
@@ -92,7 +95,7 @@ class Readings:
     def members(self, b: float, reading: int):
         """(coarser grid's, finer grid's) members of a reading on a contact, each sorted by seed; None
         where one failed."""
-        ms = self.by.get((b, SP.canonical(reading, SP.contact_of(b))), [])
+        ms = self.by.get((b, SP.canonical(reading, self.contacts[b])), [])
         if not ms or any("failed" in m for m in ms):
             return None
         grids = sorted({m["n"] for m in ms})
@@ -100,21 +103,23 @@ class Readings:
 
     @staticmethod
     def profile(m: dict, every: int = 1):
+        """A member's equivalent profile (its contact's materials)."""
         from mdr.equivalent import EquivalentProfile
 
         d, F = np.asarray(m["curve"]["d"]), np.asarray(m["curve"]["F"])
-        return EquivalentProfile(d[::-1][::every][::-1], F[::-1][::every][::-1], Materials())
+        mat = Materials(*m["contact"]["materials"])
+        return EquivalentProfile(d[::-1][::every][::-1], F[::-1][::every][::-1], mat)
 
     def slip_index(self, m: dict, p: Point, every: int = 1) -> float:
         """The apparatus slip index of a member's equivalent profile at the point (its curve read from
         every ``every``-th load, counted from the largest)."""
         key = (id(m), p, every)
         if key not in self._si:
-            self._si[key] = slip_indices([self.profile(m, every)], [p])[0]
+            self._si[key] = slip_indices([self.profile(m, every)], [p], setup=self.setup)[0]
         return self._si[key]
 
 
-def form_effect(p: Point, kappa: float, smooth: float) -> list:
+def form_effect(p: Point, kappa: float, smooth: float, setup: Setup = PAPER) -> list:
     """The sphere's form beyond the grid: the slip index's changes [lo, hi] (0 included) when the
     indenter's curvature 1/R takes the form's two standard deviations, 1/R -+ 2 kappa (``kappa``: the rms
     mean curvature the grid leaves out, 1/m; MDR in the apparatus; the changes added to the roughness's:
@@ -124,19 +129,22 @@ def form_effect(p: Point, kappa: float, smooth: float) -> list:
     if kappa <= 0:
         return [0.0, 0.0]
     c = 2.0 * kappa
-    if c * R_INDENTER >= 1.0:
+    R0 = setup.R
+    if c * R0 >= 1.0:
         raise InputError(f"the form's curvature 2 x {kappa:.3g} 1/m turns the sphere concave")
-    radii = [1.0 / (1.0 / R_INDENTER + c), 1.0 / (1.0 / R_INDENTER - c)]
-    si = slip_indices([TruncatedSphere(r, 0.0) for r in radii], [p, p])
+    radii = [1.0 / (1.0 / R0 + c), 1.0 / (1.0 / R0 - c)]
+    si = slip_indices([TruncatedSphere(r, 0.0) for r in radii], [p, p], setup=setup)
     return [min(0.0, *(x - smooth for x in si)), max(0.0, *(x - smooth for x in si))]
 
 
-def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_error: float) -> dict | None:
+def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_error: float | None) -> dict | None:
     """One reading's change of the point's slip index with its bar (module docstring) and, on the sphere,
     the range its form beyond the grid adds (``form``); None where a member failed or gives no equivalent
     profile, or where one grid or one surface leaves a part of the bar unmeasured; {"effect": None,
-    "unresolved": why} where the contact's grid does not resolve the reading (``spectra.resolved``)."""
-    contact = SP.contact_of(b)
+    "unresolved": why} where the contact's grid does not resolve the reading (``spectra.resolved``).
+    ``eq_error`` None: the equivalent profile's error not measured (left out of the bar, said by
+    ``roughness_cell``)."""
+    contact = R.contacts[b]
     if not SP.resolved(SP.READINGS[i], contact):
         share = SP.form_share(SP.READINGS[i], contact)
         return {"effect": None, "unresolved": f"{share:.0%} of its variance lies beyond the grid of {contact.period:g} a"}
@@ -152,12 +160,12 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
     sd = float(fine.std(ddof=1)) if fine.size > 1 else 0.0
     grid, sampling = abs(fine.mean() - coarse.mean()), float(np.max(np.abs(half - fine)))
     m0 = levels[-1][0]
-    form = form_effect(p, m0["form_curvature"], smooth) if not b else [0.0, 0.0]
+    form = form_effect(p, m0["form_curvature"], smooth, R.setup) if not b else [0.0, 0.0]
     beyond = SP.form_share(SP.READINGS[i], contact) * abs(fine.mean() - smooth) if b else 0.0
     return {"effect": float(fine.mean() - smooth), "form": form, "slip_index": float(fine.mean()), "surfaces_sd": sd,
             "sem": sd / math.sqrt(fine.size), "grid": float(grid), "sampling": sampling, "equivalent": eq_error,
-            "beyond_grid": beyond, "error": sd + grid + sampling + eq_error + beyond, "members": fine.tolist(),
-            "rms_window": m0["rms_window"], "form_curvature": m0["form_curvature"] * SP.R_INDENTER}
+            "beyond_grid": beyond, "error": sd + grid + sampling + (eq_error or 0.0) + beyond, "members": fine.tolist(),
+            "rms_window": m0["rms_window"], "form_curvature": m0["form_curvature"] * contact.R}
 
 
 def grade_range(lo: float, hi: float, err: float, resolution: float = RESOLUTION) -> str:
@@ -170,8 +178,11 @@ def grade_range(lo: float, hi: float, err: float, resolution: float = RESOLUTION
     return "undetermined"
 
 
-def range_cell(per: dict, admitted: set, source: str, what: str) -> dict:
-    """A cell over readings: ``per`` {name: effect dict or None}; the range over the ``admitted`` ones."""
+def range_cell(per: dict, admitted: set | None, source: str, what: str) -> dict:
+    """A cell over readings: ``per`` {name: effect dict or None}; the range over the ``admitted`` ones
+    (None: every reading, none checked: a rig without measured loops)."""
+    checked = admitted is not None
+    admitted = set(per) if admitted is None else admitted
     ok = {k: v for k, v in per.items() if v is not None and v["effect"] is not None and k in admitted}
     unresolved = sorted(k for k, v in per.items() if k in admitted and v is not None and v.get("unresolved"))
     excluded = sorted(k for k in per if k not in admitted)
@@ -186,34 +197,45 @@ def range_cell(per: dict, admitted: set, source: str, what: str) -> dict:
     lo = min(v["effect"] + v.get("form", [0.0, 0.0])[0] for v in ok.values())
     hi = max(v["effect"] + v.get("form", [0.0, 0.0])[1] for v in ok.values())
     ref = ok.get("ISO band") or next(iter(ok.values()))
-    note = (f"{what}: {len(ok)} of {len(per)} readings admitted, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
+    note = (f"{what}: {len(ok)} of {len(per)} readings {'admitted' if checked else 'resolved'}, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
             f"-{max(v['slip_index'] for v in ok.values()):.2g}")
     if unresolved:
-        note += f"; {len(unresolved)} admitted not resolved by the grid ({per[unresolved[0]]['unresolved']})"
+        note += f"; {len(unresolved)}{' admitted' if checked else ''} not resolved by the grid ({per[unresolved[0]]['unresolved']})"
     return {**out, "effect": ref["effect"], "error": err, "range": [lo, hi], "surfaces_sd": ref["surfaces_sd"],
             "sem": ref["sem"], "form_curvature": max(v["form_curvature"] for v in ok.values()),
             "verdict": "undetermined" if unresolved else grade_range(lo, hi, err), "note": note}
 
 
-def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error) -> dict:
+def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error, eq_missing: str | None = None) -> dict:
     """The point's roughness cell: every reading on the point's contact (``rough_row_b``: the sphere's for
-    faces inside its contact), the range over those ``admitted`` (by contact kind: "sphere", "face")."""
-    b = rough_row_b(p)
+    faces inside its contact), the range over those ``admitted`` (by contact kind: "sphere", "face").
+    ``eq_error`` None: the paper's cell names the scenes that measure it; a rig's (``eq_missing``, why)
+    shows the range without it, ``incomplete``: undetermined whatever its range."""
+    b = rough_row_b(p, R.setup)
     what = "sphere" if not b else f"b = {b * 1e6:g} um"
-    if eq_error is None:
+    if eq_error is None and eq_missing is None:
         return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
                 "source": "roughness readings", "note": f"{what}: the equivalent profile's error not measured "
                 "(run python -m validation.compare --scenes roughness,roughness-faces)"}
-    smooth = point_slip_index(replace(p, b=b))
-    per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)}
-    return range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
+    smooth = point_slip_index(replace(p, b=b), setup=R.setup)
+    per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)
+           if R.contacts[b].runs(r)}
+    c = range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
+    if eq_error is None:
+        c = {**c, "verdict": "undetermined", "incomplete": True, "note": f"{c['note']}; {eq_missing}"}
+    return c
 
 
-def rig_roughness_cell(p: Point, inp) -> dict:
-    """A rig of one's own: its roughness (``Rig.roughness``) is not yet run through readings of its own
-    spectra (the readings above are the paper's values on its indenter): undetermined, saying so."""
-    return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
-            "source": "roughness readings", "note": "a rig's own roughness readings are not computed yet"}
+def rig_roughness_cell(p: Point, R: Readings | None) -> dict:
+    """A rig of one's own: every reading of its stated rms values on its contacts (``R``; None where it
+    states none), none excluded (no measured loops); the equivalent profile's error in the rig's
+    apparatus is not measured yet, so the cell shows the range and is undetermined."""
+    if R is None:
+        return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
+                "source": "roughness readings", "note": "the rig states no rms roughness"}
+    return roughness_cell(p, R, {"sphere": None, "face": None}, None,
+                          "the equivalent profile's error in the rig's apparatus not measured yet; no measured loops "
+                          "to exclude a reading")
 
 
 def surface_checks(m: dict, kind: str) -> dict:
@@ -367,8 +389,8 @@ def plates_consistency(log=None) -> list:
     return rows
 
 
-def plates_cell(p: Point, admitted: set, setup: Setup = PAPER, what: str = "plates") -> dict:
-    """The slip index over the readings of the brass plates the paper's loops admit (for a rig of one's
+def plates_cell(p: Point, admitted: set | None, setup: Setup = PAPER, what: str = "plates") -> dict:
+    """The slip index over the readings of the brass plates the paper's loops admit (None, a rig of one's
     own that states none: every reading) against this project's reference reading (axial, R_bed 5 mm;
     itself a reading, so the range holds 0): MDR in the setup's apparatus, all readings in one batch;
     each reading's error the change from 100 to 400 spring cells."""

@@ -93,11 +93,11 @@ def contact_radius(p: Point, setup: Setup = PAPER) -> float:
     return reference_radius(kind, setup.R, p.b or None, p.F0 + p.dF, setup.materials.E_star)
 
 
-def rough_row_b(p: Point) -> float:
+def rough_row_b(p: Point, setup: Setup = PAPER) -> float:
     """The face radius of the rough contact a point reads (the budget's roughness columns): its own b
     where the face is wider than half the sphere's Hertz radius (it reaches into the contact), else 0,
     the sphere's contact."""
-    return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0)) else 0.0
+    return p.b if p.b > 0.5 * contact_radius(replace(p, b=0.0), setup) else 0.0
 
 
 def rough_points(b: float) -> tuple:

@@ -14,7 +14,8 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
     [apparatus]    kx and any field of ``mdr.apparatus.Apparatus`` (the plates' reading, the bedding)
     [tolerances]   tilt (rad, a bound: "less than"), and [tolerances.roughness]: each surface's rms
                    height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
-                   spherical part), face (its flat face), block; hurst
+                   spherical part), face (its flat face), block (the spectrum's shape is left open:
+                   the budget runs its readings, ``validation.spectra.READINGS``)
     [[result]]     key, title, and points = [{b, F0, dF, ua, mu1, mu2, kx}, ...] (each a change of the
                    loading, apparatus or indenter's b) or sweep = {field = [values], ...} (every
                    combination)
@@ -23,7 +24,8 @@ Every field is checked against its range once, here (``InputError``: one line na
 the field and its range); a result's point is a ``validation.paper_points.Point`` (the loading, the axis
 stiffness and the face radius; its indenter radius and materials are the rig's, ``Rig.indenter`` and
 ``Rig.materials``). The paper's file holds the constants the code keeps for the paper, and its points are
-the error budget's (``tests/test_rig.py``); a budget computed from a rig file of one's own is not built yet.
+the error budget's (``tests/test_rig.py``). ``python -m validation.budget --scene-file RIG.toml`` computes a rig's
+error budget (``validation.rig_budget``).
 """
 from __future__ import annotations
 
@@ -71,12 +73,11 @@ class Bodies:
 @dataclass(frozen=True)
 class Roughness:
     """The surfaces' rms heights Rq (m; a profile's, ISO 4287, over the ISO 4288 band of its value; 0: not
-    stated): the indenter's spherical part, its flat face, the block; the spectrum's Hurst exponent."""
+    stated): the indenter's spherical part, its flat face, the block."""
 
     sphere: float = 0.0
     face: float = 0.0
     block: float = 0.0
-    hurst: float = 0.8
 
 
 @dataclass(frozen=True)
@@ -215,10 +216,9 @@ def _tolerances(where, t) -> tuple:
     r = _Table(where, t.left.pop("roughness", {}), "tolerances.roughness")
     rq = {k: r.number(k, lambda x: 0 <= x <= RQ_MAX, f"in [0, {RQ_MAX:g}] (m: an rms height; a value in "
                       "micrometres is refused)", 0.0) for k in ("sphere", "face", "block")}
-    hurst = r.number("hurst", lambda x: 0 < x <= 1, "in (0, 1]", 0.8)
-    r.done(("sphere", "face", "block", "hurst"))
+    r.done(("sphere", "face", "block"))
     t.done(("tilt", "roughness"))
-    return tilt, Roughness(**rq, hurst=hurst)
+    return tilt, Roughness(**rq)
 
 
 def _point(where, indenter: Indenter, loading: dict, apparatus: dict, given: dict) -> Point:

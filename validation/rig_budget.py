@@ -118,4 +118,29 @@ def inputs(rig) -> Inputs:
         raise InputError(f"rig {rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
                          "sphere (a flat punch is the truncated sphere of a large R)")
     return Inputs(rig.name, setup_of(rig), *_bodies(rig), rig.indenter.kink_rounding, rig.tilt, rig.results,
-                  rig.resolution, scenes(rig))
+                  rig.resolution, scenes(rig), rough_contacts(rig))
+
+
+#: the rough contacts' reference load: the largest F0 + dF of the rig's points over this (their curves
+#: run to 1.5 F_ref, above every point)
+F_REF_MARGIN = 1.4
+
+
+def rough_contacts(rig) -> tuple:
+    """The rough contacts of the rig's points (``validation.spectra``: the sphere's, and each face's that
+    reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
+    heights, at the reference load F_ref = the largest F0 + dF / ``F_REF_MARGIN``; no hardness stated, so
+    elastic readings only; () where it states no rms."""
+    from . import spectra as SP
+    from .paper_points import rough_row_b
+
+    r = rig.roughness
+    if not (r.sphere or r.face or r.block):
+        return ()
+    setup, points = setup_of(rig), rig.points()
+    m = rig.materials
+    kw = dict(R=rig.indenter.R, materials=(m.E1, m.nu1, m.E2, m.nu2),
+              rq=(("sphere", r.sphere), ("block", r.block), ("face", r.face)),
+              F_ref=max(p.F0 + p.dF for p in points) / F_REF_MARGIN, hardness=None)
+    bs = sorted({rough_row_b(p, setup) for p in points})
+    return tuple(SP.face(b, **kw) if b else SP.sphere(**kw) for b in bs)

@@ -37,7 +37,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from common.errors import ConvergenceError
-from mdr.paper import R_INDENTER
+from mdr.paper import R_INDENTER, STEEL_E, STEEL_NU
+from rough.normal import HARDNESS_X5CRNI18_10
 
 #: the paper's stated rms heights (m), Section 2
 PAPER_RQ = {"sphere": 1e-6, "block": 3e-6, "face": 2e-6}
@@ -46,6 +47,9 @@ SEEDS = (0, 1, 2, 3)
 #: the normal load the contacts' smooth radius a is taken at (N; Table 2's F0) and the curves' largest
 #: force (1.5 x: above every point's F0 + dF, 0.73 N at most)
 F_REF = 0.5
+#: a plastic reading is flattened at this many times its contact's reference load (the paper's 0.75 N:
+#: the catalogue's ``validation.scenes.ROUGH_PRELOAD``, above its largest F0 + dF)
+PRELOAD = 1.5
 #: the largest share of a reading's variance a face's grid may leave out as form (beyond: not resolved)
 FORM_SHARE_MAX = 0.1
 
@@ -68,7 +72,8 @@ class Reading:
         from rough.spectra import Finish
 
         lam = None if self.rolloff is None else self.rolloff * a
-        return tuple(Finish(PAPER_RQ[body], self.hurst, lam, self.profile) for body in contact.bodies)
+        rq = dict(contact.rq)
+        return tuple(Finish(rq[body], self.hurst, lam, self.profile) for body in contact.bodies if rq[body] > 0)
 
 
 #: the readings every contact runs: the ISO band (H 0.8, typical of ground and turned steel; Persson,
@@ -81,35 +86,58 @@ READINGS = (Reading("ISO band"), Reading("ISO band, H 0.5", hurst=0.5), Reading(
 
 @dataclass(frozen=True)
 class Contact:
-    """A rough contact of the paper's specimens: the indenter (``b`` = 0: the sphere, else the truncated
-    sphere's face radius), the bodies whose finishes meet there, the grid's side in smooth contact radii,
-    its two pixel counts and the short cut-off in pixels of the coarser."""
+    """A rough contact of a rig's specimens (defaults: the paper's): the indenter (``b`` = 0: the sphere,
+    else the truncated sphere's face radius), the bodies whose finishes meet there, the grid's side in
+    smooth contact radii, its two pixel counts and the short cut-off in pixels of the coarser; the
+    indenter's radius ``R``, the pair's ``materials`` (E1, nu1, E2, nu2), each body's stated rms height
+    ``rq`` ((body, m) pairs; 0: not stated, no finish), the reference load ``F_ref`` (N; the curves run to
+    1.5 of it, the plastic readings flatten there) and the ``hardness`` (Pa) of the plastic readings
+    (None: not stated, those readings not run)."""
 
     b: float
     bodies: tuple
     period: float
     grids: tuple
     short: float
+    R: float = R_INDENTER
+    materials: tuple = (STEEL_E, STEEL_NU, STEEL_E, STEEL_NU)
+    rq: tuple = tuple(PAPER_RQ.items())
+    F_ref: float = F_REF
+    hardness: float | None = HARDNESS_X5CRNI18_10
 
-    def a(self) -> float:
-        """The smooth indenter's contact radius at ``F_REF`` (m)."""
-        from fem.axisym.normal_run import reference_radius
+    def mat(self):
         from mdr.materials import Materials
 
-        return reference_radius("truncated" if self.b else "sphere", R_INDENTER, self.b or None, F_REF,
-                                Materials().E_star)
+        return Materials(*self.materials)
+
+    def a(self) -> float:
+        """The smooth indenter's contact radius at ``F_ref`` (m)."""
+        from fem.axisym.normal_run import reference_radius
+
+        return reference_radius("truncated" if self.b else "sphere", self.R, self.b or None, self.F_ref,
+                                self.mat().E_star)
 
     def name(self) -> str:
         return "sphere" if not self.b else f"b = {self.b * 1e6:g} um"
+
+    def runs(self, reading: "Reading") -> bool:
+        """Whether the contact runs the reading: a finish stated, and a hardness for a plastic one."""
+        return any(v > 0 for k, v in self.rq if k in self.bodies) and (self.hardness is not None or not reading.plastic)
 
 
 #: the sphere's contact: 32 radii (the rough contact spreads over several), cut off at one radius
 SPHERE = Contact(0.0, ("sphere", "block"), 32.0, (256, 384), 8.0)
 
 
-def face(b: float) -> Contact:
-    """A flat face's contact: 4 radii (the catalogue's face grids), cut off at 8 pixels of 256."""
-    return Contact(float(b), ("face", "block"), 4.0, (256, 384), 8.0)
+def face(b: float, **rig) -> Contact:
+    """A flat face's contact: 4 radii (the catalogue's face grids), cut off at 8 pixels of 256; ``rig``:
+    the contact's fields of a rig of one's own (``Contact``)."""
+    return Contact(float(b), ("face", "block"), 4.0, (256, 384), 8.0, **rig)
+
+
+def sphere(**rig) -> Contact:
+    """The sphere's contact (``SPHERE``'s grid) with the fields of a rig of one's own (``Contact``)."""
+    return Contact(0.0, ("sphere", "block"), 32.0, (256, 384), 8.0, **rig)
 
 
 def params(reading: Reading, contact: Contact, seed: int):
@@ -171,7 +199,7 @@ def surface(task: dict) -> tuple:
     contact = Contact(**task["contact"])
     p, kappa = params(READINGS[task["reading"]], contact, task["seed"])
     n = int(task["n"])
-    prof = make_profile("truncated" if contact.b else "sphere", R_INDENTER, contact.b or None)
+    prof = make_profile("truncated" if contact.b else "sphere", contact.R, contact.b or None)
     return p, kappa, Grid(p.size, n), band_limited(p, n), prof
 
 
@@ -179,22 +207,20 @@ def member(task: dict) -> dict:
     """One member (``task``: reading index, contact, seed, grid n): the rough half-space's normal
     force-approach curve at ``F_REF`` x ``rough.equivalent.CURVE_FRACTIONS`` (plain data), or
     ``failed`` with the reason."""
-    from mdr.materials import Materials
     from rough.equivalent import CURVE_FRACTIONS, flattened
-    from rough.normal import HARDNESS_X5CRNI18_10, force_approach
-
-    from .scenes import ROUGH_PRELOAD
+    from rough.normal import force_approach
 
     t0 = time.perf_counter()
     reading = READINGS[task["reading"]]
     p, kappa, grid, heights, prof = surface(task)
-    mat = Materials()
+    contact = Contact(**task["contact"])
+    mat = contact.mat()
     out = {**task, "rms_window": p.rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
            "period": p.size, "form_curvature": kappa}
     try:
         if reading.plastic:
-            heights, _ = flattened(prof, mat, grid, heights, HARDNESS_X5CRNI18_10, ROUGH_PRELOAD)
-        d, F = force_approach(prof, mat, F_REF * CURVE_FRACTIONS, grid, heights)
+            heights, _ = flattened(prof, mat, grid, heights, contact.hardness, PRELOAD * contact.F_ref)
+        d, F = force_approach(prof, mat, contact.F_ref * CURVE_FRACTIONS, grid, heights)
         out["curve"] = {"d": d.tolist(), "F": F.tolist()}
     except ConvergenceError as e:
         out["failed"] = str(e)
@@ -207,7 +233,7 @@ def tasks(contacts) -> list:
     contact (``canonical``), only where the contact's grid resolves it (``resolved``)."""
     out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
            for c in contacts for i in range(len(READINGS))
-           if canonical(i, c) == i and resolved(READINGS[i], c) for s in SEEDS for n in c.grids]
+           if c.runs(READINGS[i]) and canonical(i, c) == i and resolved(READINGS[i], c) for s in SEEDS for n in c.grids]
     return sorted(out, key=lambda t: -t["n"])
 
 
