@@ -270,12 +270,13 @@ def test_the_rigs_rough_contacts_carry_the_rig():
     assert RB.rough_contacts(replace(rig, roughness=type(rig.roughness)())) == ()
 
 
-def test_the_rigs_smooth_curve_is_no_roughness_and_its_cell_stays_undetermined():
+def test_the_rigs_smooth_curve_is_no_roughness_and_an_unmeasured_bar_leaves_its_cell_undetermined():
     """MDR with the equivalent profile of the rig's smooth sphere's own Hertz curve (steel on aluminium,
     R = 10 mm) is that sphere in the rig's apparatus: no effect beyond the curve's sampling; read with the
-    paper's steel the same curve is a different profile (the rig's materials reach the readings). The
-    rig's cell shows its range but is undetermined while the equivalent profile's error in its apparatus
-    is not measured, even where the range lies far beyond the resolution."""
+    paper's steel the same curve is a different profile (the rig's materials reach the readings). Where the
+    equivalent profile's error in the rig's apparatus is not measured (a surface failed there) the cell
+    shows its range but is undetermined, even where the range lies far beyond the resolution; measured, it
+    joins every reading's bar."""
     from validation import budget_readings as BR
     from validation.paper_points import PAPER, point_slip_index
 
@@ -292,9 +293,73 @@ def test_the_rigs_smooth_curve_is_no_roughness_and_its_cell_stays_undetermined()
     a = [float(BR.Readings.profile(m).g_inv(m["curve"]["d"][-1])) for m in (_hertz_members(sphere)[0], steel)]
     assert a[1] < 0.9 * a[0]
     assert BR.Readings(_hertz_members(sphere), inp.contacts, PAPER).setup is PAPER
-    c = BR.rig_roughness_cell(p, R)
+    c = BR.rig_roughness_cell(p, R, None)
     assert c["verdict"] == "undetermined" and c["incomplete"] and "not measured" in c["note"]
+    assert "elastic readings only" in c["note"]
+    m = BR.rig_roughness_cell(p, R, 0.004)
+    assert not m.get("incomplete") and m["readings"]["ISO band"]["equivalent"] == 0.004
+    assert m["error"] == pytest.approx(c["error"] + 0.004)
     far = {**c, "range": [-0.3, -0.2], "error": 0.01}
     assert C.grade(far, 0.01)["verdict"] == "undetermined"
     assert C.grade({**far, "incomplete": False}, 0.01)["verdict"] == "matters"
-    assert "no rms" in BR.rig_roughness_cell(p, None)["note"]
+    assert "no rms" in BR.rig_roughness_cell(p, None, None)["note"]
+
+
+def _small_contact(rig, rms):
+    """The rig's sphere contact on small grids (64, 96 pixels over 8 radii: a test's cost) at ``rms``."""
+    c = RB.rough_contacts(rig)[0]
+    return replace(c, period=8.0, grids=(64, 96), short=4.0, rq=(("sphere", rms), ("block", 0.0), ("face", 0.0)))
+
+
+@pytest.mark.slow
+def test_the_equivalent_profiles_error_in_the_rigs_apparatus_is_measured_on_the_readings_surfaces():
+    """On nearly smooth surfaces (rms 1 nm) the rough half-space in the rig's apparatus (the boundary-element
+    engine) and MDR with each surface's equivalent profile agree within 1e-3 of the slip index (measured
+    3e-4): two independent models of the same contact; the error is |mean| + standard error over the
+    surfaces. A surface whose curve stops below a point's force leaves the error unmeasured (None)."""
+    from validation import rig_roughness as RR
+    from validation import spectra as SP
+
+    rig = load_rig(MINE)
+    c = _small_contact(rig, 1e-9)
+    p = rig.results[1].points[1]
+    members = [SP.member(t) for t in SP.tasks([c]) if t["reading"] == 0 and t["n"] == c.grids[-1]]
+    assert len(members) == len(SP.SEEDS) and all("curve" in m for m in members)
+    eq = RR.equivalent_error([c], members, {0.0: [p]}, None)
+    assert len(eq["rows"]) == 1 and eq["rows"][0]["surfaces"] == len(SP.SEEDS)
+    r = eq["rows"][0]
+    assert eq["error"] == pytest.approx(abs(r["mean"]) + r["sem"]) and eq["error"] < 1e-3, eq
+    short = [{**m, "curve": {"d": m["curve"]["d"][:6], "F": m["curve"]["F"][:6]}} for m in members[:2]]
+    assert RR.equivalent_error([c], short, {0.0: [p]}, None)["error"] is None
+
+
+def test_the_equivalent_error_is_the_largest_mean_plus_its_standard_error(monkeypatch, tmp_path):
+    """The reduction over surfaces (each surface's run replaced by given numbers): per (reading, point) the
+    mean of MDR-equivalent minus rough over the surfaces and its standard error, the error the largest
+    |mean| + standard error; a failed run leaves it None; the runs are cached (a second call runs none)."""
+    from validation import rig_roughness as RR
+
+    rig = load_rig(MINE)
+    c = RB.rough_contacts(rig)[0]
+    pts = list(rig.results[1].points[:2])
+    diffs = {0: [0.010, 0.012, 0.008, 0.010], 1: [-0.02, -0.03, -0.025, -0.025]}
+    calls = []
+
+    def fake(task):
+        calls.append(task)
+        s = task["member"]["seed"]
+        return {"rows": [{"point": x, "rough_halfspace": 0.3, "mdr_equivalent": 0.3 + diffs[k][s]}
+                         for k, x in enumerate(task["points"])]}
+
+    members = [{"reading": 0, "contact": {"b": 0.0}, "seed": s, "n": 384, "curve": {"d": [s], "F": [1.0]}}
+               for s in range(4)]
+    monkeypatch.setattr(RR, "check", fake)
+    eq = RR.equivalent_error([c], members, {0.0: pts}, tmp_path)
+    import numpy as np
+
+    d = np.array(diffs[1])
+    assert eq["error"] == pytest.approx(abs(d.mean()) + d.std(ddof=1) / 2) and len(eq["rows"]) == 2
+    assert len(calls) == 4 and RR.equivalent_error([c], members, {0.0: pts}, tmp_path)["error"] == eq["error"]
+    assert len(calls) == 4  # cached
+    monkeypatch.setattr(RR, "check", lambda task: {"failed": "no convergence"})
+    assert RR.equivalent_error([c], members, {0.0: pts}, None)["error"] is None

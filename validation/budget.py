@@ -43,8 +43,9 @@ Where the cells come from (``COLUMNS``; the paper's scenes named, a rig's are ``
   each surface's equivalent profile, its error including what that misses of the rough half-space in
   the catalogue's scenes ``roughness`` and ``roughness-faces``). A rig of one's own: the plates over
   every reading unless it states its ``plate_model`` (then exactly 0); the roughness over every reading
-  of its own rms values on its own contacts (``rig_budget.rough_contacts``; elastic), undetermined while
-  the equivalent profile's error in its apparatus is not measured;
+  of its own rms values on its own contacts (``rig_budget.rough_contacts``; plastic readings where it
+  states a hardness), the equivalent profile's error measured in its apparatus on the readings' own
+  surfaces (``validation.rig_roughness``);
 - *kink rounding*: computed here with the MDR apparatus at every point: the fillet of the kink
   (``mdr.profiles.RoundedTruncatedSphere``, of the stated widest rounding; the paper's "less than the
   rms roughness", ``budget_cells.FILLET_MAX``) against the sharp kink, a bound.
@@ -119,11 +120,10 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
         eq_error = BR.equivalent_error(store)
     elif mdr_cells:
         plates_stated = "plate_model" in inp.setup.app_kw
-        R = None
+        R, eq_error = None, None
         if inp.contacts:
-            from .spectra import curves
-
-            R = BR.Readings(curves(inp.contacts, Path(out) / "readings", jobs=jobs, log=log), inp.contacts, inp.setup)
+            R, result["equivalent"] = _rig_readings(inp, out, jobs, log)
+            eq_error = result["equivalent"]["error"]
     rows = []
     for r in inp.results:
         log(f"budget: {r.title}")
@@ -138,7 +138,7 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
                 per["roughness"] = [BR.roughness_cell(p, R, admitted, eq_error) for p in r.points]
                 per["plates"] = [BR.plates_cell(p, plates_ok) for p in r.points]
             else:
-                per["roughness"] = [BR.rig_roughness_cell(p, R) for p in r.points]
+                per["roughness"] = [BR.rig_roughness_cell(p, R, eq_error) for p in r.points]
                 per["plates"] = [cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated") if plates_stated
                                  else BR.plates_cell(p, None, inp.setup, "plates, none stated") for p in r.points]
         cells = {col: combine([grade(c, inp.resolution) for c in cs], SOURCES.get(col, TITLES[col]))
@@ -150,6 +150,26 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
         log("budget: the sticking transition")
         result["transition"] = BR.transitions(R, admitted)
     return result
+
+
+def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
+    """A rig's roughness readings on its contacts (``validation.spectra.curves``) and the equivalent
+    profile's error in its apparatus (``validation.rig_roughness``), both cached under ``out``/readings."""
+    from . import budget_readings as BR
+    from .paper_points import rough_row_b
+    from .rig_roughness import equivalent_error
+    from .spectra import curves
+
+    folder = Path(out) / "readings"
+    members = curves(inp.contacts, folder, jobs=jobs, log=log)
+    points = {}
+    for r in inp.results:
+        for p in r.points:
+            here = points.setdefault(rough_row_b(p, inp.setup), [])
+            if p not in here:
+                here.append(p)
+    return BR.Readings(members, inp.contacts, inp.setup), equivalent_error(inp.contacts, members, points, folder,
+                                                                             jobs=jobs, log=log)
 
 
 def cell_text(c: dict) -> str:
@@ -194,6 +214,12 @@ def markdown(b: dict) -> list:
         span = num(lo, ".2g") if abs(hi - lo) <= 1e-3 * max(abs(hi), 1e-12) else f"{num(lo, '.2g')}-{num(hi, '.2g')}"
         lines.append(f"| {r['title']} | {span} | " + " | ".join(cell_text(r["cells"][c]) if c in r["cells"] else "-"
                                                                  for c in cols) + " |")
+    eq = b.get("equivalent")
+    if eq:
+        lines += ["", f"What MDR with an equivalent profile misses of the rough half-space in the rig's apparatus "
+                      f"(validation.rig_roughness: the readings' surfaces driven there, {len(eq['rows'])} readings x "
+                      f"points): at most {num(eq['error'], '.2g')} of the slip index (|mean| + standard error), "
+                      "part of every roughness cell's bar."]
     lines += readings_markdown(b)
     if b["stale"]:
         lines += ["", f"Stored by other sources than these (rerun them): {', '.join(b['stale'])}."]

@@ -197,7 +197,7 @@ def range_cell(per: dict, admitted: set | None, source: str, what: str) -> dict:
     lo = min(v["effect"] + v.get("form", [0.0, 0.0])[0] for v in ok.values())
     hi = max(v["effect"] + v.get("form", [0.0, 0.0])[1] for v in ok.values())
     ref = ok.get("ISO band") or next(iter(ok.values()))
-    note = (f"{what}: {len(ok)} of {len(per)} readings {'admitted' if checked else 'resolved'}, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
+    note = (f"{what}: {len(ok)} of {len(per)} readings {'admitted' if checked else 'run'}, slip index {min(v['slip_index'] for v in ok.values()):.2g}"
             f"-{max(v['slip_index'] for v in ok.values()):.2g}")
     if unresolved:
         note += f"; {len(unresolved)}{' admitted' if checked else ''} not resolved by the grid ({per[unresolved[0]]['unresolved']})"
@@ -226,16 +226,19 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error, eq_missing: 
     return c
 
 
-def rig_roughness_cell(p: Point, R: Readings | None) -> dict:
+def rig_roughness_cell(p: Point, R: Readings | None, eq_error: float | None) -> dict:
     """A rig of one's own: every reading of its stated rms values on its contacts (``R``; None where it
-    states none), none excluded (no measured loops); the equivalent profile's error in the rig's
-    apparatus is not measured yet, so the cell shows the range and is undetermined."""
+    states none), none excluded (no measured loops), with the equivalent profile's error measured in the
+    rig's apparatus (``validation.rig_roughness``; None where a surface failed there: the cell shows its
+    range and is undetermined)."""
     if R is None:
         return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
                 "source": "roughness readings", "note": "the rig states no rms roughness"}
-    return roughness_cell(p, R, {"sphere": None, "face": None}, None,
-                          "the equivalent profile's error in the rig's apparatus not measured yet; no measured loops "
-                          "to exclude a reading")
+    c = roughness_cell(p, R, {"sphere": None, "face": None}, eq_error,
+                       "the equivalent profile's error in the rig's apparatus not measured (a surface failed)")
+    if R.contacts[rough_row_b(p, R.setup)].hardness is None:
+        c = {**c, "note": f"{c['note']}; elastic readings only (no hardness stated)"}
+    return c
 
 
 def surface_checks(m: dict, kind: str) -> dict:

@@ -15,7 +15,8 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
     [tolerances]   tilt (rad, a bound: "less than"), and [tolerances.roughness]: each surface's rms
                    height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
                    spherical part), face (its flat face), block (the spectrum's shape is left open:
-                   the budget runs its readings, ``validation.spectra.READINGS``)
+                   the budget runs its readings, ``validation.spectra.READINGS``); hardness (Pa, of the
+                   softer body: the plastic readings run where it is stated)
     [[result]]     key, title, and points = [{b, F0, dF, ua, mu1, mu2, kx}, ...] (each a change of the
                    loading, apparatus or indenter's b) or sweep = {field = [values], ...} (every
                    combination)
@@ -73,11 +74,14 @@ class Bodies:
 @dataclass(frozen=True)
 class Roughness:
     """The surfaces' rms heights Rq (m; a profile's, ISO 4287, over the ISO 4288 band of its value; 0: not
-    stated): the indenter's spherical part, its flat face, the block."""
+    stated): the indenter's spherical part, its flat face, the block; the ``hardness`` (Pa) of the softer
+    body's asperities, for the readings of perfectly plastic asperities (None: not stated, elastic
+    readings only)."""
 
     sphere: float = 0.0
     face: float = 0.0
     block: float = 0.0
+    hardness: float | None = None
 
 
 @dataclass(frozen=True)
@@ -216,9 +220,11 @@ def _tolerances(where, t) -> tuple:
     r = _Table(where, t.left.pop("roughness", {}), "tolerances.roughness")
     rq = {k: r.number(k, lambda x: 0 <= x <= RQ_MAX, f"in [0, {RQ_MAX:g}] (m: an rms height; a value in "
                       "micrometres is refused)", 0.0) for k in ("sphere", "face", "block")}
-    r.done(("sphere", "face", "block"))
+    hardness = r.number("hardness", lambda x: 1e7 <= x <= 1e11, "in [1e7, 1e11] (Pa: an indentation hardness; a "
+                        "value in GPa or HV is refused)", -1.0)
+    r.done(("sphere", "face", "block", "hardness"))
     t.done(("tilt", "roughness"))
-    return tilt, Roughness(**rq)
+    return tilt, Roughness(**rq, hardness=None if hardness < 0 else hardness)
 
 
 def _point(where, indenter: Indenter, loading: dict, apparatus: dict, given: dict) -> Point:

@@ -17,7 +17,10 @@ Each cell takes the cheapest model that measures it at the rig's points:
 - *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
   the face tilted by the bound against the aligned face on the same 3D mesh;
 - *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
-  ``validation.budget_readings.plates_cell``), computed by the budget itself.
+  ``validation.budget_readings.plates_cell``), computed by the budget itself;
+- *roughness*: no scene: the budget runs the readings of the rig's rms values on its rough contacts
+  (``rough_contacts``, ``validation.spectra``) and what the equivalent profile misses of the rough
+  half-space in its apparatus (``validation.rig_roughness``), both cached under ``--out``/readings.
 
 The scenes run in the apparatus with the rig's k_x and mu2 and the apparatus's other fields at their
 defaults (``mdr.apparatus.Apparatus``): a cell is a difference of two models in the same apparatus. The
@@ -129,8 +132,8 @@ F_REF_MARGIN = 1.4
 def rough_contacts(rig) -> tuple:
     """The rough contacts of the rig's points (``validation.spectra``: the sphere's, and each face's that
     reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
-    heights, at the reference load F_ref = the largest F0 + dF / ``F_REF_MARGIN``; no hardness stated, so
-    elastic readings only; () where it states no rms."""
+    heights and hardness (none stated: elastic readings only), at the reference load F_ref = the largest
+    F0 + dF / ``F_REF_MARGIN``; () where it states no rms."""
     from . import spectra as SP
     from .paper_points import rough_row_b
 
@@ -141,6 +144,6 @@ def rough_contacts(rig) -> tuple:
     m = rig.materials
     kw = dict(R=rig.indenter.R, materials=(m.E1, m.nu1, m.E2, m.nu2),
               rq=(("sphere", r.sphere), ("block", r.block), ("face", r.face)),
-              F_ref=max(p.F0 + p.dF for p in points) / F_REF_MARGIN, hardness=None)
+              F_ref=max(p.F0 + p.dF for p in points) / F_REF_MARGIN, hardness=r.hardness)
     bs = sorted({rough_row_b(p, setup) for p in points})
     return tuple(SP.face(b, **kw) if b else SP.sphere(**kw) for b in bs)

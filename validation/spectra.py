@@ -241,11 +241,12 @@ def tasks(contacts) -> list:
 MEMBER_SOURCES = ("rough/*.py", "validation/spectra.py", "mdr/profiles.py", "mdr/materials.py", "common/*.py")
 
 
-def member_version() -> str:
-    """A digest of ``MEMBER_SOURCES``: a cached member of other sources is computed again."""
+def member_version(sources=MEMBER_SOURCES) -> str:
+    """A digest of the files of ``sources`` (patterns from the project's root; default ``MEMBER_SOURCES``):
+    a cached member of other sources is computed again."""
     root = Path(__file__).resolve().parent.parent
     h = hashlib.sha256()
-    for pattern in MEMBER_SOURCES:
+    for pattern in sources:
         for f in sorted(root.glob(pattern)):
             h.update(f.relative_to(root).as_posix().encode())
             h.update(f.read_bytes())

@@ -103,15 +103,26 @@ def member(s: Scene, task: dict) -> dict:
 
 
 def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) -> list:
-    """The rough half-space driven by the apparatus (``rough.law.RoughContact`` in
-    ``mdr.apparatus.run_apparatus``) at each of the paper's points whose rough contact is this indenter
-    (``validation.paper_points.rough_points``), beside MDR with the equivalent profile of this surface's curve,
-    at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough half-space's
-    slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point its fields
-    and each model's slip index (None where the curve ends below the point's largest force); a point
-    beyond a plastic surface's flattening load is left out (it would flatten the surface further).
-    ``start``: (F, pressure) of a contact of this surface (the member's at F0), where its normal solves
-    start."""
+    """The rough half-space driven by the apparatus at each of the paper's points whose rough contact is
+    this indenter (``validation.paper_points.rough_points``), beside MDR with the equivalent profile of
+    this surface's curve (``rough_in_apparatus``)."""
+    from ..paper_points import rough_points
+    from ..sides import materials_of
+
+    return rough_in_apparatus(indenter(s, v.b), materials_of(s), grid, heights, curve, rough_points(v.b),
+                              hardness=v.hardness, preload=v.preload, start=start)
+
+
+def rough_in_apparatus(profile, mat, grid, heights, curve, points, *, hardness=None, preload=None, start=None) -> list:
+    """The rough half-space (``rough.law.RoughContact`` on ``heights``, elastic or perfectly plastic at
+    ``hardness`` flattened at ``preload``) driven by the apparatus (``mdr.apparatus.run_apparatus``, its
+    k_x and mu2 and default plates) at each of ``points`` (``validation.paper_points.Point``), beside MDR
+    with the equivalent profile of this surface's ``curve`` and with the smooth ``profile`` (materials
+    ``mat``), at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough
+    half-space's slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point
+    its fields and each model's slip index (None where the curve ends below the point's largest force); a
+    point beyond a plastic surface's flattening load is left out (it would flatten the surface further).
+    ``start``: (F, pressure) of a contact of this surface, where its normal solves start."""
     from dataclasses import asdict
 
     from mdr.apparatus import Apparatus, run_apparatus
@@ -120,15 +131,9 @@ def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) ->
     from rough.law import RoughContact
     from studies.paper import RES, _slip_index
 
-    from ..paper_points import rough_points
-    from ..sides import materials_of
-
-    b, hardness, preload = v.b, v.hardness, v.preload
-    profile = indenter(s, b)
-    mat = materials_of(s)
     eq = EquivalentProfile(curve["d"], curve["F"], mat)
     laws, out, done = {}, [], {}
-    for p in rough_points(b):
+    for p in points:
         if hardness and p.F0 + p.dF > preload * (1 + 1e-9):
             continue
         t0 = time.perf_counter()
@@ -147,7 +152,7 @@ def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) ->
         except (ConvergenceError, InputError) as e:  # that point of the seed is undetermined
             row["failed"] = str(e)
         top = max(curve["F"])
-        kw = dict(mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua)
+        kw = dict(mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua, materials=mat)
         row["mdr_equivalent"] = None if p.F0 + p.dF > top else float(np.ravel(_slip_index(eq, p.kx, **kw)[0])[0])
         row["mdr_smooth"] = float(np.ravel(_slip_index(profile, p.kx, **kw)[0])[0])
         done[key] = row
