@@ -122,11 +122,23 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, jobs: int
 
 
 def _map(todo: list, jobs: int, log) -> list:
+    """``check`` of every task, in ``jobs`` processes, a progress line every 4 surfaces."""
+    out = [None] * len(todo)
+
+    def say(j):
+        if j % 4 == 0 or j == len(todo):
+            log(f"  the rough half-space in the rig's apparatus: {j} of {len(todo)} surfaces")
+
     if jobs <= 1 or len(todo) <= 1:
-        return [check(t) for t in todo]
-    from concurrent.futures import ProcessPoolExecutor
+        for j, t in enumerate(todo):
+            out[j] = check(t)
+            say(j + 1)
+        return out
+    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     with ProcessPoolExecutor(max_workers=jobs) as ex:
-        out = list(ex.map(check, todo))
-    log(f"  the rough half-space in the rig's apparatus: {len(todo)} surfaces done")
+        futures = {ex.submit(check, t): k for k, t in enumerate(todo)}
+        for j, f in enumerate(as_completed(futures), 1):
+            out[futures[f]] = f.result()
+            say(j)
     return out
