@@ -100,7 +100,8 @@ def test_the_paper_rig_runs_the_catalogues_computations_at_its_points():
 def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
     """The store skips a scene whose fingerprint is unchanged (``validation.compare.run_all``): editing the
     tilt bound changes the tilt scene's only, the kink's rounding none (MDR computes it in the budget),
-    the block's height the size scene's only, the block's material every scene's."""
+    the block's width the size scene's only, its height that and the apparatus scenes' (the bedding's
+    lever h), the block's material every scene's."""
     v = code_version()
 
     def prints(path):
@@ -110,7 +111,10 @@ def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
     assert set(base) == {f"my-rig-{k}" for k in ("validity", "points", "direction", "coupling", "tilt")}
     for old, new, touched in (("tilt = 5e-4", "tilt = 4e-4", {"my-rig-tilt"}),
                               ("kink_rounding = 1e-6", "kink_rounding = 2e-6", set()),
-                              ("block_height = 5e-3", "block_height = 3e-3", {"my-rig-validity"}),
+                              ("block_width = 30e-3", "block_width = 8e-3", {"my-rig-validity"}),
+                              # the block's height is the apparatus's h too (the bedding's lever)
+                              ("block_height = 5e-3", "block_height = 3e-3",
+                               {"my-rig-validity", "my-rig-points", "my-rig-direction"}),
                               ("E2 = 70e9", "E2 = 110e9", set(base))):
         now = prints(_edited(tmp_path, old, new))
         changed = {k for k in base if now.get(k) != base[k]} | (set(now) - set(base))
@@ -122,8 +126,9 @@ def test_scenes_follow_the_rig():
     point of the rig run by exactly one variant of its points and direction scenes."""
     rig = load_rig(PAPER_FILE)
     names = {s.name for s in RB.scenes(rig)}
-    assert "willert2023-coupling" not in names and "willert2023-tilt" in names
-    assert "willert2023-tilt" not in {s.name for s in RB.scenes(replace(rig, tilt=0.0))}
+    assert not any("coupling" in n for n in names) and any(n.startswith("willert2023-tilt") for n in names)
+    assert not any("tilt" in s.name for s in RB.scenes(replace(rig, tilt=0.0)))
+    assert not any("tilt" in s.name for s in RB.scenes(replace(rig, tilt=None)))
     p = rig.results[0].points[0]
     c = C.coupling_cell(p, lambda name: None, RB.inputs(rig))
     assert c["kind"] == "exact" and c["effect"] == 0.0
@@ -152,8 +157,10 @@ def test_the_coupling_of_a_dissimilar_pair_is_read_from_its_3d_scene():
 
 def test_the_size_bound_takes_the_tightest_row_not_larger_than_the_rig():
     """The effect falls with either body's size: a row with both bodies no larger than the point's bounds
-    it, so does the sum of the one-body rows; the cell is the smallest such bound; bodies of at least the
-    FE model's default (200 a) count as its half-space (0); none measured small enough: undetermined."""
+    it from above; the sum of the one-body rows too where the effects add, which a row with bodies no
+    smaller than the point's checks (a sum below such a row is not a bound and is not used); the cell is
+    the smallest bound; bodies of at least the FE model's default (200 a) count as its half-space (0);
+    none measured small enough: undetermined."""
     inp = RB.inputs(load_rig(MINE))
     p = inp.results[0].points[0]
     a = C.contact_radius(p, inp.setup)
@@ -170,6 +177,9 @@ def test_the_size_bound_takes_the_tightest_row_not_larger_than_the_rig():
     assert c["effect"] == pytest.approx(-0.005) and c["kind"] == "bound"  # 10 a + 10 a rows; (30, 30) too large
     c = C.size_cell(p, rows((15.0, 25.0, -0.002), (10.0, 200.0, -0.004), (200.0, 10.0, -0.001)), tight)
     assert c["effect"] == pytest.approx(-0.002)
+    # a row at the point's own bodies measures more than the one-body rows' sum: the sum is no bound
+    c = C.size_cell(p, rows((20.0, 30.0, -0.006), (10.0, 200.0, -0.004), (200.0, 10.0, -0.001)), tight)
+    assert c["effect"] == pytest.approx(-0.006)
     assert C.size_cell(p, rows((50.0, 200.0, -0.001)), tight)["effect"] is None
 
 
@@ -242,11 +252,14 @@ def _hertz_members(contact, seeds=(0, 0)):
 
     from mdr import reference as ref
 
+    from validation import spectra as SP
+
     F = contact.F_ref * np.geomspace(1e-2, 1.5, 24)
     E = contact.mat().E_star
     d = [float(ref.hertz(f, contact.R, E)["d"]) for f in F]
-    return [{"reading": 0, "contact": asdict(contact), "seed": s, "n": n, "rms_window": 1e-7, "form_curvature": 0.0,
-             "curve": {"d": d, "F": F.tolist()}} for s in seeds for n in contact.grids]
+    run = sorted({t["reading"] for t in SP.tasks([contact])})
+    return [{"reading": i, "contact": asdict(contact), "seed": s, "n": n, "rms_window": 1e-7, "form_curvature": 0.0,
+             "curve": {"d": d, "F": F.tolist()}} for i in run for s in seeds for n in contact.grids]
 
 
 def test_the_rigs_rough_contacts_carry_the_rig():
@@ -299,6 +312,9 @@ def test_the_rigs_smooth_curve_is_no_roughness_and_an_unmeasured_bar_leaves_its_
     m = BR.rig_roughness_cell(p, R, 0.004)
     assert not m.get("incomplete") and m["readings"]["ISO band"]["equivalent"] == 0.004
     assert m["error"] == pytest.approx(c["error"] + 0.004)
+    gone = [x for x in _hertz_members(sphere) if x["reading"] != 3]  # a reading's surfaces failed
+    f = BR.rig_roughness_cell(p, BR.Readings(gone, inp.contacts, inp.setup), 0.004)
+    assert f["verdict"] == "undetermined" and f["incomplete"] and "failed" in f["note"]
     far = {**c, "range": [-0.3, -0.2], "error": 0.01}
     assert C.grade(far, 0.01)["verdict"] == "undetermined"
     assert C.grade({**far, "incomplete": False}, 0.01)["verdict"] == "matters"
@@ -329,6 +345,11 @@ def test_the_equivalent_profiles_error_in_the_rigs_apparatus_is_measured_on_the_
     assert len(eq["rows"]) == 1 and eq["rows"][0]["surfaces"] == len(SP.SEEDS)
     r = eq["rows"][0]
     assert eq["error"] == pytest.approx(abs(r["mean"]) + r["sem"]) and eq["error"] < 1e-3, eq
+    # the runs are the rig's: MDR's smooth sphere there is the point's slip index in the rig's setup
+    from validation.paper_points import point_slip_index
+
+    run = RR.check(RR.tasks([c], members[:1], {0.0: [p]}, RB.inputs(rig).setup.apparatus)[0])["rows"][0]
+    assert run["mdr_smooth"] == pytest.approx(point_slip_index(p, n=100, setup=RB.inputs(rig).setup), abs=2e-3)
     short = [{**m, "curve": {"d": m["curve"]["d"][:6], "F": m["curve"]["F"][:6]}} for m in members[:2]]
     assert RR.equivalent_error([c], short, {0.0: [p]}, None)["error"] is None
 
@@ -363,3 +384,52 @@ def test_the_equivalent_error_is_the_largest_mean_plus_its_standard_error(monkey
     assert len(calls) == 4  # cached
     monkeypatch.setattr(RR, "check", lambda task: {"failed": "no convergence"})
     assert RR.equivalent_error([c], members, {0.0: pts}, None)["error"] is None
+
+
+def test_the_rigs_apparatus_and_indenter_reach_every_model(tmp_path):
+    """A rig that states its plates (rigid) and a thin block (h = 5 mm): the apparatus scenes run in that
+    apparatus (the scene's data, so its fingerprint), the rough half-space's runs carry it, and the MDR
+    cells see it: the point's slip index moves with the plates' reading (they take a share of the stroke);
+    the plates' cell is exactly 0 (stated); the kink's cell is the rig's R's (another R, another number)."""
+    from validation import rig_roughness as RR
+    from validation.paper_points import PAPER, point_slip_index
+
+    rig = load_rig(_edited(tmp_path, "kx = 5e6", 'kx = 5e6\nplate_model = "rigid"'))
+    inp = RB.inputs(rig)
+    assert dict(inp.setup.apparatus) == {"plate_model": "rigid", "h": 5e-3}
+    for s in inp.scenes:
+        if s.drive == "apparatus":
+            assert s.apparatus == inp.setup.apparatus
+            assert all(v.scene(s).apparatus_of().plate_model == "rigid" for v in s.typed_variants)
+    base = {s.name: s.fingerprint("v") for s in RB.scenes(load_rig(MINE))}
+    moved = {s.name for s in inp.scenes if s.fingerprint("v") != base[s.name]}
+    assert moved == {"my-rig-points", "my-rig-direction"}  # the force-driven scenes have no apparatus
+    p = inp.results[0].points[0]
+    own, default = point_slip_index(p, setup=inp.setup), point_slip_index(p, setup=replace(inp.setup, apparatus=()))
+    assert abs(own - default) > 0.01
+    t = RR.tasks(inp.contacts, [{"reading": 0, "contact": {"b": 0.0}, "seed": 0, "n": 384, "curve": {}}],
+                 {0.0: [inp.results[1].points[0]]}, inp.setup.apparatus)
+    assert dict(map(tuple, t[0]["apparatus"])) == {"plate_model": "rigid", "h": 5e-3}
+    plates = C.cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated")
+    assert "plate_model" in inp.setup.app_kw and plates["verdict"] == "negligible"
+    k = C.kink_cell(p, inp)
+    assert k["kind"] == "bound" and k["effect"] != C.kink_cell(p, replace(inp, setup=replace(inp.setup, R=PAPER.R)))["effect"]
+
+
+def test_a_force_controlled_effect_is_read_at_the_points_own_load(tmp_path):
+    """The coupling and the tilt are measured under force control: a rig whose points sweep the normal
+    force gets one scene per load, and each point's cell reads the scene at its own load (the tilt's
+    effect scales with theta / theta_c, theta_c = F / (4 E* b^2): a row at another load is no bound)."""
+    rig = load_rig(_edited(tmp_path, "sweep = {b = [0.0], ua = [100e-9, 200e-9, 400e-9]}",
+                           "sweep = {b = [0.0, 50e-6], F0 = [0.5, 1.0]}"))
+    inp = RB.inputs(rig)
+    names = {s.name for s in inp.scenes}
+    assert {"my-rig-coupling-1", "my-rig-coupling-2", "my-rig-tilt-1", "my-rig-tilt-2"} <= names
+    low = next(p for p in rig.points() if p.F0 == 0.5 and p.b == 50e-6)
+    rows = {s.name: {"assumptions3d": [{"relax": "coupling", "b": 50e-6, "verdicts": {"dissipation": {
+        "effect": 0.01 * (k + 1), "error": 0.001}}}]} for k, s in enumerate(inp.of_family("assumptions3d"))}
+    c = C.coupling_cell(low, rows.get, inp)
+    at = next(s for s in inp.of_family("assumptions3d") if s.F0 == 0.5)
+    assert c["source"] == at.name and c["effect"] == rows[at.name]["assumptions3d"][0]["verdicts"]["dissipation"]["effect"]
+    assert C.tilt_cell(low, lambda name: None, inp)["source"].startswith(next(
+        s.name for s in inp.of_family("tilt") if s.F0 == 0.5))

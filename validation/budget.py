@@ -98,14 +98,18 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
     by_name = {s.name: s for s in inp.scenes}
 
     def store(name):
+        """A stored scene's result; one of other sources is listed stale and, for a rig of one's own (whose
+        scenes this command has just run), not read: a scene that failed to rerun after an edit leaves
+        its cells undetermined, not the numbers of the rig before the edit."""
         if name not in cache:
             res = out.get(name) if isinstance(out, dict) else load_scene(out, name)
             if res is not None and name in by_name and res.get("fingerprint") != by_name[name].fingerprint(version):
                 stale.append(name)
+                res = res if inp.paper else None
             cache[name] = res
         return cache[name]
 
-    result = {"rig": inp.name, "stale": [], "resolution": inp.resolution, "tilt": inp.tilt}
+    result = {"rig": inp.name, "paper": inp.paper, "stale": [], "resolution": inp.resolution, "tilt": inp.tilt}
     if mdr_cells and inp.paper:
         if members is None:
             from .spectra import curves
@@ -168,8 +172,8 @@ def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
             here = points.setdefault(rough_row_b(p, inp.setup), [])
             if p not in here:
                 here.append(p)
-    return BR.Readings(members, inp.contacts, inp.setup), equivalent_error(inp.contacts, members, points, folder,
-                                                                             jobs=jobs, log=log)
+    return BR.Readings(members, inp.contacts, inp.setup), equivalent_error(
+        inp.contacts, members, points, folder, apparatus=inp.setup.apparatus, jobs=jobs, log=log)
 
 
 def cell_text(c: dict) -> str:
@@ -192,9 +196,10 @@ def markdown(b: dict) -> list:
     from .budget_readings import readings_markdown
 
     cols = [c for c in COLUMNS if any(c in r["cells"] for r in b["rows"])]
-    paper = b.get("rig") in (None, "willert2023")
+    paper = b.get("paper", True)
     what = "the paper's" if paper else f"the rig {b['rig']}'s"
-    titles = {**TITLES, "tilt": f"tilt <= {'pi/3600' if paper else num(b.get('tilt'), '.3g') + ' rad'}"}
+    tilt = "pi/3600" if paper else (None if b.get("tilt") is None else num(b["tilt"], ".3g") + " rad")
+    titles = {**TITLES, "tilt": TITLES["tilt"] if tilt is None else f"tilt <= {tilt}"}
     lines = [f"The change of each result's slip index when an assumption of MDR in {what} apparatus is dropped, "
              f"with its error bar, against the resolution of {b['resolution']:g}"
              + (f" ({RESOLUTION_ORIGIN}). " if paper else " of the slip index (1: gross slip). ")
@@ -222,7 +227,8 @@ def markdown(b: dict) -> list:
                       "part of every roughness cell's bar."]
     lines += readings_markdown(b)
     if b["stale"]:
-        lines += ["", f"Stored by other sources than these (rerun them): {', '.join(b['stale'])}."]
+        lines += ["", f"Stored by other sources than these{'' if paper else ', not read'} (rerun them): "
+                      f"{', '.join(b['stale'])}."]
     return lines
 
 
@@ -307,7 +313,8 @@ def main(argv=None) -> int:
             status = run_all(inp.scenes, out, executor=executor, jobs=args.jobs, fields=False, log=say, detail=False)
         failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
         if failed:
-            say(f"{p.prog}: scenes failed ({', '.join(failed)}): their cells read undetermined")
+            say(f"{p.prog}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "
+                "before is not read)")
     try:
         b = budget(out, inp=inp, mdr_cells=not args.no_mdr, jobs=args.jobs, log=say)
     except ConvergenceError as e:

@@ -37,21 +37,35 @@ class Inputs:
     setup: Setup
     cap_height: float
     block: float
-    fillet: float
-    tilt: float
+    fillet: float | None
+    tilt: float | None
     results: tuple
     resolution: float
     scenes: tuple
     contacts: tuple = ()
     paper: bool = False
+    #: the command that runs a scene of ``scenes`` ({scene}: its name)
+    rerun: str = "python -m validation.compare --scenes {scene}"
 
     def of_family(self, family: str, fe_model: str | None = None) -> tuple:
         return tuple(s for s in self.scenes if s.family == family and fe_model in (None, s.fe_model))
 
+    def at_load(self, family: str, p: Point) -> tuple:
+        """The force-controlled scenes of ``family`` that measure the point: for a rig of one's own those
+        at its load (F0, dF, mu1), for the paper all (its effects mapped from Table 2's load, stated)."""
+        from .paper_points import same
+
+        scenes = self.of_family(family)
+        if self.paper:
+            return scenes
+        return tuple(s for s in scenes if same(s.F0, p.F0) and same(s.dF, p.dF) and same(s.mu, p.mu1))
+
 
 def paper_inputs() -> Inputs:
-    """The paper's rig (Willert 2023; ``docs/examples/willert2023.toml`` holds the same values) with the
-    catalogue's scenes."""
+    """The paper's rig (Willert 2023) with the catalogue's scenes, its roughness readings checked by its own
+    loops (``paper``). ``docs/examples/willert2023.toml`` holds the same setup, bodies, bounds, points and
+    resolution (``tests/test_rig_budget.py``); read as a rig of one's own it gets the generated scenes and
+    unchecked readings."""
     from .budget_readings import contacts
     from .catalogue import CATALOGUE
     from .paper_points import results
@@ -93,8 +107,12 @@ def grade(c: dict, resolution: float) -> dict:
     return {**c, "verdict": v}
 
 
-def missing(scene: str, why: str = "") -> dict:
-    return cell(None, None, "measured", f"not run: python -m validation.compare --scenes {scene}", why)
+def missing(scene: str, why: str = "", inp: Inputs | None = None) -> dict:
+    """An undetermined cell whose scene is not stored, naming the command that runs it (the rig's)."""
+    template = inp.rerun if inp is not None else Inputs.rerun
+    rerun = template.format(scene=scene)
+    return cell(None, None, "measured", f"not run: {rerun}" if "{scene}" in template else f"{scene} not run: {rerun}",
+                why)
 
 
 def combine(cells: list, source: str) -> dict:
@@ -132,9 +150,11 @@ def scaled(c: dict, slip_index: float) -> dict:
 def size_cell(p: Point, store, inp: Inputs) -> dict:
     """The bodies shrunk (family ``validity``): the indenter's cap and the block over the point's contact
     radius. The effect falls with either body's size, so a stored row whose bodies are both no larger
-    than the point's bounds it, and so does the sum of the two one-body rows at the largest sizes not
-    above the point's (bounds add by magnitude); the smallest of these bounds is the cell. Bodies of at
-    least the FE model's default size (200 a) count as its half-space."""
+    than the point's bounds it from above, and one whose bodies are both no smaller from below. The sum
+    of the two one-body rows at the largest sizes not above the point's is a bound where the bodies'
+    effects add, an assumption the rows check: the sum is used only where no row bounds the effect from
+    below by more. The smallest bound is the cell. Bodies of at least the FE model's default size
+    (200 a) count as its half-space."""
     from .families.validity import VALIDITY_DEFAULT_SIZE
 
     a = contact_radius(p, inp.setup)
@@ -146,7 +166,7 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
         return cell(0.0, 0.0, "bound", name, f"{where}: the FE model's default bodies")
     rows = [r for s in scenes for r in (store(s.name) or {}).get("validity", [])]
     if not rows:
-        return missing(name)
+        return missing(name, inp=inp)
     big = VALIDITY_DEFAULT_SIZE
     fin = [r for r in rows if isinstance(r.get("dissipation_vs_default"), float)
            and math.isfinite(r["dissipation_vs_default"])]
@@ -160,7 +180,10 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
         elif alone:
             r = max(alone, key=lambda r: r[f"{body}_over_a"])
             one[body] = (abs(r["dissipation_vs_default"]), f"{body} row {r[f'{body}_over_a']:g} a")
-    if len(one) == 2:
+    below = max((abs(r["dissipation_vs_default"]) for r in fin
+                 if r["block_over_a"] >= block * (1 - 1e-9) and r["cap_over_a"] >= min(cap, big) * (1 - 1e-9)),
+                default=0.0)
+    if len(one) == 2 and one["block"][0] + one["cap"][0] >= below:
         bounds.append((one["block"][0] + one["cap"][0], f"{one['block'][1]} + {one['cap'][1]}"))
     if not bounds:
         return cell(None, None, "bound", name, f"{where}: smaller than any measured body")
@@ -218,7 +241,7 @@ def curvature_cell(p: Point, store, inp: Inputs) -> dict:
     res = store(scenes[0].name) if scenes else None
     if res is None:
         return missing(scenes[0].name if scenes else next((s.name for s in inp.of_family("points", "axisym")),
-                                                           "validity-curvature"))
+                                                           "validity-curvature"), inp=inp)
     x = contact_radius(p, inp.setup) / inp.setup.R
     rows = sorted((r for r in res["curvature"] if abs(r["nu"] - 0.29) < 1e-9), key=lambda r: r["a_over_R"])
     above = [r for r in rows if r["a_over_R"] >= x]
@@ -233,7 +256,7 @@ def curvature_cell(p: Point, store, inp: Inputs) -> dict:
 def _assumption_row(p: Point, store, inp: Inputs, relax: str):
     """(scene name, stored row) of the ``assumptions3d`` scene of ``inp`` that relaxes ``relax`` on the
     point's indenter (its b), (scene name, None) where none is stored, or (None, None) without a scene."""
-    scenes = inp.of_family("assumptions3d")
+    scenes = inp.at_load("assumptions3d", p)
     for s in scenes:
         res = store(s.name)
         for r in (res or {}).get("assumptions3d", []):
@@ -254,7 +277,8 @@ def direction_cell(p: Point, store, inp: Inputs) -> dict:
                         f"(ladder {r.get('ladder_status')})")
     name, r = _assumption_row(p, store, inp, "direction")
     if r is None:
-        return missing(name or "direction-points", "" if name else "no 3D scene measures it")
+        own = next((s.name for s in inp.of_family("points", "3d")), None)
+        return missing(own or name or "direction-points", "" if own or name else "no 3D scene measures it", inp)
     d = r["verdicts"]["dissipation"]
     return cell(d["effect"], d["error"], "measured", name, "sphere" if p.b == 0 else f"b = {p.b * 1e6:g} um")
 
@@ -269,7 +293,7 @@ def coupling_cell(p: Point, store, inp: Inputs) -> dict:
         return cell(0.0, 0.0, "exact", "Dundurs", "indenter and block of one material: beta = 0")
     name, r = _assumption_row(p, store, inp, "coupling")
     if r is None:
-        return missing(name or "assumptions-3d", f"beta = {beta:+.3f}")
+        return missing(name or "assumptions-3d", f"beta = {beta:+.3f}", inp)
     d = r["verdicts"]["dissipation"]
     return cell(d["effect"], d["error"], "measured", name,
                 f"3D, beta = {beta:+.3f}, {'sphere' if p.b == 0 else f'b = {p.b * 1e6:g} um'}")
@@ -283,12 +307,14 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
     ``bound``: never "matters")."""
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
+    if inp.tilt is None:
+        return cell(None, None, "bound", "the rig", "no tilt bound stated ([tolerances] tilt)")
     if inp.tilt == 0:
-        return cell(0.0, 0.0, "exact", "the rig", "no tilt stated")
-    scenes = inp.of_family("tilt")
+        return cell(0.0, 0.0, "exact", "the rig", "a tilt of 0 stated")
+    scenes = inp.at_load("tilt", p)
     res = store(scenes[0].name) if scenes else None
     if res is None:
-        return missing(scenes[0].name if scenes else "tilt")
+        return missing(scenes[0].name if scenes else "tilt", inp=inp)
     rows = [r for r in res["tilt"] if abs(r["b"] - p.b) < 1e-9]
     rows.sort(key=lambda r: not r.get("banded"))
     for r in rows:
@@ -311,6 +337,8 @@ def kink_cell(p: Point, inp: Inputs) -> dict:
 
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "geometry", "no kink")
+    if inp.fillet is None:
+        return cell(None, None, "bound", "the rig", "no rounding of the kink stated ([indenter] kink_rounding)")
     if inp.fillet == 0:
         return cell(0.0, 0.0, "exact", "the rig", "a sharp kink stated")
     if p.b < 2 * inp.fillet:

@@ -145,9 +145,12 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
     ``eq_error`` None: the equivalent profile's error not measured (left out of the bar, said by
     ``roughness_cell``)."""
     contact = R.contacts[b]
-    if not SP.resolved(SP.READINGS[i], contact):
-        share = SP.form_share(SP.READINGS[i], contact)
-        return {"effect": None, "unresolved": f"{share:.0%} of its variance lies beyond the grid of {contact.period:g} a"}
+    try:
+        if not SP.resolved(SP.READINGS[i], contact):
+            share = SP.form_share(SP.READINGS[i], contact)
+            return {"effect": None, "unresolved": f"{share:.0%} of its variance lies beyond the grid of {contact.period:g} a"}
+    except InputError as e:  # a reading the contact's scales cannot hold (its waviness below the band)
+        return {"effect": None, "unresolved": str(e)}
     levels = R.members(b, i)
     if levels is None or len(levels) < 2 or len(levels[-1]) < 2:
         return None  # one grid gives no grid error, one surface no spread
@@ -160,7 +163,10 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
     sd = float(fine.std(ddof=1)) if fine.size > 1 else 0.0
     grid, sampling = abs(fine.mean() - coarse.mean()), float(np.max(np.abs(half - fine)))
     m0 = levels[-1][0]
-    form = form_effect(p, m0["form_curvature"], smooth, R.setup) if not b else [0.0, 0.0]
+    try:
+        form = form_effect(p, m0["form_curvature"], smooth, R.setup) if not b else [0.0, 0.0]
+    except InputError as e:  # the form beyond the grid as large as the sphere's own curvature
+        return {"effect": None, "unresolved": str(e)}
     beyond = SP.form_share(SP.READINGS[i], contact) * abs(fine.mean() - smooth) if b else 0.0
     return {"effect": float(fine.mean() - smooth), "form": form, "slip_index": float(fine.mean()), "surfaces_sd": sd,
             "sem": sd / math.sqrt(fine.size), "grid": float(grid), "sampling": sampling, "equivalent": eq_error,
@@ -221,6 +227,9 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error, eq_missing: 
     per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)
            if R.contacts[b].runs(r)}
     c = range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
+    if admitted["face" if b else "sphere"] is None and any(v is None for v in per.values()):
+        c = {**c, "verdict": "undetermined", "incomplete": True,
+             "note": f"{c['note']}; a reading failed ({', '.join(k for k, v in per.items() if v is None)})"}
     if eq_error is None:
         c = {**c, "verdict": "undetermined", "incomplete": True, "note": f"{c['note']}; {eq_missing}"}
     return c

@@ -6,13 +6,15 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
 
     [rig]          name, title, resolution (of the slip index, default 0.01)
     [indenter]     profile (sphere | truncated | flat), R, b (the face radius of the rig's own indenter),
-                   kink_rounding (the widest fillet the kink may have: a bound, m)
+                   kink_rounding (the widest fillet the kink may have: a bound, m; not stated: its cell
+                   undetermined)
     [materials]    E1, nu1 (indenter), E2, nu2 (block)
     [bodies]       cap_height (the indenter above the contact), block_height (the contact above the
                    bedding), block_width
-    [loading]      F0, dF, ua (the piezo amplitude), mu1, mu2, cycles, steps
+    [loading]      F0, dF, ua (the piezo amplitude), mu1, mu2
     [apparatus]    kx and any field of ``mdr.apparatus.Apparatus`` (the plates' reading, the bedding)
-    [tolerances]   tilt (rad, a bound: "less than"), and [tolerances.roughness]: each surface's rms
+    [tolerances]   tilt (rad, a bound: "less than"; not stated: its cell undetermined), and
+                   [tolerances.roughness]: each surface's rms
                    height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
                    spherical part), face (its flat face), block (the spectrum's shape is left open:
                    the budget runs its readings, ``validation.spectra.READINGS``); hardness (Pa, of the
@@ -53,12 +55,12 @@ POINT_FIELDS = tuple(f.name for f in fields(Point))
 @dataclass(frozen=True)
 class Indenter:
     """The indenter: its ``profile`` family, the sphere's radius ``R`` (m), its face radius ``b`` (m; 0 for
-    the sphere) and the widest rounding of its kink, ``kink_rounding`` (m, a bound)."""
+    the sphere) and the widest rounding of its kink, ``kink_rounding`` (m, a bound; None: not stated)."""
 
     profile: str
     R: float
     b: float = 0.0
-    kink_rounding: float = 0.0
+    kink_rounding: float | None = None
 
 
 @dataclass(frozen=True)
@@ -96,10 +98,12 @@ class Rig:
     bodies: Bodies
     loading: dict
     apparatus: dict
-    tilt: float
+    tilt: float | None
     roughness: Roughness
     results: tuple
     resolution: float = RESOLUTION
+    #: the file it was read from (as given)
+    source: str = ""
 
     def points(self) -> tuple:
         """Every result's points, each once, in the order of the results."""
@@ -158,9 +162,9 @@ def _indenter(where, t) -> Indenter:
     b = t.number("b", lambda x: 0 <= x < R and (profile != "sphere" or x == 0) and (profile == "sphere" or x > 0),
                  "in (0, R) (m) for a truncated sphere or a flat punch, 0 for the sphere", 0.0)
     k = t.number("kink_rounding", lambda x: 0 <= x < max(b, 1e-300), "in [0, b) (m; the widest fillet of the kink, "
-                 "a bound)", 0.0)
+                 "a bound)", -1.0)
     t.done(("profile", "R", "b", "kink_rounding"))
-    return Indenter(profile, R, b, k)
+    return Indenter(profile, R, b, None if k < 0 else k)
 
 
 def _materials(where, t) -> Materials:
@@ -187,9 +191,7 @@ def _loading(where, t) -> dict:
     out = {"F0": F0, "dF": t.number("dF", lambda x: 0 <= x < F0, "in [0, F0) (N)", 0.0),
            "ua": t.number("ua", lambda x: x > 0, "> 0 (m; the piezo amplitude)"),
            "mu1": t.number("mu1", lambda x: x >= 0, ">= 0 (the contact's friction)"),
-           "mu2": t.number("mu2", lambda x: x >= 0, ">= 0 (the bedding's friction)"),
-           "cycles": t.integer("cycles", lambda x: x >= 3, "an integer >= 3", 4),
-           "steps": t.integer("steps", lambda x: x >= 8 and x % 4 == 0, "a multiple of 4, >= 8", 120)}
+           "mu2": t.number("mu2", lambda x: x >= 0, ">= 0 (the bedding's friction)")}
     t.done(tuple(out))
     return out
 
@@ -197,13 +199,13 @@ def _loading(where, t) -> dict:
 def _apparatus(where, t) -> dict:
     from mdr.apparatus import Apparatus
 
-    valid = tuple(f.name for f in fields(Apparatus) if f.name != "mu2")
+    valid = tuple(f.name for f in fields(Apparatus) if f.name not in ("mu2", "h"))
     if not isinstance(t, dict):
         raise InputError(f"{where}: [apparatus] must be a table")
     unknown = sorted(set(t) - set(valid))
     if unknown:
         raise InputError(f"{where}: [apparatus] unknown field {unknown[0]!r}; valid fields: {', '.join(valid)} "
-                         "(mu2 is the loading's)")
+                         "(mu2 is the loading's, h the bodies' block_height)")
     if "kx" not in t:
         raise InputError(f"{where}: [apparatus] kx is missing (> 0, N/m: the tangential stiffness of the normal axis)")
     try:
@@ -216,7 +218,8 @@ def _apparatus(where, t) -> dict:
 def _tolerances(where, t) -> tuple:
     t = _Table(where, t, "tolerances")
     tilt = t.number("tilt", lambda x: 0 <= x <= TILT_MAX, f"in [0, {TILT_MAX:.4g}] (rad: at most one degree; "
-                    "a bound in degrees is refused)", 0.0)
+                    "a bound in degrees is refused)", -1.0)
+    tilt = None if tilt < 0 else tilt
     r = _Table(where, t.left.pop("roughness", {}), "tolerances.roughness")
     rq = {k: r.number(k, lambda x: 0 <= x <= RQ_MAX, f"in [0, {RQ_MAX:g}] (m: an rms height; a value in "
                       "micrometres is refused)", 0.0) for k in ("sphere", "face", "block")}
@@ -308,4 +311,4 @@ def load_rig(path) -> Rig:
     return Rig(name=name, title=title, indenter=indenter, materials=_materials(where, data["materials"]),
                bodies=_bodies(where, data["bodies"]), loading=loading, apparatus=apparatus, tilt=tilt,
                roughness=roughness, results=_results(where, data["result"], indenter, loading, apparatus),
-               resolution=resolution)
+               resolution=resolution, source=str(path))

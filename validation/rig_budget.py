@@ -12,18 +12,18 @@ Each cell takes the cheapest model that measures it at the rig's points:
 - *traction direction* (``<name>-direction``, family ``points``, 3D): every point in the apparatus, the
   traction of free direction against along x on the same mesh;
 - *coupling* (``<name>-coupling``, family ``assumptions3d``; only for a dissimilar pair, Dundurs' beta
-  not 0): the 3D model with the normal-tangential coupling against without, on the same mesh, at the
-  rig's load under force control, per face radius of its points;
+  not 0): the 3D model with the normal-tangential coupling against without, on the same mesh, under
+  force control at each load (F0, dF, mu1) of the rig's points (one scene per load, ``-1``, ``-2``, ...
+  where there are several), per face radius of its points there;
 - *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
-  the face tilted by the bound against the aligned face on the same 3D mesh;
+  the face tilted by the bound against the aligned face on the same 3D mesh, per load as the coupling;
 - *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
   ``validation.budget_readings.plates_cell``), computed by the budget itself;
 - *roughness*: no scene: the budget runs the readings of the rig's rms values on its rough contacts
   (``rough_contacts``, ``validation.spectra``) and what the equivalent profile misses of the rough
   half-space in its apparatus (``validation.rig_roughness``), both cached under ``--out``/readings.
 
-The scenes run in the apparatus with the rig's k_x and mu2 and the apparatus's other fields at their
-defaults (``mdr.apparatus.Apparatus``): a cell is a difference of two models in the same apparatus. The
+The scenes in the apparatus run in the rig's (k_x, mu2 and its other fields: ``Scene.apparatus``). The
 store skips a scene whose fingerprint (its data and the code) is unchanged, so a field edited in the rig
 file reruns only the scenes it enters.
 """
@@ -40,8 +40,14 @@ DIRECTION_LEVELS_3D = (0.2, 0.14)
 
 
 def setup_of(rig) -> Setup:
-    """The rig's indenter radius, materials and apparatus fields other than k_x."""
-    return Setup(rig.indenter.R, rig.materials, tuple(sorted((k, v) for k, v in rig.apparatus.items() if k != "kx")))
+    """The rig's indenter radius, materials and apparatus fields other than k_x; the contact's height above
+    the bedding (``Apparatus.h``) is the block's height where it differs from the apparatus's default."""
+    from mdr.apparatus import Apparatus
+
+    app = {k: v for k, v in rig.apparatus.items() if k != "kx"}
+    if rig.bodies.block_height != Apparatus.h:
+        app["h"] = rig.bodies.block_height
+    return Setup(rig.indenter.R, rig.materials, tuple(sorted(app.items())))
 
 
 def _bodies(rig) -> tuple:
@@ -83,7 +89,8 @@ def scenes(rig) -> tuple:
                          family="validity", group="validity",
                          notes="The rig's cap and block over the largest contact radius of its points, against the "
                                "default 200 a bodies on the same mesh (h = a/40), force control at the rig's load."))
-    apparatus = dict(drive="apparatus", amplitude=rig.loading["ua"], kx=float(rig.apparatus["kx"]), family="points")
+    apparatus = dict(drive="apparatus", amplitude=rig.loading["ua"], kx=float(rig.apparatus["kx"]),
+                     apparatus=setup.apparatus, family="points")
     variants = tuple(asdict(p) for p in points)
     out.append(Scene(f"{name}-points", f"{rig.title or name}: the half-space at the points", **base, **apparatus,
                      cycles=4, steps=120, variants=variants, group="validity",
@@ -92,23 +99,29 @@ def scenes(rig) -> tuple:
                      **apparatus, cycles=3, steps=60, fe_model="3d", fe_levels=DIRECTION_LEVELS_3D,
                      variants=variants, group="3d",
                      notes="Every point of the rig in its apparatus: the 3D model, traction free against along x."))
-    bs = sorted({p.b for p in points})
-    if abs(rig.materials.dundurs_beta) >= 1e-12:
-        out.append(Scene(f"{name}-coupling", f"{rig.title or name}: the normal-tangential coupling",
-                         **{**base, "profile": "sphere", "b": 0.0},
-                         drive="force", amplitude=_force_amplitude(rig), fe_model="3d", fe_levels=FE_LEVELS_3D,
-                         cycles=4, steps=60, family="assumptions3d", group="3d",
-                         variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
-                         notes="The 3D model with the coupling of the rig's pair against without, on the same mesh, "
-                               "force control at the rig's load, per face radius of its points."))
-    faces = [b for b in bs if b > 0]
-    if rig.tilt > 0 and faces:
-        out.append(Scene(f"{name}-tilt", f"{rig.title or name}: the face tilted by its bound", **{**base, "b": faces[0]},
-                         drive="force", amplitude=_force_amplitude(rig), fe_model="3d", fe_levels=TILT_LEVELS_3D,
-                         cycles=4, steps=40, family="tilt", group="3d",
-                         variants=tuple({"profile": "truncated", "b": b, "tilts": (rig.tilt,)} for b in faces),
-                         notes="Each face of the rig's points tilted by the rig's bound against the aligned face "
-                               "on the same 3D mesh, force control at the rig's load."))
+    loads = sorted({(p.F0, p.dF, p.mu1) for p in points})
+    for k, (F0, dF, mu1) in enumerate(loads):
+        here = [p for p in points if (p.F0, p.dF, p.mu1) == (F0, dF, mu1)]
+        tag = "" if len(loads) == 1 else f"-{k + 1}"
+        at = {**base, "F0": F0, "dF": dF, "mu": mu1}
+        load = dict(drive="force", amplitude=0.5 * mu1 * (F0 - dF), fe_model="3d", group="3d")
+        where = f"force control at F0 = {F0:g} N, dF = {dF:g} N, mu1 = {mu1:g}"
+        bs = sorted({p.b for p in here})
+        if abs(rig.materials.dundurs_beta) >= 1e-12:
+            out.append(Scene(f"{name}-coupling{tag}", f"{rig.title or name}: the normal-tangential coupling",
+                             **{**at, "profile": "sphere", "b": 0.0}, **load, fe_levels=FE_LEVELS_3D, cycles=4,
+                             steps=60, family="assumptions3d",
+                             variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
+                             notes="The 3D model with the coupling of the rig's pair against without, on the same "
+                                   f"mesh, {where}, per face radius of its points there."))
+        faces = [b for b in bs if b > 0]
+        if rig.tilt and faces:
+            out.append(Scene(f"{name}-tilt{tag}", f"{rig.title or name}: the face tilted by its bound",
+                             **{**at, "b": faces[0]}, **load, fe_levels=TILT_LEVELS_3D, cycles=4, steps=40,
+                             family="tilt",
+                             variants=tuple({"profile": "truncated", "b": b, "tilts": (rig.tilt,)} for b in faces),
+                             notes="Each face of the rig's points tilted by the rig's bound against the aligned "
+                                   f"face on the same 3D mesh, {where}."))
     return tuple(out)
 
 
@@ -121,7 +134,8 @@ def inputs(rig) -> Inputs:
         raise InputError(f"rig {rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
                          "sphere (a flat punch is the truncated sphere of a large R)")
     return Inputs(rig.name, setup_of(rig), *_bodies(rig), rig.indenter.kink_rounding, rig.tilt, rig.results,
-                  rig.resolution, scenes(rig), rough_contacts(rig))
+                  rig.resolution, scenes(rig), rough_contacts(rig),
+                  rerun=f"python -m validation.budget --scene-file {rig.source or 'RIG.toml'}")
 
 
 #: the rough contacts' reference load: the largest F0 + dF of the rig's points over this (their curves

@@ -41,7 +41,8 @@ def check(task: dict) -> dict:
         rows = rough_in_apparatus(prof, contact.mat(), Grid(p.size, int(m["n"])), heights, task["curve"],
                                   [Point(**x) for x in task["points"]],
                                   hardness=contact.hardness if plastic else None,
-                                  preload=SP.PRELOAD * contact.F_ref if plastic else None)
+                                  preload=SP.PRELOAD * contact.F_ref if plastic else None,
+                                  app_kw=dict(task.get("apparatus") or ()))
     except (InputError, ConvergenceError) as e:
         return {"failed": str(e)}
     return {"rows": rows}
@@ -49,7 +50,8 @@ def check(task: dict) -> dict:
 
 #: the sources a surface's run in the apparatus depends on besides its curve's (its cache key holds them)
 CHECK_SOURCES = SP.MEMBER_SOURCES + ("mdr/*.py", "studies/paper.py", "validation/families/roughness.py",
-                                     "validation/rig_roughness.py", "validation/paper_points.py")
+                                     "validation/rig_roughness.py", "validation/paper_points.py",
+                                     "fem/axisym/normal_run.py")
 
 
 def _key(task: dict, version: str) -> str:
@@ -58,9 +60,10 @@ def _key(task: dict, version: str) -> str:
     return hashlib.sha256(json.dumps(["apparatus", task, version], sort_keys=True).encode()).hexdigest()[:20]
 
 
-def tasks(contacts, members: list, points: dict) -> list:
+def tasks(contacts, members: list, points: dict, apparatus: tuple = ()) -> list:
     """One task per surface of each reading's finer grid on each contact with a curve (``members``:
-    ``spectra.curves``'s), with the points of its contact (``points``: {b: [Point]})."""
+    ``spectra.curves``'s), with the points of its contact (``points``: {b: [Point]}) and the apparatus's
+    fields other than kx and mu2 (``apparatus``: (name, value) pairs)."""
     out = []
     for c in contacts:
         pts = [asdict(p) for p in points.get(c.b, ())]
@@ -69,11 +72,12 @@ def tasks(contacts, members: list, points: dict) -> list:
         ms = [m for m in members if m["contact"]["b"] == c.b and "curve" in m]
         for n in sorted({m["n"] for m in ms})[-1:]:
             out += [{"member": {k: m[k] for k in ("reading", "contact", "seed", "n")}, "curve": m["curve"],
-                     "points": pts} for m in ms if m["n"] == n]
+                     "points": pts, "apparatus": [list(x) for x in apparatus]} for m in ms if m["n"] == n]
     return out
 
 
-def equivalent_error(contacts, members: list, points: dict, folder, *, jobs: int = 1, log=None) -> dict:
+def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus: tuple = (), jobs: int = 1,
+                     log=None) -> dict:
     """The equivalent profile's error in the rig's apparatus (module docstring): {"error": the largest
     |mean| + standard error, or None where a surface failed or nothing ran, "rows": [{contact, reading,
     point, mean, sem, surfaces}]}; the surfaces' runs cached under ``folder`` (None: not cached)."""
@@ -81,7 +85,7 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, jobs: int
 
     log = log or (lambda msg: None)
     version, cache = SP.member_version(CHECK_SOURCES), None if folder is None else Path(folder)
-    todo = tasks(contacts, members, points)
+    todo = tasks(contacts, members, points, apparatus)
     done, run = {}, []
     for t in todo:
         f = None if cache is None else cache / f"{_key(t, version)}.json"

@@ -75,6 +75,10 @@ def scene_from_table(table: dict, where: str = "scene", base: Path | None = None
             v = _tuple(v)
         if k == "variants" and not all(isinstance(x, dict) for x in v):
             raise InputError(f"{where}: variants must be an array of tables, got {table[k]!r}")
+        if k == "apparatus":  # a table of the apparatus's fields -> (name, value) pairs, sorted
+            if not isinstance(v, dict):
+                raise InputError(f"{where}: apparatus must be a table of mdr.apparatus.Apparatus fields, got {v!r}")
+            v = tuple(sorted(v.items()))
         if k == "variants" and base is not None:
             v = tuple({**x, "maps": tuple(str((base / m).resolve()) if isinstance(m, str) else m for m in x["maps"])}
                       if isinstance(x.get("maps"), (list, tuple)) else x for x in v)

@@ -197,6 +197,9 @@ class Scene:
     amplitude: float = 0.06
     kx: float | None = None
     mu2: float = 0.1
+    #: the apparatus's fields other than kx and mu2, (name, value) pairs of ``mdr.apparatus.Apparatus``
+    #: (its plates, bedding, masses); () its defaults
+    apparatus: tuple = ()
     cycles: int = 3
     steps: int = 200
     E1: float = STEEL["E1"]
@@ -223,6 +226,8 @@ class Scene:
             raise InputError(f"drive must be one of {', '.join(DRIVES)}; got {self.drive!r}")
         if self.drive == "apparatus" and not (self.kx and self.kx > 0):
             raise InputError(f"scene {self.name}: kx must be > 0 for drive='apparatus', got {self.kx!r}")
+        if self.apparatus:
+            self._check_apparatus()
         if len(self.fe_levels) < 1 or len(self.mdr_cells) < 1:
             raise InputError(f"scene {self.name}: fe_levels and mdr_cells must not be empty")
         if self.family not in FAMILIES:
@@ -251,6 +256,32 @@ class Scene:
         # the family's module by its name (``FAMILIES``): the families stand on this module, not it on them
         family = importlib.import_module(f"{__package__}.families.{self.family}")
         return tuple(family.Variant.of(v, self) for v in self.variants)
+
+    def _check_apparatus(self):
+        """``apparatus`` as (name, value) pairs of ``mdr.apparatus.Apparatus`` other than kx and mu2, the
+        apparatus they make valid (its own checks)."""
+        from dataclasses import fields as fields_
+
+        from mdr.apparatus import Apparatus
+
+        valid = tuple(f.name for f in fields_(Apparatus) if f.name not in ("kx", "mu2"))
+        try:
+            kw = dict(self.apparatus)
+        except (TypeError, ValueError):
+            kw = None
+        if kw is None or set(kw) - set(valid):
+            raise InputError(f"scene {self.name}: apparatus must be (name, value) pairs of {', '.join(valid)}; got "
+                             f"{self.apparatus!r}")
+        try:
+            Apparatus(kx=self.kx or 1.0, mu2=self.mu2, **kw)
+        except (InputError, TypeError, ValueError) as e:
+            raise InputError(f"scene {self.name}: apparatus: {e}") from None
+
+    def apparatus_of(self):
+        """The scene's ``mdr.apparatus.Apparatus``: its kx, mu2 and ``apparatus`` fields."""
+        from mdr.apparatus import Apparatus
+
+        return Apparatus(kx=self.kx, mu2=self.mu2, **dict(self.apparatus))
 
     def _check_numbers(self):
         """Every number in its valid range, the error naming the scene, the field and the range (a scene
@@ -321,6 +352,10 @@ class Scene:
 
     def as_dict(self) -> dict:
         d = asdict(self)
+        if not self.apparatus:  # the default apparatus: the record (and its fingerprint) as before the field
+            d.pop("apparatus")
+        else:
+            d["apparatus"] = [list(x) for x in self.apparatus]
         d["fe_levels"] = list(self.fe_levels)
         d["mdr_cells"] = list(self.mdr_cells)
         d["variants"] = [dict(v) for v in self.variants]

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from mdr.apparatus import Apparatus, apparatus_result
+from mdr.apparatus import apparatus_result
 from mdr.drive import run_contact
 from mdr.law import MDRContact
 from mdr.loading import HARDLY_DISSIPATES, gross_slip_work
@@ -45,7 +45,7 @@ def run_scene_loading(s: Scene, law):
     the scene's ``Loading.normal_steps``, 20 for a 3D law where it states none)."""
     k = peak_index(s)
     if s.drive == "apparatus":
-        return apparatus_result(law, Apparatus(kx=s.kx, mu2=s.mu2), s.loading, state_at=k)
+        return apparatus_result(law, s.apparatus_of(), s.loading, state_at=k)
     from fem.solid3d.law import FEContact3D
 
     if isinstance(law, FEContact3D):  # the 3D law: its per-cycle 3D keys

@@ -233,12 +233,24 @@ def tasks(contacts) -> list:
     contact (``canonical``), only where the contact's grid resolves it (``resolved``)."""
     out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
            for c in contacts for i in range(len(READINGS))
-           if c.runs(READINGS[i]) and canonical(i, c) == i and resolved(READINGS[i], c) for s in SEEDS for n in c.grids]
+           if _runs(i, c) for s in SEEDS for n in c.grids]
     return sorted(out, key=lambda t: -t["n"])
 
 
+def _runs(i: int, c: Contact) -> bool:
+    """Whether the contact runs reading ``i``'s surfaces: stated, once (``canonical``), resolved; a reading
+    its scales cannot hold (a waviness end below the profilometer's band) is not run (its cell says so)."""
+    from common.errors import InputError
+
+    try:
+        return c.runs(READINGS[i]) and canonical(i, c) == i and resolved(READINGS[i], c)
+    except InputError:
+        return False
+
+
 #: the sources a member's curve depends on (its cache key holds their content)
-MEMBER_SOURCES = ("rough/*.py", "validation/spectra.py", "mdr/profiles.py", "mdr/materials.py", "common/*.py")
+MEMBER_SOURCES = ("rough/*.py", "validation/spectra.py", "mdr/profiles.py", "mdr/materials.py", "mdr/reference.py",
+                  "fem/axisym/normal_run.py", "common/*.py")
 
 
 def member_version(sources=MEMBER_SOURCES) -> str:

@@ -125,9 +125,9 @@ STEP_FACTOR = 2
 def _apparatus_runs(sv: Scene, law, loading) -> dict:
     """The point's apparatus run with the traction free and along x on the same 3D mesh (``law``; each
     run from rest)."""
-    from mdr.apparatus import Apparatus, apparatus_result
+    from mdr.apparatus import apparatus_result
 
-    app = Apparatus(kx=sv.kx, mu2=sv.mu2)
+    app = sv.apparatus_of()
     return {tr: apparatus_result(law.assuming(traction=tr), app, loading) for tr in ("free", "x")}
 
 

@@ -113,10 +113,11 @@ def in_apparatus(s: Scene, v: RoughVariant, grid, heights, curve, start=None) ->
                               hardness=v.hardness, preload=v.preload, start=start)
 
 
-def rough_in_apparatus(profile, mat, grid, heights, curve, points, *, hardness=None, preload=None, start=None) -> list:
+def rough_in_apparatus(profile, mat, grid, heights, curve, points, *, hardness=None, preload=None, start=None,
+                       app_kw=None) -> list:
     """The rough half-space (``rough.law.RoughContact`` on ``heights``, elastic or perfectly plastic at
-    ``hardness`` flattened at ``preload``) driven by the apparatus (``mdr.apparatus.run_apparatus``, its
-    k_x and mu2 and default plates) at each of ``points`` (``validation.paper_points.Point``), beside MDR
+    ``hardness`` flattened at ``preload``) driven by the apparatus (``mdr.apparatus.run_apparatus``, each
+    point's k_x and mu2 and the fields ``app_kw``, default the project's plates) at each of ``points`` (``validation.paper_points.Point``), beside MDR
     with the equivalent profile of this surface's ``curve`` and with the smooth ``profile`` (materials
     ``mat``), at the budget's resolution (``studies.paper.RES``: 3 cycles of 120 steps; the rough
     half-space's slip index moves by 1e-4 between 60 and 240 steps on the face of b = 0.6 mm): per point
@@ -147,12 +148,12 @@ def rough_in_apparatus(profile, mat, grid, heights, curve, points, *, hardness=N
                 laws[p.mu1] = next(iter(laws.values())).with_friction(p.mu1) if laws else \
                     RoughContact(profile, mat, p.mu1, grid, heights, hardness=hardness, preload=preload, start=start)
             loading = Loading.apparatus(p.F0, p.dF, 0.0, p.ua, cycles=RES["cycles"], steps=RES["steps"])
-            row["rough_halfspace"] = float(run_apparatus(laws[p.mu1], Apparatus(kx=p.kx, mu2=p.mu2),
+            row["rough_halfspace"] = float(run_apparatus(laws[p.mu1], Apparatus(kx=p.kx, mu2=p.mu2, **(app_kw or {})),
                                                          loading)["slip_index"])
         except (ConvergenceError, InputError) as e:  # that point of the seed is undetermined
             row["failed"] = str(e)
         top = max(curve["F"])
-        kw = dict(mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua, materials=mat)
+        kw = dict(mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua, materials=mat, app_kw=app_kw)
         row["mdr_equivalent"] = None if p.F0 + p.dF > top else float(np.ravel(_slip_index(eq, p.kx, **kw)[0])[0])
         row["mdr_smooth"] = float(np.ravel(_slip_index(profile, p.kx, **kw)[0])[0])
         done[key] = row
