@@ -433,3 +433,57 @@ def test_a_force_controlled_effect_is_read_at_the_points_own_load(tmp_path):
     assert c["source"] == at.name and c["effect"] == rows[at.name]["assumptions3d"][0]["verdicts"]["dissipation"]["effect"]
     assert C.tilt_cell(low, lambda name: None, inp)["source"].startswith(next(
         s.name for s in inp.of_family("tilt") if s.F0 == 0.5))
+
+
+def test_the_paper_rig_files_loops_are_the_papers():
+    """willert2023.toml's [[loop]] tables are the loops the paper's readings are checked by
+    (``validation.consistency.paper_loops``: the points, the amplitudes mu1 F0, gross slip in Figs. 6-7)."""
+    from validation.consistency import paper_loops
+    from validation.paper_points import same
+
+    mine, theirs = load_rig(PAPER_FILE).loops, paper_loops()
+    assert [lp.key for lp in mine] == [lp.key for lp in theirs]
+    for a, b in zip(mine, theirs):
+        assert same(a.amplitude, b.amplitude) and a.gross == b.gross
+        assert all(same(getattr(a.point, f.name), getattr(b.point, f.name)) for f in fields(a.point))
+
+
+def test_a_rigs_measured_loop_excludes_the_readings_that_cannot_make_it(tmp_path):
+    """A rig that states a loop measured on its sphere (the amplitude the smooth sphere gives at the
+    loop's mu1 in its apparatus, MDR): a reading whose surfaces are the smooth sphere passes it and is
+    admitted; one whose surfaces are 20 times more compliant cannot reach the amplitude at any mu1 and is
+    excluded, and the rig's roughness cell spans the admitted reading only. Without the loop both count."""
+    import numpy as np
+
+    from mdr import reference as ref
+    from mdr.profiles import TruncatedSphere
+    from validation import budget_readings as BR
+    from validation import consistency as K
+    from validation import spectra as SP
+
+    rig0 = load_rig(MINE)
+    inp0 = RB.inputs(rig0)
+    sphere = inp0.contacts[0]
+    p = rig0.results[1].points[1]
+    target = K.loop(TruncatedSphere(rig0.indenter.R, 0.0), K.Loop("x", p, 0.0), p.mu1, inp0.setup.app_kw,
+                    rig0.materials)["amplitude"]
+    text = f"[[loop]]\nkey = \"bench\"\namplitude = {target!r}\nb = 0.0\nua = {p.ua!r}\n\n[[result]]"
+    rig = load_rig(_edited(tmp_path, "[[result]]", text))
+    inp = RB.inputs(rig)
+    assert rig.loops[0].point == p and inp.contacts == inp0.contacts  # the loop's contact is a point's
+
+    def members(i, scale):
+        F = sphere.F_ref * np.geomspace(1e-2, 1.5, 24)
+        d = [float(ref.hertz(f, sphere.R, sphere.mat().E_star / scale)["d"]) for f in F]
+        return [{"reading": i, "contact": asdict_(sphere), "seed": s, "n": n, "rms_window": 1e-6,
+                 "form_curvature": 0.0, "curve": {"d": d, "F": F.tolist()}} for s in (0, 1) for n in sphere.grids]
+
+    R = BR.Readings(members(0, 1.0) + members(1, 20.0), inp.contacts, inp.setup)
+    cons = BR.consistency(R, loops=rig.loops)
+    rows = {r["reading"]: r for r in cons["sphere"]}
+    assert rows[SP.READINGS[0].name]["admitted"] and not rows[SP.READINGS[1].name]["admitted"]
+    admitted = BR.admitted_names(cons)
+    c = BR.rig_roughness_cell(p, R, 0.001, admitted)
+    assert c["admitted"] == [SP.READINGS[0].name] and SP.READINGS[1].name in c["excluded"]
+    both = BR.rig_roughness_cell(p, R, 0.001)
+    assert set(both["admitted"]) == {SP.READINGS[0].name, SP.READINGS[1].name}

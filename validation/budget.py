@@ -90,6 +90,7 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
     readings, and the sticking transition. Every cell graded against the rig's resolution. Returns
     {"rig", "rows": [{key, title, slip_index, cells: {column: cell}}], "stale": [scene names stored by
     other sources], "resolution", and for the paper "consistency", "plates_consistency", "transition"}."""
+    from . import budget_plates as BP
     from . import budget_readings as BR
 
     inp = inp or paper_inputs()
@@ -119,15 +120,21 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
         R = BR.Readings(members, inp.contacts)
         result["consistency"] = BR.consistency(R, log, jobs)
         admitted = BR.admitted_names(result["consistency"])
-        result["plates_consistency"] = BR.plates_consistency(log)
+        result["plates_consistency"] = BP.consistency(log)
         plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}
         eq_error = BR.equivalent_error(store)
     elif mdr_cells:
         plates_stated = "plate_model" in inp.setup.app_kw
-        R, eq_error = None, None
+        R, eq_error, admitted, plates_ok = None, None, None, None
         if inp.contacts:
             R, result["equivalent"] = _rig_readings(inp, out, jobs, log)
             eq_error = result["equivalent"]["error"]
+        if inp.loops and R is not None:
+            result["consistency"] = BR.consistency(R, log, jobs, inp.loops)
+            admitted = BR.admitted_names(result["consistency"])
+        if inp.loops and not plates_stated:
+            result["plates_consistency"] = BP.consistency(log, inp.loops, inp.setup)
+            plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}
     rows = []
     for r in inp.results:
         log(f"budget: {r.title}")
@@ -140,11 +147,12 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
             per["kink"] = [kink_cell(p, inp) for p in r.points]
             if inp.paper:
                 per["roughness"] = [BR.roughness_cell(p, R, admitted, eq_error) for p in r.points]
-                per["plates"] = [BR.plates_cell(p, plates_ok) for p in r.points]
+                per["plates"] = [BP.cell(p, plates_ok) for p in r.points]
             else:
-                per["roughness"] = [BR.rig_roughness_cell(p, R, eq_error) for p in r.points]
+                per["roughness"] = [BR.rig_roughness_cell(p, R, eq_error, admitted) for p in r.points]
                 per["plates"] = [cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated") if plates_stated
-                                 else BR.plates_cell(p, None, inp.setup, "plates, none stated") for p in r.points]
+                                 else BP.cell(p, plates_ok, inp.setup, "plates" if plates_ok is not None else
+                                              "plates, none stated") for p in r.points]
         cells = {col: combine([grade(c, inp.resolution) for c in cs], SOURCES.get(col, TITLES[col]))
                  for col, cs in per.items()}
         rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],

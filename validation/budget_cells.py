@@ -46,6 +46,9 @@ class Inputs:
     paper: bool = False
     #: the command that runs a scene of ``scenes`` ({scene}: its name)
     rerun: str = "python -m validation.compare --scenes {scene}"
+    #: a rig's measured loops (``validation.consistency.Loop``), the check of its readings (the paper's
+    #: are ``consistency.paper_loops``)
+    loops: tuple = ()
 
     def of_family(self, family: str, fe_model: str | None = None) -> tuple:
         return tuple(s for s in self.scenes if s.family == family and fe_model in (None, s.fe_model))

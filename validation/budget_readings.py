@@ -32,9 +32,7 @@ leaves more than ``spectra.FORM_SHARE_MAX`` of its variance out is not resolved,
 admitted reading unresolved is undetermined; below that share, the error holds share x |effect| (the
 effect taken as proportional to the variance).
 
-The brass plates (``plates_cell``): the slip index over the readings of ``studies.plates.PLATE_READINGS``
-that the paper's loops admit (``plates_consistency``, the smooth indenters), against the project's
-reference reading, itself one of them (so the range holds 0).
+The brass plates: ``validation.budget_plates``.
 """
 from __future__ import annotations
 
@@ -235,50 +233,67 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error, eq_missing: 
     return c
 
 
-def rig_roughness_cell(p: Point, R: Readings | None, eq_error: float | None) -> dict:
-    """A rig of one's own: every reading of its stated rms values on its contacts (``R``; None where it
-    states none), none excluded (no measured loops), with the equivalent profile's error measured in the
-    rig's apparatus (``validation.rig_roughness``; None where a surface failed there: the cell shows its
-    range and is undetermined)."""
+def rig_roughness_cell(p: Point, R: Readings | None, eq_error: float | None, admitted: dict | None = None) -> dict:
+    """A rig of one's own: the readings of its stated rms values on its contacts (``R``; None where it
+    states none) that its measured loops admit (``admitted``: {kind: names}, from ``consistency``; a kind
+    without loops, or None: every reading), with the equivalent profile's error measured in the rig's
+    apparatus (``validation.rig_roughness``; None where a surface failed there: the cell shows its range
+    and is undetermined)."""
     if R is None:
         return {"kind": "range", "effect": None, "error": None, "range": None, "verdict": "undetermined",
                 "source": "roughness readings", "note": "the rig states no rms roughness"}
-    c = roughness_cell(p, R, {"sphere": None, "face": None}, eq_error,
+    c = roughness_cell(p, R, {"sphere": None, "face": None, **(admitted or {})}, eq_error,
                        "the equivalent profile's error in the rig's apparatus not measured (a surface failed)")
     if R.contacts[rough_row_b(p, R.setup)].hardness is None:
         c = {**c, "note": f"{c['note']}; elastic readings only (no hardness stated)"}
     return c
 
 
-def surface_checks(m: dict, kind: str) -> dict:
-    """The paper's loops of a contact ``kind`` ("sphere": Figs. 4-5, "face": Figs. 6-7) against one
-    surface (a member's equivalent profile): {fig: check}, or {"failed": why}."""
-    from .consistency import FIGURES, check
+def surface_checks(m: dict, loops: tuple, app_kw=None) -> dict:
+    """The measured ``loops`` of a contact (``validation.consistency.Loop``) against one surface (a
+    member's equivalent profile, on its contact's materials; ``app_kw``: the apparatus's fields): {loop:
+    check}, or {"failed": why}."""
+    from .consistency import check
 
     try:
         prof = Readings.profile(m)
-        return {f: check(prof, f) for f, k in FIGURES.items() if k == kind}
+        return {lp.key: check(prof, lp, app_kw, prof.materials) for lp in loops}
     except (InputError, ConvergenceError) as e:
         return {"failed": str(e)}
 
 
-def consistency(R: Readings, log=None, jobs: int = 1) -> dict:
-    """The paper's loops against every reading (``surface_checks``) on each surface of the finer grid: the
-    sphere's readings by Figs. 4-5, the face of b = 0.6 mm's by Figs. 6-7; each surface once (a reading
-    that coincides with another on a contact shares its surfaces), in ``jobs`` processes. Returns
-    {"sphere" | "face": [{reading, surfaces: [{fig: check}], consistent_surfaces, admitted}]}; a reading is
-    admitted where at least one of its surfaces passes every check of its contact (the paper's specimen
-    may be that surface), excluded where none does."""
-    from mdr.paper import B_TABLE1
+def loop_contacts(loops: tuple, setup: Setup = PAPER) -> dict:
+    """The measured loops by the kind of their rough contact ("sphere", "face": ``rough_row_b``): {kind:
+    (b, loops)}; InputError where a kind's loops lie on two face radii (one face contact checks a reading)."""
+    out = {}
+    for lp in loops:
+        b = rough_row_b(lp.point, setup)
+        kind = "face" if b else "sphere"
+        if kind in out and out[kind][0] != b:
+            raise InputError(f"the measured loops lie on faces of two radii ({out[kind][0]:g} and {b:g} m): "
+                             "give the loops of one face")
+        out[kind] = (b, out.get(kind, (b, ()))[1] + (lp,))
+    return out
+
+
+def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None) -> dict:
+    """The measured loops (default the paper's, ``consistency.paper_loops``) against every reading
+    (``surface_checks``) on each surface of the finer grid of each loop's contact (``loop_contacts``: the
+    paper's sphere by Figs. 4-5, its face of b = 0.6 mm by Figs. 6-7); each surface once (a reading that
+    coincides with another on a contact shares its surfaces), in ``jobs`` processes. Returns {"sphere" |
+    "face": [{reading, surfaces: [{loop: check}], consistent_surfaces, admitted}]}; a reading is admitted
+    where at least one of its surfaces passes every check of its contact (the specimen may be that
+    surface), excluded where none does."""
+    from .consistency import paper_loops
 
     log = log or (lambda msg: None)
-    contacts = (("sphere", 0.0), ("face", B_TABLE1))
-    levels = {(kind, i): R.members(b, i) for kind, b in contacts for i in range(len(SP.READINGS))}
+    contacts = loop_contacts(paper_loops() if loops is None else loops, R.setup)
+    levels = {(kind, i): R.members(b, i) for kind, (b, _) in contacts.items() for i in range(len(SP.READINGS))}
     todo = {}
     for (kind, _), lv in levels.items():
         for m in (lv[-1] if lv else []):
-            todo.setdefault((kind, id(m)), (m, kind))
-    log(f"budget: the paper's loops against {len(todo)} surfaces, {jobs} process(es)")
+            todo.setdefault((kind, id(m)), (m, contacts[kind][1], R.setup.app_kw or None))
+    log(f"budget: the measured loops against {len(todo)} surfaces, {jobs} process(es)")
     keys = list(todo)
     if jobs > 1 and len(keys) > 1:
         from concurrent.futures import ProcessPoolExecutor
@@ -288,18 +303,21 @@ def consistency(R: Readings, log=None, jobs: int = 1) -> dict:
     else:
         done = {k: surface_checks(*todo[k]) for k in keys}
     out = {}
-    for kind, b in contacts:
+    for kind, (b, _) in contacts.items():
         rows = []
         for i, r in enumerate(SP.READINGS):
             lv = levels[(kind, i)]
             surfaces = [done[(kind, id(m))] for m in (lv[-1] if lv else [])]
             good = sum(1 for x in surfaces if "failed" not in x and all(c["consistent"] for c in x.values()))
             m0 = lv[-1][0] if lv else {}
-            j = SP.canonical(i, SP.contact_of(b))
+            try:
+                j = SP.canonical(i, R.contacts[b])
+            except InputError:
+                j = i
             rows.append({"reading": r.name, "same_as": None if j == i else SP.READINGS[j].name,
                          "surfaces": surfaces, "consistent_surfaces": good,
                          "admitted": good > 0, "window": {"rms": m0.get("rms_window"),
-                                                          "form": m0.get("form_curvature", 0.0) * SP.R_INDENTER}})
+                                                          "form": m0.get("form_curvature", 0.0) * R.contacts[b].R}})
         out[kind] = rows
     return out
 
@@ -365,82 +383,24 @@ def transitions(R: Readings, admitted: dict) -> dict:
     return {"rows": rows, "range": rng}
 
 
-# ------------------------------------------------------------- the brass plates
-#: the readings of the brass plates the budget spans: all of ``studies.plates.PLATE_READINGS``; the paper's
-#: loops then admit or exclude each (``plates_consistency``)
-REFERENCE_READING = ("axial", 5e-3)
-
-
-def plate_readings() -> list:
-    """The readings of the brass plates, the project's reference first (each once)."""
-    from studies.plates import PLATE_READINGS
-
-    return [REFERENCE_READING] + [r for r in PLATE_READINGS if tuple(r) != REFERENCE_READING]
-
-
-def reading_name(r) -> str:
-    m, rb = r
-    return f"{m}{f' R_bed {rb * 1e3:g} mm' if m in ('tilt', 'parallel') else ''}"
-
-
-def plates_consistency(log=None) -> list:
-    """The paper's loops (``validation.consistency.check``, Figs. 4-7, the smooth indenters) against every
-    reading of the brass plates: [{reading, checks: {fig: check}, admitted}]."""
-    from mdr.profiles import TruncatedSphere
-
-    from .consistency import FIGURES, check
-    from .paper_points import loop_point
-
-    (log or (lambda m: None))("budget: the paper's loops against the readings of the brass plates")
-    rows = []
-    for m, rb in plate_readings():
-        kw = {"plate_model": m, "R_bed": rb}
-        checks = {f: check(TruncatedSphere(R_INDENTER, loop_point(f).b), f, kw) for f in FIGURES}
-        rows.append({"reading": reading_name((m, rb)), "checks": checks,
-                     "admitted": all(c["consistent"] for c in checks.values())})
-    return rows
-
-
-def plates_cell(p: Point, admitted: set | None, setup: Setup = PAPER, what: str = "plates") -> dict:
-    """The slip index over the readings of the brass plates the paper's loops admit (None, a rig of one's
-    own that states none: every reading) against this project's reference reading (axial, R_bed 5 mm;
-    itself a reading, so the range holds 0): MDR in the setup's apparatus, all readings in one batch;
-    each reading's error the change from 100 to 400 spring cells."""
-    from mdr.profiles import TruncatedSphere
-    from studies.paper import RES, _slip_index
-
-    readings = plate_readings()
-    k = len(readings)
-    kw = {**setup.app_kw, "plate_model": np.array([m for m, _ in readings]),
-          "R_bed": np.array([rb for _, rb in readings])}
-
-    def each(n):
-        prof = TruncatedSphere(np.full(k, setup.R), np.full(k, p.b))
-        si, _ = _slip_index(prof, np.full(k, p.kx), mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=kw, materials=setup.materials)
-        return np.asarray(si, dtype=float)
-
-    coarse, fine = each(100), each(400)
-    per = {reading_name(r): {"effect": float(fine[j] - fine[0]), "slip_index": float(fine[j]),
-                             "error": float(abs(fine[j] - fine[0] - coarse[j] + coarse[0])), "surfaces_sd": 0.0,
-                             "sem": 0.0, "form_curvature": 0.0} for j, r in enumerate(readings)}
-    return range_cell(per, admitted, "MDR apparatus", what)
-
-
 def readings_markdown(b: dict) -> list:
     """The budget's tables of the readings: the paper's loops against each reading of the roughness and of
     the plates (admitted or excluded, and why), and the sticking transition per reading."""
     from .text import num
 
-    lines = []
+    lines, paper = [], b.get("paper", True)
+    intro = ("The paper's loops as a check of each reading of its roughness (validation.consistency: mu1 fitted to "
+             "the measured force amplitude mu1 F0 as the paper fitted it, within 0.02 F0; Figs. 6-7 in gross slip "
+             "at the fitted mu1)" if paper else
+             "The rig's measured loops as a check of each reading of its roughness (validation.consistency: mu1 "
+             "fitted to each loop's measured force amplitude, within 0.02 F0; gross slip at the fitted mu1 where "
+             "it was seen)")
     for kind, rows in (b.get("consistency") or {}).items():
         figs = sorted({f for r in rows for s in r["surfaces"] for f in s if f != "failed"})
         if not lines:
-            lines += ["", "The paper's loops as a check of each reading of its roughness (validation.consistency: "
-                          "mu1 fitted to the measured force amplitude mu1 F0 as the paper fitted it, within 0.02 F0; "
-                          "Figs. 6-7 in gross slip at the fitted mu1): per reading the surfaces that pass every "
-                          "check, the largest reachable amplitude over the surfaces and the fitted mu1 (N; '-' "
-                          "where unreachable). A reading is admitted where one surface passes.", "",
+            lines += ["", intro + ": per reading the surfaces that pass every check, the largest reachable "
+                          "amplitude over the surfaces and the fitted mu1 (N; '-' where unreachable). A reading "
+                          "is admitted where one surface passes.", "",
                       "| contact | reading | rms in the window (um) | form curvature x R | "
                       + " | ".join(f"{f}: reachable, mu1" for f in figs) + " | surfaces consistent | admitted |",
                       "|---|---|---|---|" + "---|" * len(figs) + "---|---|"]
@@ -458,7 +418,8 @@ def readings_markdown(b: dict) -> list:
                          f"{'yes' if r['admitted'] else '**no**'} |")
     pc = b.get("plates_consistency") or []
     if pc:
-        lines += ["", "The same check of the brass plates' readings (the smooth indenters, Figs. 4-7): "
+        lines += ["", "The same check of the brass plates' readings (the smooth indenters, "
+                      f"{'Figs. 4-7' if paper else 'the measured loops'}): "
                       + "; ".join(f"{r['reading']} {'admitted' if r['admitted'] else 'excluded (' + '; '.join(c['why'] for c in r['checks'].values() if not c['consistent']) + ')'}"
                                   for r in pc) + "."]
     t = b.get("transition")

@@ -20,13 +20,17 @@ the gross slip (sliding) regime. A model reading is checked as the paper fitted 
   friction limit over 25 % and 46 % of their cycles (A = 0.43, 0.69) under the varying normal force;
   the narrow loop the paper calls partial slip is not a stick zone that persists.
 
-A reading is consistent on a figure where both hold.
+A reading is consistent on a figure where both hold. A rig of one's own states its measured loops the same
+way (``Loop``: the point, the measured force amplitude, whether gross slip was seen; ``validation.rig``'s
+``[[loop]]`` tables); the paper's are ``paper_loops``.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-from .paper_points import loop_point
+from .paper_points import Point, loop_point
 
 #: the loop experiments, the contact each checks and the regime the paper reports
 FIGURES = {"fig4": "sphere", "fig5": "sphere", "fig6": "face", "fig7": "face"}
@@ -40,17 +44,42 @@ MU_SWEEP = tuple(np.geomspace(0.03, 3.0, 13))
 RES = dict(cycles=3, steps=120, n=100)
 
 
-def loop(profile, fig: str, mu: float, app_kw=None) -> dict:
-    """The last cycle of the figure's loop, MDR in the apparatus at friction ``mu``: its force amplitude
-    Q* (N), relative displacement amplitude delta* (m), dissipation W (J), the fraction of its steps on
-    the friction limit, Fouvry's ratio and the slip index."""
+@dataclass(frozen=True)
+class Loop:
+    """A measured loop: its ``key``, the apparatus ``point`` it ran at (``validation.paper_points.Point``),
+    its measured tangential force ``amplitude`` Q* (N) and whether gross slip was reported (``gross``: then
+    the check asks for it)."""
+
+    key: str
+    point: Point
+    amplitude: float
+    gross: bool = False
+
+
+def paper_loop(fig: str) -> Loop:
+    """The paper's loop ``fig`` (``FIGURES``): its point, the amplitude mu1 F0 its mu1 was fitted to, gross
+    slip where it reports it (``GROSS``, read at the call)."""
+    p = loop_point(fig)
+    return Loop(fig, p, p.mu1 * p.F0, fig in GROSS)
+
+
+def paper_loops() -> tuple:
+    return tuple(paper_loop(f) for f in FIGURES)
+
+
+def loop(profile, lp, mu: float, app_kw=None, materials=None) -> dict:
+    """The last cycle of the loop ``lp`` (a ``Loop``, or a figure of the paper), MDR in the apparatus
+    (``app_kw``: its fields besides kx, mu2) at friction ``mu`` on ``materials`` (default the paper's
+    steel): its force amplitude Q* (N), relative displacement amplitude delta* (m), dissipation W (J),
+    the fraction of its steps on the friction limit, Fouvry's ratio and the slip index."""
     from mdr.apparatus import Apparatus, run_apparatus
     from mdr.law import MDRContact
     from mdr.loading import Loading
     from mdr.materials import Materials
 
-    p = loop_point(fig)
-    law = MDRContact(profile, Materials(), float(mu), F_max=p.F0 + p.dF, F_min=p.F0 - p.dF, n=RES["n"])
+    p = (paper_loop(lp) if isinstance(lp, str) else lp).point
+    law = MDRContact(profile, materials or Materials(), float(mu), F_max=p.F0 + p.dF,
+                     F_min=p.F0 - p.dF if p.dF < p.F0 else None, n=RES["n"])
     out = run_apparatus(law, Apparatus(kx=p.kx, mu2=p.mu2, **(app_kw or {})),
                         Loading.apparatus(p.F0, p.dF, 0.0, p.ua, cycles=RES["cycles"], steps=RES["steps"]))
     fx, du = np.asarray(out["Fx"])[..., -RES["steps"]:], np.asarray(out["du"])[..., -RES["steps"]:]
@@ -61,16 +90,17 @@ def loop(profile, fig: str, mu: float, app_kw=None) -> dict:
             "ratio": w / (4 * d * q) if d > 0 and q > 0 else 0.0, "slip_index": float(out["slip_index"])}
 
 
-def check(profile, fig: str, app_kw=None) -> dict:
-    """The figure's check of one model reading (``profile``, and ``app_kw``: the apparatus's reading):
-    target and reachable amplitude (N), the fitted mu1 (None where unreachable), the amplitude at the
-    paper's mu1, the regime at the fitted mu1 (Fouvry's ratio) and ``consistent``."""
-    p = loop_point(fig)
-    target = p.mu1 * p.F0
-    amps = np.array([loop(profile, fig, mu, app_kw)["amplitude"] for mu in MU_SWEEP])
+def check(profile, lp, app_kw=None, materials=None) -> dict:
+    """The loop's check of one model reading (``profile``; ``lp`` a ``Loop`` or a figure of the paper;
+    ``app_kw``: the apparatus's reading; ``materials``: the pair's): target and reachable amplitude (N),
+    the fitted mu1 (None where unreachable), the amplitude at the loop's mu1, the regime at the fitted mu1
+    (Fouvry's ratio) and ``consistent``."""
+    lp = paper_loop(lp) if isinstance(lp, str) else lp
+    p, target = lp.point, lp.amplitude
+    amps = np.array([loop(profile, lp, mu, app_kw, materials)["amplitude"] for mu in MU_SWEEP])
     reach = float(amps.max())
-    out = {"figure": fig, "target": target, "reachable": reach, "mu_fit": None, "ratio": None, "regime": None,
-           "amplitude_at_paper_mu": loop(profile, fig, p.mu1, app_kw)["amplitude"]}
+    out = {"figure": lp.key, "target": target, "reachable": reach, "mu_fit": None, "ratio": None, "regime": None,
+           "amplitude_at_paper_mu": loop(profile, lp, p.mu1, app_kw, materials)["amplitude"]}
     if reach < target - AMPLITUDE_TOLERANCE * p.F0:
         return {**out, "consistent": False, "why": f"amplitude {reach:.3g} N at most, {target:.3g} N measured"}
     k = int(np.argmax(amps >= min(target, reach)))
@@ -80,8 +110,8 @@ def check(profile, fig: str, app_kw=None) -> dict:
         lo, hi = amps[k - 1], amps[k]
         t = (min(target, reach) - lo) / (hi - lo) if hi > lo else 1.0
         mu = float(np.exp(np.log(MU_SWEEP[k - 1]) + t * (np.log(MU_SWEEP[k]) - np.log(MU_SWEEP[k - 1]))))
-    at = loop(profile, fig, mu, app_kw)
+    at = loop(profile, lp, mu, app_kw, materials)
     regime = "gross slip" if at["on_limit"] > 0 else "partial slip"
-    ok = fig not in GROSS or regime == "gross slip"
+    ok = not lp.gross or regime == "gross slip"
     return {**out, "mu_fit": mu, "ratio": at["ratio"], "on_limit": at["on_limit"], "regime": regime,
-            "consistent": ok, "why": "" if ok else f"{regime} at the fitted mu1 = {mu:.2g}, the paper reports gross slip"}
+            "consistent": ok, "why": "" if ok else f"{regime} at the fitted mu1 = {mu:.2g}, gross slip measured"}

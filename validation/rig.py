@@ -19,6 +19,10 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
                    spherical part), face (its flat face), block (the spectrum's shape is left open:
                    the budget runs its readings, ``validation.spectra.READINGS``); hardness (Pa, of the
                    softer body: the plastic readings run where it is stated)
+    [[loop]]       a measured loop, the check of the readings of what the rig leaves open (its roughness
+                   spectrum, its plates; ``validation.consistency``): key, amplitude (the measured tangential
+                   force amplitude, N), gross (true where gross slip was seen; default false) and the
+                   point's fields it ran at (b, F0, dF, ua, mu1, mu2, kx: a change of the rig's own)
     [[result]]     key, title, and points = [{b, F0, dF, ua, mu1, mu2, kx}, ...] (each a change of the
                    loading, apparatus or indenter's b) or sweep = {field = [values], ...} (every
                    combination)
@@ -104,6 +108,8 @@ class Rig:
     resolution: float = RESOLUTION
     #: the file it was read from (as given)
     source: str = ""
+    #: the measured loops (``validation.consistency.Loop``)
+    loops: tuple = ()
 
     def points(self) -> tuple:
         """Every result's points, each once, in the order of the results."""
@@ -279,6 +285,30 @@ def _results(where, tables, indenter, loading, apparatus) -> tuple:
     return tuple(out)
 
 
+def _loops(where, tables, indenter, loading, apparatus) -> tuple:
+    """The ``[[loop]]`` tables as ``validation.consistency.Loop`` s (keys unique)."""
+    from .consistency import Loop
+
+    if not isinstance(tables, list):
+        raise InputError(f"{where}: [[loop]] must be an array of tables")
+    out = []
+    for i, t in enumerate(tables, 1):
+        w = f"{where}: loop {i}"
+        t = _Table(w, t, "loop")
+        key = t.text("key")
+        amplitude = t.number("amplitude", lambda x: x > 0, "> 0 (N: the measured tangential force amplitude)")
+        gross = t.left.pop("gross", False)
+        if not isinstance(gross, bool):
+            raise InputError(f"{w}: [loop] gross must be true or false, got {gross!r}")
+        given = {k: t.left.pop(k) for k in list(t.left) if k in POINT_FIELDS}
+        t.done(("key", "amplitude", "gross") + POINT_FIELDS)
+        p = _point(w, indenter, loading, apparatus, given)
+        out.append(Loop(key, p, amplitude, gross))
+    if len({lp.key for lp in out}) != len(out):
+        raise InputError(f"{where}: two loops share a key")
+    return tuple(out)
+
+
 def load_rig(path) -> Rig:
     """The rig of a TOML file, every field checked (module docstring); ``InputError`` in one line naming the
     file, the table and the field with its range, on a missing or unreadable file, bad TOML, a missing or
@@ -291,11 +321,11 @@ def load_rig(path) -> Rig:
     except tomllib.TOMLDecodeError as e:
         raise InputError(f"rig file {str(path)!r} is not valid TOML: {e}") from None
     where = path.name
-    tables = ("rig", "indenter", "materials", "bodies", "loading", "apparatus", "tolerances", "result")
+    tables = ("rig", "indenter", "materials", "bodies", "loading", "apparatus", "tolerances", "loop", "result")
     unknown = sorted(set(data) - set(tables))
     if unknown:
         raise InputError(f"{where}: unknown table [{unknown[0]}]; valid tables: {', '.join(tables)}")
-    missing = [k for k in tables if k not in data and k != "tolerances"]
+    missing = [k for k in tables if k not in data and k not in ("tolerances", "loop")]
     if missing:
         raise InputError(f"{where}: missing table [{missing[0]}]")
     head = _Table(where, data["rig"], "rig")
@@ -311,4 +341,5 @@ def load_rig(path) -> Rig:
     return Rig(name=name, title=title, indenter=indenter, materials=_materials(where, data["materials"]),
                bodies=_bodies(where, data["bodies"]), loading=loading, apparatus=apparatus, tilt=tilt,
                roughness=roughness, results=_results(where, data["result"], indenter, loading, apparatus),
-               resolution=resolution, source=str(path))
+               resolution=resolution, source=str(path),
+               loops=_loops(where, data.get("loop", []), indenter, loading, apparatus))

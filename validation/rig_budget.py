@@ -18,7 +18,7 @@ Each cell takes the cheapest model that measures it at the rig's points:
 - *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
   the face tilted by the bound against the aligned face on the same 3D mesh, per load as the coupling;
 - *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
-  ``validation.budget_readings.plates_cell``), computed by the budget itself;
+  ``validation.budget_plates.cell``), computed by the budget itself;
 - *roughness*: no scene: the budget runs the readings of the rig's rms values on its rough contacts
   (``rough_contacts``, ``validation.spectra``) and what the equivalent profile misses of the rough
   half-space in its apparatus (``validation.rig_roughness``), both cached under ``--out``/readings.
@@ -135,7 +135,7 @@ def inputs(rig) -> Inputs:
                          "sphere (a flat punch is the truncated sphere of a large R)")
     return Inputs(rig.name, setup_of(rig), *_bodies(rig), rig.indenter.kink_rounding, rig.tilt, rig.results,
                   rig.resolution, scenes(rig), rough_contacts(rig),
-                  rerun=f"python -m validation.budget --scene-file {rig.source or 'RIG.toml'}")
+                  rerun=f"python -m validation.budget --scene-file {rig.source or 'RIG.toml'}", loops=rig.loops)
 
 
 #: the rough contacts' reference load: the largest F0 + dF of the rig's points over this (their curves
@@ -144,8 +144,8 @@ F_REF_MARGIN = 1.4
 
 
 def rough_contacts(rig) -> tuple:
-    """The rough contacts of the rig's points (``validation.spectra``: the sphere's, and each face's that
-    reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
+    """The rough contacts of the rig's points and measured loops (``validation.spectra``: the sphere's, and
+    each face's that reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
     heights and hardness (none stated: elastic readings only), at the reference load F_ref = the largest
     F0 + dF / ``F_REF_MARGIN``; () where it states no rms."""
     from . import spectra as SP
@@ -154,7 +154,8 @@ def rough_contacts(rig) -> tuple:
     r = rig.roughness
     if not (r.sphere or r.face or r.block):
         return ()
-    setup, points = setup_of(rig), rig.points()
+    setup = setup_of(rig)
+    points = rig.points() + tuple(lp.point for lp in rig.loops)
     m = rig.materials
     kw = dict(R=rig.indenter.R, materials=(m.E1, m.nu1, m.E2, m.nu2),
               rq=(("sphere", r.sphere), ("block", r.block), ("face", r.face)),

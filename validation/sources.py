@@ -14,7 +14,8 @@ from pathlib import Path
 # validation modules that only read stored scenes (the report, the budget and its readings, the docs'
 # tables; no scene imports them): editing them reruns nothing
 REPORT_ONLY = ("report.py", "compare.py", "__main__.py", "budget.py", "budget_readings.py", "spectra.py",
-               "consistency.py", "docs.py", "budget_cells.py", "rig.py", "rig_budget.py", "rig_roughness.py")
+               "consistency.py", "docs.py", "budget_cells.py", "rig.py", "rig_budget.py", "rig_roughness.py",
+               "budget_plates.py")
 
 
 #: the packages whose sources a scene result depends on (every module below them, subpackages included)
