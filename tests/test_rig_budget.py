@@ -487,3 +487,22 @@ def test_a_rigs_measured_loop_excludes_the_readings_that_cannot_make_it(tmp_path
     assert c["admitted"] == [SP.READINGS[0].name] and SP.READINGS[1].name in c["excluded"]
     both = BR.rig_roughness_cell(p, R, 0.001)
     assert set(both["admitted"]) == {SP.READINGS[0].name, SP.READINGS[1].name}
+
+
+def test_a_result_of_several_points_names_the_point_that_decides():
+    """The sweep over u_A: each point's cell leads its note with the field it varies in, so the cell a
+    result shows says which point it is."""
+    from validation import budget as B
+
+    rig = load_rig(MINE)
+    labels = B._point_labels(rig.results[1].points)
+    assert labels == ["ua = 100 nm", "ua = 200 nm", "ua = 400 nm"] and B._point_labels(rig.results[0].points) == [""]
+    c = C.combine([B._at(C.cell(0.001, 0.001, "measured", "x", "n"), labels[0]),
+                   B._at(C.cell(0.05, 0.001, "measured", "x", "n"), labels[2])], "x")
+    assert c["note"].startswith("at ua = 400 nm")
+
+
+def test_force_without_a_rig_is_refused_in_one_line(tmp_path):
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--force", "--out", str(tmp_path)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--force" in r.stderr

@@ -153,8 +153,9 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
                 per["plates"] = [cell(0.0, 0.0, "exact", "the rig", "the plates' reading stated") if plates_stated
                                  else BP.cell(p, plates_ok, inp.setup, "plates" if plates_ok is not None else
                                               "plates, none stated") for p in r.points]
-        cells = {col: combine([grade(c, inp.resolution) for c in cs], SOURCES.get(col, TITLES[col]))
-                 for col, cs in per.items()}
+        labels = _point_labels(r.points)
+        cells = {col: combine([_at(grade(c, inp.resolution), lab) for c, lab in zip(cs, labels)],
+                              SOURCES.get(col, TITLES[col])) for col, cs in per.items()}
         rows.append({"key": r.key, "title": r.title, "slip_index": [min(si), max(si)],
                      "cells": {c: cells[c] for c in COLUMNS if c in cells}})
     result.update(rows=rows, stale=sorted(set(stale)))
@@ -162,6 +163,25 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
         log("budget: the sticking transition")
         result["transition"] = BR.transitions(R, admitted)
     return result
+
+
+def _point_labels(points) -> list:
+    """Each point of a result named by the fields its points differ in ('' for a result of one point)."""
+    if len(points) < 2:
+        return [""] * len(points)
+    units = {"b": (1e6, "um"), "F0": (1.0, "N"), "dF": (1.0, "N"), "ua": (1e9, "nm"), "mu1": (1.0, ""),
+             "mu2": (1.0, ""), "kx": (1e-6, "N/um")}
+    vary = [k for k in units if len({getattr(p, k) for p in points}) > 1]
+    return [", ".join(f"{k} = {getattr(p, k) * units[k][0]:.3g}{(' ' + units[k][1]) if units[k][1] else ''}"
+                      for k in vary) for p in points]
+
+
+def _at(c: dict, label: str) -> dict:
+    """The cell with its point's label leading its note (a result of several points; an exact cell is the
+    same at every point and keeps its note)."""
+    if not label or c.get("kind") == "exact":
+        return c
+    return {**c, "note": f"at {label}: {c['note']}" if c.get("note") else f"at {label}"}
 
 
 def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
@@ -208,6 +228,9 @@ def markdown(b: dict) -> list:
     what = "the paper's" if paper else f"the rig {b['rig']}'s"
     tilt = "pi/3600" if paper else (None if b.get("tilt") is None else num(b["tilt"], ".3g") + " rad")
     titles = {**TITLES, "tilt": TITLES["tilt"] if tilt is None else f"tilt <= {tilt}"}
+    if not paper:
+        titles.update(plates="plates' reading", roughness="roughness (admitted readings)" if b.get("consistency")
+                      else "roughness (readings)")
     lines = [f"The change of each result's slip index when an assumption of MDR in {what} apparatus is dropped, "
              f"with its error bar, against the resolution of {b['resolution']:g}"
              + (f" ({RESOLUTION_ORIGIN}). " if paper else " of the slip index (1: gross slip). ")
@@ -219,7 +242,9 @@ def markdown(b: dict) -> list:
              f"the dissipation under force control at {'Table 2' if paper else 'the rig'}'s load count as the same "
              "relative change of the result's slip index (its range in the second column, MDR in the "
              "apparatus). A result over several points shows the point that decides; it is negligible only "
-             "where every point is, and matters where one measured point does.", "",
+             "where every point is, and matters where one measured point does (the point shown first in its note). "
+             "'undetermined': the change with its bar reaches across the resolution, is a bound above it, or was "
+             "not measured (the note says which; docs/budget.md, 'Your own rig', says what resolves it).", "",
              "| result | slip index | " + " | ".join(titles[c] for c in cols) + " |",
              "|---|---|" + "---|" * len(cols)]
     for r in b["rows"]:
@@ -262,6 +287,8 @@ def build_parser():
     p.add_argument("--jobs", type=int, default=1, metavar="N",
                    help="processes for a rig's scenes and for the roughness readings' surfaces (default 1; both "
                         "cached under --out, so a second run reads them)")
+    p.add_argument("--force", action="store_true",
+                   help="with --scene-file: rerun the rig's scenes even where they are unchanged")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="with --scene-file: run the rig's scenes on the workers of a running Dask scheduler (e.g. "
                         "tcp://host:8786; needs the dist extra; excludes --jobs)")
@@ -280,8 +307,9 @@ def _checked(args):
         check_output_path(args.json, "--json")
     check_choice(args.jobs, args.scheduler)
     if args.scene_file is None:
-        if args.scheduler is not None:
-            raise InputError("--scheduler runs a rig's scenes: give it with --scene-file")
+        if args.scheduler is not None or args.force:
+            raise InputError(f"{'--scheduler' if args.scheduler is not None else '--force'} runs a rig's scenes: "
+                             "give it with --scene-file")
         if not (Path(args.out) / "scenes").is_dir():
             raise InputError(f"--out {args.out!r} holds no stored scenes: run python -m validation.compare "
                              f"--out {args.out} first, or give --scene-file RIG.toml")
@@ -318,7 +346,8 @@ def main(argv=None) -> int:
         say(f"validation.budget: the rig {inp.name}: {len(inp.scenes)} scene(s) -> {out}/")
         with executor_for(args.jobs, args.scheduler) as (executor, label):
             say(f"executor: {label}")
-            status = run_all(inp.scenes, out, executor=executor, jobs=args.jobs, fields=False, log=say, detail=False)
+            status = run_all(inp.scenes, out, executor=executor, jobs=args.jobs, force=args.force, fields=False,
+                             log=say, detail=False)
         failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
         if failed:
             say(f"{p.prog}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "

@@ -173,7 +173,7 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
     big = VALIDITY_DEFAULT_SIZE
     fin = [r for r in rows if isinstance(r.get("dissipation_vs_default"), float)
            and math.isfinite(r["dissipation_vs_default"])]
-    bounds = [(abs(r["dissipation_vs_default"]), f"row block {r['block_over_a']:g} a, cap {r['cap_over_a']:g} a")
+    bounds = [(abs(r["dissipation_vs_default"]), f"the row of block {r['block_over_a']:.3g} a, cap {r['cap_over_a']:.3g} a")
               for r in fin if r["block_over_a"] <= block * (1 + 1e-9) and r["cap_over_a"] <= cap * (1 + 1e-9)]
     one = {}
     for body, size, other in (("block", block, "cap_over_a"), ("cap", cap, "block_over_a")):
@@ -182,7 +182,7 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
             one[body] = (0.0, f"{body} >= {big:g} a")
         elif alone:
             r = max(alone, key=lambda r: r[f"{body}_over_a"])
-            one[body] = (abs(r["dissipation_vs_default"]), f"{body} row {r[f'{body}_over_a']:g} a")
+            one[body] = (abs(r["dissipation_vs_default"]), f"the {body} row of {r[f'{body}_over_a']:.3g} a")
     below = max((abs(r["dissipation_vs_default"]) for r in fin
                  if r["block_over_a"] >= block * (1 - 1e-9) and r["cap_over_a"] >= min(cap, big) * (1 - 1e-9)),
                 default=0.0)
@@ -191,7 +191,7 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
     if not bounds:
         return cell(None, None, "bound", name, f"{where}: smaller than any measured body")
     e, how = min(bounds, key=lambda x: x[0])
-    return cell(-e, 0.0, "bound", name, f"{where} ({how})")
+    return cell(-e, 0.0, "bound", name, f"{where}: bounded by {how}")
 
 
 def _row_at(p: Point, s, res):
@@ -327,7 +327,8 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
         si = pt["aligned"]["slip_index"]
         aligned = r["levels"][-1]["runs"][0].get("slip_index")
         return cell(si["effect"], si["error"], "bound", scenes[0].name,
-                    f"{r['variant']}: slip index {num(aligned, '.2g')} aligned, force control")
+                    f"{r['variant']}: the change of the slip index under force control, where the aligned face's "
+                    f"is {num(aligned, '.2g')}")
     return cell(None, None, "bound", scenes[0].name,
                 f"b = {p.b * 1e6:g} um at {inp.tilt:.3g} rad not measured (or not resolved)")
 

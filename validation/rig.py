@@ -12,7 +12,9 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
     [bodies]       cap_height (the indenter above the contact), block_height (the contact above the
                    bedding), block_width
     [loading]      F0, dF, ua (the piezo amplitude), mu1, mu2
-    [apparatus]    kx and any field of ``mdr.apparatus.Apparatus`` (the plates' reading, the bedding)
+    [apparatus]    kx and any field of ``mdr.apparatus.Apparatus`` (the plates' reading, the bedding; the
+                   fields not stated take its defaults, this project's reading of the paper's apparatus;
+                   h is the bodies' block_height)
     [tolerances]   tilt (rad, a bound: "less than"; not stated: its cell undetermined), and
                    [tolerances.roughness]: each surface's rms
                    height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
@@ -224,7 +226,7 @@ def _apparatus(where, t) -> dict:
 def _tolerances(where, t) -> tuple:
     t = _Table(where, t, "tolerances")
     tilt = t.number("tilt", lambda x: 0 <= x <= TILT_MAX, f"in [0, {TILT_MAX:.4g}] (rad: at most one degree; "
-                    "a bound in degrees is refused)", -1.0)
+                    "a bound in degrees above that is refused)", -1.0)
     tilt = None if tilt < 0 else tilt
     r = _Table(where, t.left.pop("roughness", {}), "tolerances.roughness")
     rq = {k: r.number(k, lambda x: 0 <= x <= RQ_MAX, f"in [0, {RQ_MAX:g}] (m: an rms height; a value in "
