@@ -138,16 +138,12 @@ def inputs(rig) -> Inputs:
                   rerun=f"python -m validation.budget --scene-file {rig.source or 'RIG.toml'}", loops=rig.loops)
 
 
-#: the rough contacts' reference load: the largest F0 + dF of the rig's points over this (their curves
-#: run to 1.5 F_ref, above every point)
-F_REF_MARGIN = 1.4
-
-
 def rough_contacts(rig) -> tuple:
     """The rough contacts of the rig's points and measured loops (``validation.spectra``: the sphere's, and
     each face's that reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
-    heights and hardness (none stated: elastic readings only), at the reference load F_ref = the largest
-    F0 + dF / ``F_REF_MARGIN``; () where it states no rms."""
+    heights and hardness (none stated: elastic readings only), at the reference load F_ref: the rig's own F0
+    (as the paper's contacts take Table 2's), raised where a point's largest force F0 + dF lies above the
+    curves' top (``spectra.PRELOAD`` F_ref); () where it states no rms."""
     from . import spectra as SP
     from .paper_points import rough_row_b
 
@@ -159,6 +155,7 @@ def rough_contacts(rig) -> tuple:
     m = rig.materials
     kw = dict(R=rig.indenter.R, materials=(m.E1, m.nu1, m.E2, m.nu2),
               rq=(("sphere", r.sphere), ("block", r.block), ("face", r.face)),
-              F_ref=max(p.F0 + p.dF for p in points) / F_REF_MARGIN, hardness=r.hardness)
+              F_ref=max(rig.loading["F0"], max(p.F0 + p.dF for p in points) / SP.PRELOAD),
+              hardness=r.hardness)
     bs = sorted({rough_row_b(p, setup) for p in points})
     return tuple(SP.face(b, **kw) if b else SP.sphere(**kw) for b in bs)
