@@ -509,3 +509,18 @@ def test_force_without_a_rig_is_refused_in_one_line(tmp_path):
     r = subprocess.run([sys.executable, "-m", "validation.budget", "--force", "--out", str(tmp_path)],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--force" in r.stderr
+
+
+def test_a_bound_not_stated_is_undetermined_and_a_stated_zero_is_exact():
+    """A rig that states no tilt bound or kink rounding gets no number for them (undetermined, naming the
+    field), not a zero; a stated 0 is exactly 0; the sphere has neither whatever is stated."""
+    inp = RB.inputs(load_rig(MINE))
+    face, sphere = inp.results[0].points[0], inp.results[1].points[0]
+    for cell_of, field in ((lambda i: C.tilt_cell(face, lambda n: None, i), "tilt"),
+                           (lambda i: C.kink_cell(face, i), "fillet")):
+        none = cell_of(replace(inp, **{field: None}))
+        assert none["effect"] is None and none["verdict"] == "undetermined" and "stated" in none["note"]
+        zero = cell_of(replace(inp, **{field: 0.0}))
+        assert zero["kind"] == "exact" and zero["effect"] == 0.0
+    assert C.tilt_cell(sphere, lambda n: None, replace(inp, tilt=None))["kind"] == "exact"
+    assert C.kink_cell(sphere, replace(inp, fillet=None))["kind"] == "exact"

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .paper_points import PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, slip_indices
+from .paper_points import PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, same, slip_indices
 from .text import num
 
 #: the paper's widest rounding of the kink: "less than the rms roughness", up to 3 um
@@ -56,8 +56,6 @@ class Inputs:
     def at_load(self, family: str, p: Point) -> tuple:
         """The force-controlled scenes of ``family`` that measure the point: for a rig of one's own those
         at its load (F0, dF, mu1), for the paper all (its effects mapped from Table 2's load, stated)."""
-        from .paper_points import same
-
         scenes = self.of_family(family)
         if self.paper:
             return scenes
@@ -302,6 +300,16 @@ def coupling_cell(p: Point, store, inp: Inputs) -> dict:
                 f"3D, beta = {beta:+.3f}, {'sphere' if p.b == 0 else f'b = {p.b * 1e6:g} um'}")
 
 
+def _stated(bound, unstated: str, zero: str) -> dict | None:
+    """The cell of a rig's bound that decides without a model: not stated (None), undetermined; stated 0,
+    exactly 0; else None (a model measures it)."""
+    if bound is None:
+        return cell(None, None, "bound", "the rig", unstated)
+    if bound == 0:
+        return cell(0.0, 0.0, "exact", "the rig", zero)
+    return None
+
+
 def tilt_cell(p: Point, store, inp: Inputs) -> dict:
     """The flat face tilted by the rig's bound (family ``tilt``): the sphere exactly 0; a face of the same b
     at the bound (the banded row where there is one): the change of the slip index itself (absolute: the
@@ -310,10 +318,9 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
     ``bound``: never "matters")."""
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
-    if inp.tilt is None:
-        return cell(None, None, "bound", "the rig", "no tilt bound stated ([tolerances] tilt)")
-    if inp.tilt == 0:
-        return cell(0.0, 0.0, "exact", "the rig", "a tilt of 0 stated")
+    stated = _stated(inp.tilt, "no tilt bound stated ([tolerances] tilt)", "a tilt of 0 stated")
+    if stated is not None:
+        return stated
     scenes = inp.at_load("tilt", p)
     res = store(scenes[0].name) if scenes else None
     if res is None:
@@ -341,10 +348,9 @@ def kink_cell(p: Point, inp: Inputs) -> dict:
 
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "geometry", "no kink")
-    if inp.fillet is None:
-        return cell(None, None, "bound", "the rig", "no rounding of the kink stated ([indenter] kink_rounding)")
-    if inp.fillet == 0:
-        return cell(0.0, 0.0, "exact", "the rig", "a sharp kink stated")
+    stated = _stated(inp.fillet, "no rounding of the kink stated ([indenter] kink_rounding)", "a sharp kink stated")
+    if stated is not None:
+        return stated
     if p.b < 2 * inp.fillet:
         return cell(None, None, "bound", "MDR apparatus", f"b = {p.b * 1e6:g} um: the fillet would take the face")
     R = inp.setup.R

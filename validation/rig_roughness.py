@@ -12,10 +12,8 @@ is a task cached by content under the budget's readings folder, so a second budg
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict
-from pathlib import Path
 
 import numpy as np
 
@@ -33,9 +31,8 @@ def check(task: dict) -> dict:
     from .families.roughness import rough_in_apparatus
 
     m = task["member"]
-    contact = SP.Contact(**{k: tuple(map(tuple, v)) if k == "rq" else (tuple(v) if isinstance(v, list) else v)
-                            for k, v in m["contact"].items()})
-    p, _, grid, heights, prof = SP.surface({**m, "contact": asdict(contact)})
+    contact = SP.Contact(**m["contact"])
+    p, _, grid, heights, prof = SP.surface(m)
     plastic = SP.READINGS[m["reading"]].plastic
     try:
         rows = rough_in_apparatus(prof, contact.mat(), Grid(p.size, int(m["n"])), heights, task["curve"],
@@ -52,12 +49,6 @@ def check(task: dict) -> dict:
 CHECK_SOURCES = SP.MEMBER_SOURCES + ("mdr/*.py", "studies/paper.py", "validation/families/roughness.py",
                                      "validation/rig_roughness.py", "validation/paper_points.py",
                                      "fem/axisym/normal_run.py")
-
-
-def _key(task: dict, version: str) -> str:
-    import hashlib
-
-    return hashlib.sha256(json.dumps(["apparatus", task, version], sort_keys=True).encode()).hexdigest()[:20]
 
 
 def tasks(contacts, members: list, points: dict, apparatus: tuple = ()) -> list:
@@ -81,28 +72,11 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus
     """The equivalent profile's error in the rig's apparatus (module docstring): {"error": the largest
     |mean| + standard error, or None where a surface failed or nothing ran, "rows": [{contact, reading,
     point, mean, sem, surfaces}]}; the surfaces' runs cached under ``folder`` (None: not cached)."""
-    from common.io import write_json
-
-    log = log or (lambda msg: None)
-    version, cache = SP.member_version(CHECK_SOURCES), None if folder is None else Path(folder)
     todo = tasks(contacts, members, points, apparatus)
-    done, run = {}, []
-    for t in todo:
-        f = None if cache is None else cache / f"{_key(t, version)}.json"
-        if f is not None and f.is_file():
-            done[_key(t, version)] = json.loads(f.read_text())
-        else:
-            run.append(t)
-    if run:
-        log(f"budget: the rough half-space in the rig's apparatus, {len(run)} surfaces ({len(done)} cached), "
-            f"{jobs} process(es)")
-    for t, r in zip(run, _map(run, jobs, log)):
-        if cache is not None:
-            write_json(cache / f"{_key(t, version)}.json", r)
-        done[_key(t, version)] = r
+    results = SP.cached_map(todo, check, folder, SP.member_version(CHECK_SOURCES), tag="apparatus", jobs=jobs,
+                            log=log, what="the rough half-space in the rig's apparatus, surfaces", every=4)
     groups = {}
-    for t in todo:
-        r = done[_key(t, version)]
+    for t, r in zip(todo, results):
         g = groups.setdefault((t["member"]["contact"]["b"], t["member"]["reading"]), {"failed": False, "rows": []})
         g["failed"] |= "failed" in r
         g["rows"].append(r.get("rows") or [])
@@ -123,26 +97,3 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus
                          "sem": float(d.std(ddof=1) / math.sqrt(d.size)), "surfaces": int(d.size)})
     worst = max((abs(r["mean"]) + r["sem"] for r in rows), default=None)
     return {"error": None if failed or worst is None else worst, "rows": rows}
-
-
-def _map(todo: list, jobs: int, log) -> list:
-    """``check`` of every task, in ``jobs`` processes, a progress line every 4 surfaces."""
-    out = [None] * len(todo)
-
-    def say(j):
-        if j % 4 == 0 or j == len(todo):
-            log(f"  the rough half-space in the rig's apparatus: {j} of {len(todo)} surfaces")
-
-    if jobs <= 1 or len(todo) <= 1:
-        for j, t in enumerate(todo):
-            out[j] = check(t)
-            say(j + 1)
-        return out
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    with ProcessPoolExecutor(max_workers=jobs) as ex:
-        futures = {ex.submit(check, t): k for k, t in enumerate(todo)}
-        for j, f in enumerate(as_completed(futures), 1):
-            out[futures[f]] = f.result()
-            say(j)
-    return out

@@ -182,11 +182,6 @@ def canonical(i: int, contact: Contact) -> int:
     return next(j for j in range(i + 1) if (params(READINGS[j], contact, 0)[0], READINGS[j].plastic) == key)
 
 
-def contact_of(b: float) -> Contact:
-    """The contact of face radius ``b`` (0: the sphere's)."""
-    return SPHERE if not b else face(b)
-
-
 def surface(task: dict) -> tuple:
     """A member's surface (``task``: reading index, contact, seed, grid n): its ``RoughnessParams`` on the
     coarser grid, the form curvature the grid leaves out (1/m), the ``rough.normal.Grid``, the heights
@@ -265,50 +260,63 @@ def member_version(sources=MEMBER_SOURCES) -> str:
     return h.hexdigest()[:16]
 
 
-def _key(task: dict, version: str) -> str:
-    return hashlib.sha256(json.dumps([task, version], sort_keys=True).encode()).hexdigest()[:20]
+def _key(task: dict, version: str, tag: str | None = None) -> str:
+    payload = [task, version] if tag is None else [tag, task, version]
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:20]
 
 
-def curves(contacts, cache_dir, *, jobs: int = 1, log=None) -> list:
-    """The members of every reading on ``contacts``, read from ``cache_dir`` where a run of the same
-    sources stored them, else computed (``jobs`` processes) and stored there (one JSON file each,
-    written atomically; ``cache_dir`` None: nothing read or stored)."""
+def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = None, jobs: int = 1, log=None,
+               what: str = "surfaces", every: int = 8) -> list:
+    """``fun`` of every task of ``todo`` (plain data, a top-level function: it may run in ``jobs``
+    processes), in their order: each result read from ``cache_dir`` where one of the same task, sources
+    (``version``) and ``tag`` is stored, else computed and stored there (one JSON file each, written
+    atomically; ``cache_dir`` None: nothing read or stored); a progress line every ``every`` results."""
     from common.io import write_json
 
     log = log or (lambda msg: None)
-    version, cache = member_version(), None if cache_dir is None else Path(cache_dir)
-    todo, done = [], {}
-    for t in tasks(contacts):
-        f = None if cache is None else cache / f"{_key(t, version)}.json"
+    cache = None if cache_dir is None else Path(cache_dir)
+    keys = [_key(t, version, tag) for t in todo]
+    done, run = {}, []
+    for k, t in zip(keys, todo):
+        f = None if cache is None else cache / f"{k}.json"
         if f is not None and f.is_file():
-            done[_key(t, version)] = json.loads(f.read_text())
+            done[k] = json.loads(f.read_text())
         else:
-            todo.append(t)
-    if todo:
-        log(f"budget: the roughness readings, {len(todo)} surfaces to solve ({len(done)} cached), {jobs} process(es)")
-    results = _run(todo, jobs, log)
-    for t, m in zip(todo, results):
+            run.append((k, t))
+    if run:
+        log(f"budget: {what}, {len(run)} to solve ({len(done)} cached), {jobs} process(es)")
+    for (k, _), r in zip(run, _run([t for _, t in run], fun, jobs, log, what, every)):
         if cache is not None:
-            write_json(cache / f"{_key(t, version)}.json", m)
-        done[_key(t, version)] = m
-    return [done[_key(t, version)] for t in tasks(contacts)]
+            write_json(cache / f"{k}.json", r)
+        done[k] = r
+    return [done[k] for k in keys]
 
 
-def _run(todo: list, jobs: int, log) -> list:
+def curves(contacts, cache_dir, *, jobs: int = 1, log=None) -> list:
+    """The members of every reading on ``contacts`` (``tasks``, ``member``), cached by content under
+    ``cache_dir`` (``cached_map``)."""
+    return cached_map(tasks(contacts), member, cache_dir, member_version(), jobs=jobs, log=log,
+                      what="the roughness readings' surfaces")
+
+
+def _run(todo: list, fun, jobs: int, log, what: str, every: int) -> list:
+    """``fun`` of every task, in ``jobs`` processes, a progress line every ``every`` results."""
+    out = [None] * len(todo)
+
+    def say(j):
+        if j % every == 0 or j == len(todo):
+            log(f"  {what}: {j} of {len(todo)}")
+
     if jobs <= 1 or len(todo) <= 1:
-        out = []
-        for k, t in enumerate(todo, 1):
-            out.append(member(t))
-            if k % 8 == 0 or k == len(todo):
-                log(f"  roughness readings: {k} of {len(todo)} surfaces")
+        for j, t in enumerate(todo, 1):
+            out[j - 1] = fun(t)
+            say(j)
         return out
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    out = [None] * len(todo)
     with ProcessPoolExecutor(max_workers=jobs) as ex:
-        futures = {ex.submit(member, t): k for k, t in enumerate(todo)}
+        futures = {ex.submit(fun, t): k for k, t in enumerate(todo)}
         for j, f in enumerate(as_completed(futures), 1):
             out[futures[f]] = f.result()
-            if j % 8 == 0 or j == len(todo):
-                log(f"  roughness readings: {j} of {len(todo)} surfaces")
+            say(j)
     return out
