@@ -524,3 +524,18 @@ def test_a_bound_not_stated_is_undetermined_and_a_stated_zero_is_exact():
         assert zero["kind"] == "exact" and zero["effect"] == 0.0
     assert C.tilt_cell(sphere, lambda n: None, replace(inp, tilt=None))["kind"] == "exact"
     assert C.kink_cell(sphere, replace(inp, fillet=None))["kind"] == "exact"
+
+
+def test_a_rigs_scene_stored_by_other_inputs_is_not_read():
+    """A result stored before an edit (another fingerprint: its scene failed to rerun) is listed stale and
+    not read for a rig: its cells are undetermined, naming the rig's command, not the old rig's numbers."""
+    from validation import budget as B
+
+    inp = RB.inputs(load_rig(MINE))
+    name = next(s.name for s in inp.scenes if s.family == "validity")
+    old = {name: {"fingerprint": "before the edit",
+                  "validity": [{"block_over_a": 50.0, "cap_over_a": 200.0, "dissipation_vs_default": -1e-4}]}}
+    b = B.budget(old, inp=inp, mdr_cells=False)
+    assert b["stale"] == [name]
+    size = b["rows"][0]["cells"]["size"]
+    assert size["effect"] is None and size["verdict"] == "undetermined" and "--scene-file" in size["source"]
