@@ -63,15 +63,14 @@ def test_the_real_ladders_give_graded_verdicts(ladders):
     assert without["fem_error"] < d["fem_error"] and without["mdr_error"] < d["mdr_error"]
 
 
-def _absorbable(s, ladder, side, q, k, delta, fe_finest):
+def _absorbable(s, cls, ladder, side, q, k, delta, fe_finest):
     """Whether a change ``delta`` of level k of a metric's ladder stays within what its calibrated bound
-    allows (each other level j within E_k + E_j of it): True, False, or None where the metric has no
-    calibrated bound (its ladder's own error decides). Computed here from the bound, independently of
+    (of the class ``cls``) allows (each other level j within E_k + E_j of it): True, False, or None where
+    the metric has no calibrated bound (its ladder's own error decides). Computed here from the bound, independently of
     ``common.ladder.modelled_error``."""
     from validation import error_models
     from validation.scenes import a_ref
 
-    cls = error_models.profile_class(s.profile, s.b, a_ref(s))
     b = error_models.bound(side, "slip_index" if q == "dissipation" else q, cls)
     if b is None:
         return None
@@ -110,7 +109,8 @@ def test_an_error_injected_into_one_level_takes_the_holds_away(ladders, side, fa
             old = lad[k][q]
             lad[k][q] = factor * old if old else 1e-3 * factor * lad[k]["contact_radius"]
             v = pair.scene_verdicts(s, lad if side == "fem" else fe, lad if side == "mdr" else mdr, ts)[q]
-            absorbable = _absorbable(s, ladder, side, q, k, lad[k][q] - old, fe[-1])
+            cls = pair.ladder_class(s, lad if side == "fem" else fe, lad if side == "mdr" else mdr)  # as injected
+            absorbable = _absorbable(s, cls, ladder, side, q, k, lad[k][q] - old, fe[-1])
             if factor > 1.05 or absorbable is False or absorbable is None:
                 assert v["grade"] != "holds", (q, side, k, factor)
                 broken += 1

@@ -9,7 +9,7 @@ metric's envelope beside the bound in use::
 """
 from __future__ import annotations
 
-from .error_models import SAFETY, bound, envelope, profile_class
+from .error_models import SAFETY, bound, bound_class, envelope
 
 #: the scalar metrics a calibration measures, in their bounds' units (the distances: those of the scene's
 #: ``validation.families.pair._distances``)
@@ -22,10 +22,12 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
     in the bounds' unit (h / a, 1 / cells) and the errors in the metric's (radii over the reference's
     contact radius). The distance metrics are measured to the other side's run at ``reference`` (MDR at
     ``MDR_REFERENCE_CELLS`` for the FE calibration, the FE model at a/80 for MDR's), so their error is the
-    change of the distance the verdict reads. Returns {metric: {"sizes", "errors"}, "reference": ...}."""
+    change of the distance the verdict reads. Returns {metric: {"sizes", "errors"}, "reference": ...,
+    "class": the class of bounds they are held to (``error_models.bound_class``; gross slip where every run's
+    stick radius, the other side's included, is 0)}."""
     from .families.pair import _distances
     from .scenes import a_ref
-    from .sides import run_fe, run_mdr
+    from .sides import ZERO, run_fe, run_mdr
 
     log = log or (lambda msg: None)
     run = (lambda x: run_fe(scene, x)[0]) if side == "fem" else (lambda x: run_mdr(scene, int(x)))
@@ -37,8 +39,10 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
     h_of = (lambda x: float(x) * unit) if side == "fem" else (lambda x: 1.0 / float(x))
     d_ref = pair(ref)
     out = {q: {"sizes": [], "errors": []} for q in SCALARS + tuple(d_ref)}
+    stick = [other["stick_radius"], ref["stick_radius"]]
     for x in sizes:
         res = run(x)
+        stick.append(res["stick_radius"])
         h = h_of(x)
         d = pair(res)
         for q in SCALARS:
@@ -49,6 +53,8 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
             out[q]["errors"].append(float(d[q]) - float(d_ref[q]))
         log(f"  {scene.name} {side} {x:g}: " + ", ".join(f"{q} {out[q]['errors'][-1]:+.2e}" for q in out))
     out["reference"] = reference
+    out["class"] = bound_class(scene.profile, scene.b, a_ref(scene),
+                               gross_slip=all(abs(float(c)) <= ZERO * a for c in stick))
     return out
 
 
@@ -61,7 +67,6 @@ def _main(argv=None) -> int:
 
     from common.cli import OneLineParser
     from .catalogue import CATALOGUE
-    from .scenes import a_ref
 
     ap = OneLineParser(prog="python -m validation.error_calibration",
                        description="Measure one side's discretisation errors on a catalogue scene over a dense "
@@ -83,10 +88,11 @@ def _main(argv=None) -> int:
                  else [25, 32, 40, 50, 64, 80, 100, 128, 160, 200, 256, 320, 400, 512, 640, 800, 1024, 1280, 1600])
     reference = args.reference or (1 / 320 if args.side == "fem" else 12800)
     m = measure(s, sizes, reference, side=args.side, log=lambda msg: print(msg, file=sys.stderr, flush=True))
+    print(f"class of bounds: {m['class']}")
     for q, v in m.items():
-        if q == "reference":
+        if q in ("reference", "class"):
             continue
-        b = bound(args.side, q, profile_class(s.profile, s.b, a_ref(s)))
+        b = bound(args.side, q, m["class"])
         print(f"{q:18s} envelope {envelope(v['sizes'], v['errors'], 1.0 if b is None else b.p):.3g}"
               + ("" if b is None else f"   bound's C {b.C:.3g} ({b.C / SAFETY:.3g} x {SAFETY:g})"))
     return 0

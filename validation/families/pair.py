@@ -64,6 +64,14 @@ def _distances(s: Scene, mdr: dict, fe: dict) -> dict:
     return out
 
 
+def ladder_class(s: Scene, fe_ladder: list, mdr_ladder: list) -> str | None:
+    """The class of the scene's calibrated bounds (``error_models.bound_class``): gross slip where every
+    level of both ladders has a stick radius of 0 (within ``ZERO`` of the finest FE contact radius)."""
+    a = float(fe_ladder[-1]["contact_radius"])
+    gross = all(_zero(x.get("stick_radius"), a) == 0.0 for x in list(fe_ladder) + list(mdr_ladder))
+    return error_models.bound_class(s.profile, s.b, a_ref(s), gross_slip=gross)
+
+
 def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict | None = None) -> dict:
     """Per metric: MDR, FE, difference, each side's error bar (``metrics.ladder_error`` over
     its ladder), the scene's tolerance and ``holds`` (``metrics.verdict``).
@@ -87,7 +95,7 @@ def scene_verdicts(s: Scene, fe_ladder: list, mdr_ladder: list, time_step: dict 
     fe_h = [float(x["h_contact"]) * a0 / a for x in fe_ladder]
     md_h = [1.0 / float(x["cells"]) for x in mdr_ladder]
     scale_W = float(gross_slip_work(s.mu, s.F0, u_amp(fe)))
-    cls = error_models.profile_class(s.profile, s.b, a0)
+    cls = ladder_class(s, fe_ladder, mdr_ladder)
     V = {}
 
     def bars(q, fv, mv, scale, floor, bound_of=None):
