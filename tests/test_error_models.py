@@ -57,11 +57,15 @@ def test_the_classes_of_the_bounds():
     assert em.bound_class("flat", 5e-5, 5e-5) is None                 # a fixed edge: Richardson bounds it
     assert em.bound_class("sphere", 0.0, 3e-5, gross_slip=True) == "gross"
     assert em.bound_class("truncated", 3e-5, 3e-5, gross_slip=True) == "edge"
-    # gross slip has no stick edge: its stick radius is exact, and the traction (mu p) and the loops are
-    # bounded far tighter than where the stick edge's quantisation enters them
+    # gross slip at the compared instant: the stick radius exact, the traction (mu p) bounded far tighter
+    # than where the stick edge quantises it; the rest (the loops and the dissipation integrate the partial
+    # slip of each half-cycle) the smooth class's
     assert em.bound("fem", "stick_radius", "gross") is None
-    for side, q in (("fem", "traction_profile"), ("fem", "loop_du"), ("mdr", "traction_profile")):
-        assert em.bound(side, q, "gross")(0.01) < 0.25 * em.bound(side, q, "smooth")(0.01), (side, q)
+    for side in ("fem", "mdr"):
+        assert em.bound(side, "traction_profile", "gross")(0.01) < 0.1 * em.bound(side, "traction_profile", "smooth")(0.01)
+        for q in ("slip_index", "loop_du", "loop_Fx"):
+            g, sm = em.bound(side, q, "gross"), em.bound(side, q, "smooth")
+            assert (g.C, g.p) == (sm.C, sm.p), (side, q)
     assert em.bound("fem", "stick_radius", None) is None
     assert em.bound("fem", "contact_radius", "edge").C > 4 * em.bound("fem", "contact_radius", "smooth").C
     b = em.bound("fem", "stick_radius", "smooth")
@@ -82,10 +86,11 @@ FE_SIZES = tuple(1 / n for n in (20, 28, 34, 40, 56, 68, 80, 113))
 MDR_SIZES = (100, 128, 200, 400, 512, 800, 1600)
 #: the bounds' sharpness (``sharpness``), per side and class: twice the largest measured over the held-out
 #: scenes' metrics. Measured: FE smooth 38 (the anchor's contact radius, whose sizes a/20, a/40, a/80 put
-#: the edge on a node; the others 3.3-13), gross 16, edge 21; MDR smooth 69, gross 51, edge 843 (MDR's
-#: errors at the finest grids are 1e-9 of the slip index). Over all, the FE median 5.3, MDR's 9
-SHARPNESS = {("fem", "smooth"): 80, ("fem", "gross"): 32, ("fem", "edge"): 45,
-             ("mdr", "smooth"): 140, ("mdr", "gross"): 100, ("mdr", "edge"): 1700}
+#: the edge on a node; the others 3.3-13), gross 81 (the loops of the stiff apparatus, whose bound is the
+#: smooth class's), edge 21; MDR smooth 69, gross 344, edge 843 (MDR's errors at the finest grids are 1e-9
+#: of the slip index). Over all, the FE median 5.3, MDR's 11
+SHARPNESS = {("fem", "smooth"): 80, ("fem", "gross"): 160, ("fem", "edge"): 45,
+             ("mdr", "smooth"): 140, ("mdr", "gross"): 700, ("mdr", "edge"): 1700}
 
 
 def _held_out(name):

@@ -191,6 +191,9 @@ def test_the_size_bound_takes_the_tightest_row_not_larger_than_the_rig():
     ("E2 = 70e9", "E2 = 70e9\ncolour = 1", "colour"),
     ("tilt = 5e-4", "tilt = 0.05", "tilt"),
     ('profile = "truncated"', 'profile = "flat"', "flat"),
+    ("mu1 = 0.3", "mu1 = 0.0", "[loading] mu1"),                        # no slip index without friction
+    ("block_height = 5e-3", "block_height = 40e-6", "[bodies] block_height"),  # below 2.5 contact radii
+    ("R = 10e-3\nb = 50e-6", "R = 10e-3\nb = 5.5e-3", "R/2"),           # a dissimilar face beyond R/2
 ])
 def test_a_bad_rig_file_is_refused_in_one_line_before_any_work(tmp_path, old, new, named):
     out = tmp_path / "out"

@@ -198,7 +198,7 @@ def _loading(where, t) -> dict:
     F0 = t.number("F0", lambda x: x > 0, "> 0 (N)")
     out = {"F0": F0, "dF": t.number("dF", lambda x: 0 <= x < F0, "in [0, F0) (N)", 0.0),
            "ua": t.number("ua", lambda x: x > 0, "> 0 (m; the piezo amplitude)"),
-           "mu1": t.number("mu1", lambda x: x >= 0, ">= 0 (the contact's friction)"),
+           "mu1": t.number("mu1", lambda x: x > 0, "> 0 (the contact's friction; the slip index divides by it)"),
            "mu2": t.number("mu2", lambda x: x >= 0, ">= 0 (the bedding's friction)")}
     t.done(tuple(out))
     return out

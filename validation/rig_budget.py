@@ -31,6 +31,8 @@ from __future__ import annotations
 
 from dataclasses import asdict
 
+from common.errors import InputError
+
 from .budget_cells import Inputs
 from .paper_points import Setup, contact_radius
 from .scenes import FE_LEVELS_3D, TILT_LEVELS_3D, Scene
@@ -72,14 +74,38 @@ def _force_amplitude(rig) -> float:
     return 0.5 * L["mu1"] * (L["F0"] - L["dF"])
 
 
+def _check(rig, a: float) -> None:
+    """What the generated scenes need of the rig, refused in its own terms (InputError naming the file,
+    the table and the field): bodies larger than ``VALIDITY_MIN_SIZE`` contact radii of its largest point
+    (``a``), and for a dissimilar pair (whose coupling the 3D model measures per face) faces below R/2."""
+    from .families.validity import VALIDITY_MIN_SIZE
+
+    where = rig.source or rig.name
+    if abs(rig.materials.dundurs_beta) >= 1e-12:
+        big = [p.b for p in rig.points() if p.b >= 0.5 * rig.indenter.R]
+        if big:
+            raise InputError(f"{where}: a face radius b must be below R/2 = {0.5 * rig.indenter.R:g} m for a dissimilar "
+                             f"pair (the 3D model measures its coupling), got {big[0]:g} m ([indenter] b or a "
+                             "[[result]] point's b)")
+    b = rig.bodies
+    for field, size in (("block_height", b.block_height), ("block_width", 0.5 * b.block_width),
+                        ("cap_height", b.cap_height)):
+        if size <= VALIDITY_MIN_SIZE * a:
+            half = " / 2" if field == "block_width" else ""
+            raise InputError(f"{where}: [bodies] {field}{half} must exceed {VALIDITY_MIN_SIZE:g} contact radii of the "
+                             f"rig's largest contact (> {VALIDITY_MIN_SIZE * a:.4g} m, a = {a:.4g} m), got {size:.4g} m")
+
+
 def scenes(rig) -> tuple:
-    """The scenes that measure the rig's cells (module docstring), in the order of the budget's columns."""
+    """The scenes that measure the rig's cells (module docstring), in the order of the budget's columns;
+    InputError where the rig's bodies or faces are out of their reach (``_check``)."""
     from .families.validity import VALIDITY_DEFAULT_SIZE
 
     setup, base, points = setup_of(rig), _base(rig), rig.points()
     name = rig.name
     out = []
     a = max(contact_radius(p, setup) for p in points)
+    _check(rig, a)
     inp_cap, inp_block = _bodies(rig)
     sizes = {"cap": inp_cap / a, "block": inp_block / a}
     variant = {k: x for k, x in sizes.items() if x < VALIDITY_DEFAULT_SIZE}
@@ -128,8 +154,6 @@ def scenes(rig) -> tuple:
 def inputs(rig) -> Inputs:
     """The budget's inputs of the rig: its setup, bodies, bounds, results, resolution and ``scenes``;
     InputError for a flat punch (the budget's points are the sphere and the truncated sphere)."""
-    from common.errors import InputError
-
     if rig.indenter.profile == "flat":
         raise InputError(f"rig {rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
                          "sphere (a flat punch is the truncated sphere of a large R)")

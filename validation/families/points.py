@@ -44,7 +44,7 @@ RANGES = {"kx": (lambda x, s: x > 0, "> 0 (N/m)"),
           "F0": (lambda x, s: x > 0, "> 0 (N)"),
           "dF": (lambda x, s: x >= 0, ">= 0 (N), below F0"),
           "ua": (lambda x, s: x > 0, "> 0 (m)"),
-          "mu1": (lambda x, s: x >= 0, ">= 0"),
+          "mu1": (lambda x, s: x > 0, "> 0 (the slip index divides by it)"),
           "mu2": (lambda x, s: x >= 0, ">= 0")}
 
 
