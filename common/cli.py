@@ -81,19 +81,21 @@ def add_output_args(p):
     p.add_argument("--json", default="-", metavar="PATH", help="write the result as JSON to PATH ('-' = stdout, default)")
 
 
-def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: bool = True) -> int:
+def run_command(parser: argparse.ArgumentParser, argv=None, *, write_result: bool = True,
+                check_outputs: bool = True) -> int:
     """Run the subcommand ``args.func`` of ``parser`` with the exit codes of the module docstring.
 
     ``write_result=False``: ``args.func`` writes its own output and returns the exit code
-    (``None`` = 0) instead of a result to write to ``--json``."""
+    (``None`` = 0) instead of a result to write to ``--json``. ``check_outputs=False``: ``args.func``
+    checks its output paths itself, after its inputs (a refused input then creates no output folder)."""
     args = parser.parse_args(argv)
     where = " ".join(filter(None, (parser.prog, getattr(args, "command", None))))
     try:
-        for flag in OUTPUT_FLAGS:
+        for flag in OUTPUT_FLAGS if check_outputs else ():
             path = getattr(args, flag, None)
             if path not in (None, "-"):
                 check_output_path(path, "--" + flag)
-        for flag in OUTPUT_DIR_FLAGS:
+        for flag in OUTPUT_DIR_FLAGS if check_outputs else ():
             path = getattr(args, flag, None)
             if path is not None and not getattr(args, "list", False):  # --list writes nothing
                 check_output_dir(path, "--" + flag)

@@ -96,6 +96,22 @@ def test_the_command_refuses_a_folder_without_scenes_in_one_line(tmp_path):
     assert not (tmp_path / "budget.md").exists()
 
 
+def test_a_solver_failure_exits_3_in_one_line_and_writes_nothing(tmp_path, monkeypatch, capsys):
+    """The exit codes of every command (``common.cli.run_command``): a solver that fails is exit 3, one line,
+    and no budget is written."""
+    from common.errors import ConvergenceError
+
+    def fails(*a, **k):
+        raise ConvergenceError("Newton did not converge")
+
+    (tmp_path / "scenes").mkdir()
+    monkeypatch.setattr(B, "budget", fails)
+    assert B.main(["--out", str(tmp_path)]) == 3
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "solver failed" in err
+    assert not (tmp_path / "budget.md").exists()
+
+
 def test_scaled_turns_a_relative_effect_into_a_slip_index_change():
     c = C.scaled(C.cell(0.1, 0.01, "measured", "x"), 0.5)
     assert c["effect"] == pytest.approx(0.05) and c["error"] == pytest.approx(0.005) and c["verdict"] == "matters"

@@ -58,7 +58,7 @@ def test_a_rig_of_ones_own():
 
 
 BAD = [  # (what is changed in the paper's file, what the one line must name)
-    (("mu1 = 0.2", "mu1 = -0.2"), "[loading] mu1 must be >= 0"),
+    (("mu1 = 0.2", "mu1 = -0.2"), "[loading] mu1 must be > 0"),
     (("R = 6e-3", "R = 0.0"), "[indenter] R must be > 0 (m)"),
     (("tilt = 8.726646259971648e-4", "tilt = 0.05"), "[tolerances] tilt must be in [0, 0.01745] (rad"),
     (("block = 3e-6", "block = 3.0"), "[tolerances.roughness] block must be in [0, 0.0001] (m"),

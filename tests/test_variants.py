@@ -18,7 +18,7 @@ CASES = {
                    ({"a_over_R": 1e-3, "R": 1.0}, "R must be one of the variant's keys")]),
     "points": (dict(profile="sphere", drive="apparatus", amplitude=1e-7, kx=2e6), {"kx": 2e6, "b": 1e-5},
                [({"b": 1e-5}, "each holding kx"), ({"kx": -1.0}, "kx must be > 0"),
-                ({"kx": 2e6, "mu1": -0.1}, "mu1 must be >= 0"), ({"kx": 2e6, "dF": 0.6}, "dF must be in [0, F0)"),
+                ({"kx": 2e6, "mu1": 0.0}, "mu1 must be > 0"), ({"kx": 2e6, "dF": 0.6}, "dF must be in [0, F0)"),
                 ({"kx": 2e6, "k": 1.0}, "k must be one of the variant's keys")]),
     "assumptions3d": (dict(profile="sphere", fe_model="3d", fe_levels=(0.3,)), {"relax": "coupling", "E2": 70e9},
                       [({"relax": "tilt"}, "relax must be one of direction, coupling"),

@@ -265,10 +265,13 @@ def markdown(b: dict) -> list:
     return lines
 
 
+PROG = "python -m validation.budget"
+
+
 def build_parser():
     from common.cli import OneLineParser
 
-    p = OneLineParser(prog="python -m validation.budget",
+    p = OneLineParser(prog=PROG,
                       description="The error budget of MDR in a fretting apparatus: for each result, the measured "
                                   "cost of every assumption. Without --scene-file the paper's (Willert 2023), from the "
                                   "scenes stored by python -m validation.compare in --out (the kink and plates "
@@ -322,17 +325,12 @@ def _checked(args):
     return inputs(rig)
 
 
-def main(argv=None) -> int:
-    from common.errors import ConvergenceError, InputError
+def _run(args) -> int:
+    """The command (``main``): the arguments checked (``_checked``), a rig's scenes run, the budget
+    written; InputError and ConvergenceError reach ``common.cli.run_command`` (exit 2 and 3)."""
     from common.io import write_bytes_atomic, write_json
 
-    p = build_parser()
-    args = p.parse_args(argv)
-    try:
-        inp = _checked(args)
-    except InputError as e:
-        print(f"{p.prog}: error: {e}", file=sys.stderr)
-        return 2
+    inp = _checked(args)
     out = Path(args.out)
 
     def say(m):
@@ -350,13 +348,9 @@ def main(argv=None) -> int:
                              log=say, detail=False)
         failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
         if failed:
-            say(f"{p.prog}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "
+            say(f"{PROG}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "
                 "before is not read)")
-    try:
-        b = budget(out, inp=inp, mdr_cells=not args.no_mdr, jobs=args.jobs, log=say)
-    except ConvergenceError as e:
-        print(f"{p.prog}: solver failed: {e}", file=sys.stderr)
-        return 3
+    b = budget(out, inp=inp, mdr_cells=not args.no_mdr, jobs=args.jobs, log=say)
     head = "# The error budget of the paper's model" if inp is None else f"# The error budget of the rig {inp.name}"
     text = "\n".join([head, ""] + markdown(b)) + "\n"
     write_bytes_atomic(out / ("budget.md" if inp is None else f"budget-{inp.name}.md"), text.encode())
@@ -364,6 +358,14 @@ def main(argv=None) -> int:
     if args.json is not None:
         write_json(args.json, b)
     return 0
+
+
+def main(argv=None) -> int:
+    from common.cli import run_command
+
+    p = build_parser()
+    p.set_defaults(func=_run)
+    return run_command(p, argv, write_result=False, check_outputs=False)
 
 
 if __name__ == "__main__":
