@@ -140,6 +140,15 @@ def test_scenes_follow_the_rig():
         if s.family == "points":
             runs = [v.scene(s) for v in s.typed_variants]
             assert all(sum(p.matches(r) for r in runs) == 1 for p in mine.points()), s.name
+    # the bodies' size at the largest contact (the paper's b = 1 mm face of Fig. 8): its a_ref is that
+    # contact's radius, the block over it the rig's 19 mm
+    from validation.paper_points import contact_radius
+    from validation.scenes import a_ref
+
+    v = next(s for s in RB.scenes(rig) if s.family == "validity")
+    a = max(contact_radius(p, RB.setup_of(rig)) for p in rig.points())
+    assert a_ref(v) == pytest.approx(a, rel=1e-9) and v.b == max(p.b for p in rig.points())
+    assert v.variants[0]["block"] * a == pytest.approx(19e-3, rel=1e-9)
 
 
 def test_the_coupling_of_a_dissimilar_pair_is_read_from_its_3d_scene():
@@ -542,3 +551,17 @@ def test_a_rigs_scene_stored_by_other_inputs_is_not_read():
     assert b["stale"] == [name]
     size = b["rows"][0]["cells"]["size"]
     assert size["effect"] is None and size["verdict"] == "undetermined" and "--scene-file" in size["source"]
+
+
+def test_a_large_contacts_bodies_run_with_the_probe_inside_the_spheres_cap():
+    """The paper's rig's size scene runs at its largest contact (the b = 1 mm face, a/R = 0.17), where the
+    sphere's cap (up to its equator, 5.9 a) is shallower than the 19 a block: the displacement's probe lies
+    inside both bodies (it did not: the scene failed). Truth: the face is the whole contact (a = b) at
+    either size."""
+    from validation.families import validity
+
+    v = next(s for s in RB.scenes(load_rig(PAPER_FILE)) if s.family == "validity")
+    res = validity.run(v, None, fields=False, log=lambda m: None)
+    assert len(res["validity"]) == 2
+    for row in res["validity"]:
+        assert row["contact_radius"] == pytest.approx(v.b, rel=1e-6), row["variant"]

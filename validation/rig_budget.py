@@ -5,8 +5,9 @@ Each cell takes the cheapest model that measures it at the rig's points:
 
 - *half-space size* (``<name>-validity``, family ``validity``): the axisymmetric FE model with the cap
   and the block at the rig's sizes over the largest contact radius of its points, against the default
-  bodies (200 a) on the same mesh, under force control at the rig's load (force amplitude half the
-  smallest friction limit, partial slip); a bound at every point (smaller contacts see larger bodies);
+  bodies (200 a) on the same mesh, under force control at that point's face and load (force amplitude
+  half its smallest friction limit, partial slip); a bound at every point (smaller contacts see larger
+  bodies);
 - *curvature* (``<name>-points``, family ``points``, axisymmetric): every point in the apparatus, the FE
   model (the cap's real sphere) against MDR on both ladders;
 - *traction direction* (``<name>-direction``, family ``points``, 3D): every point in the apparatus, the
@@ -68,12 +69,6 @@ def _base(rig) -> dict:
                 E1=m.E1, nu1=m.nu1, E2=m.E2, nu2=m.nu2, F0=L["F0"], dF=L["dF"], mu=L["mu1"], mu2=L["mu2"])
 
 
-def _force_amplitude(rig) -> float:
-    """Half the smallest friction limit of the rig's load: partial slip under force control."""
-    L = rig.loading
-    return 0.5 * L["mu1"] * (L["F0"] - L["dF"])
-
-
 def _check(rig, a: float) -> None:
     """What the generated scenes need of the rig, refused in its own terms (InputError naming the file,
     the table and the field): bodies larger than ``VALIDITY_MIN_SIZE`` contact radii of its largest point
@@ -104,17 +99,21 @@ def scenes(rig) -> tuple:
     setup, base, points = setup_of(rig), _base(rig), rig.points()
     name = rig.name
     out = []
-    a = max(contact_radius(p, setup) for p in points)
+    largest = max(points, key=lambda p: contact_radius(p, setup))
+    a = contact_radius(largest, setup)
     _check(rig, a)
     inp_cap, inp_block = _bodies(rig)
     sizes = {"cap": inp_cap / a, "block": inp_block / a}
     variant = {k: x for k, x in sizes.items() if x < VALIDITY_DEFAULT_SIZE}
-    if variant:
-        out.append(Scene(f"{name}-validity", f"{rig.title or name}: the bodies' size", **base, drive="force",
-                         amplitude=_force_amplitude(rig), fe_levels=(1 / 40,), mdr_cells=(400,), variants=(variant,),
-                         family="validity", group="validity",
+    if variant:  # at the largest contact's face and load (its contact radius is the scene's a_ref)
+        at = {**base, "profile": "truncated" if largest.b > 0 else "sphere", "b": largest.b, "F0": largest.F0,
+              "dF": largest.dF, "mu": largest.mu1}
+        out.append(Scene(f"{name}-validity", f"{rig.title or name}: the bodies' size", **at, drive="force",
+                         amplitude=0.5 * largest.mu1 * (largest.F0 - largest.dF), fe_levels=(1 / 40,),
+                         mdr_cells=(400,), variants=(variant,), family="validity", group="validity",
                          notes="The rig's cap and block over the largest contact radius of its points, against the "
-                               "default 200 a bodies on the same mesh (h = a/40), force control at the rig's load."))
+                               "default 200 a bodies on the same mesh (h = a/40), force control at that point's "
+                               "face and load."))
     apparatus = dict(drive="apparatus", amplitude=rig.loading["ua"], kx=float(rig.apparatus["kx"]),
                      apparatus=setup.apparatus, family="points")
     variants = tuple(asdict(p) for p in points)

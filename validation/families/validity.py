@@ -71,15 +71,13 @@ class Variant:
     def mesh_options(self, a: float) -> dict:
         """The FE model's options (``validation.sides.run_fe``) for contact radius ``a`` (m): each body at
         its own size (the default cap is as high as the block, so a block-only variant keeps the cap at
-        the default size explicitly), the displacement's probe inside a small body; {} for the default."""
+        the default size explicitly); {} for the default. The displacement's probe is the mesh's default,
+        midway between the contact zone and 0.8 of the shallower body (the sphere's cap at most its
+        equator: a large contact's cap is the sphere's, not 200 a)."""
         if self.is_default:
             return {}
         block, cap = self.sizes
-        kw = {"block_size": block * a, "indenter_height": cap * a}
-        size = min(block, cap)
-        if size < 25:
-            kw["probe_depth"] = 0.5 * (1.25 + 0.8 * size) * a
-        return kw
+        return {"block_size": block * a, "indenter_height": cap * a}
 
 
 def run(s: Scene, out_dir=None, *, fields: bool = True, log=None) -> dict:
