@@ -82,6 +82,7 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
     if np.all(np.isfinite(np.asarray(xlim))):
         hi = np.minimum(hi, _bcast(xlim, hi) * (1 - 1e-12))
     a = 0.5 * (lo + hi)
+    step_before = hi - lo
     for it in range(200):
         res = F_of_a(a) - Fp
         if np.all((np.abs(res) <= 1e-14 * Fp) | (Fp == 0)):
@@ -91,8 +92,12 @@ def approach_from_force(profile: Profile, materials: Materials, F, rtol=1e-14):
         slope = 2.0 * Es * a * profile.dg(a)
         with np.errstate(divide="ignore", invalid="ignore"):
             a_new = a - res / slope
-        bad = ~np.isfinite(a_new) | (a_new <= lo) | (a_new >= hi)
+        # bisect where Newton leaves the bracket or does not halve the step before last (a tabulated
+        # profile's slope between its samples can stall it inside the bracket)
+        slow = np.abs(2.0 * res) > np.abs(step_before * slope)
+        bad = ~np.isfinite(a_new) | (a_new <= lo) | (a_new >= hi) | slow
         a_new = np.where(bad, 0.5 * (lo + hi), a_new)
+        step_before = np.abs(a_new - a)
         done = (np.abs(res) <= 1e-14 * Fp) | (Fp == 0)
         a_new = np.where(done, a, a_new)
         if np.all(done | (np.abs(a_new - a) <= rtol * np.maximum(a, 1e-300))):

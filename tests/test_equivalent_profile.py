@@ -105,3 +105,27 @@ def test_a_flat_face_whose_contact_stops_growing_keeps_its_whole_force_range():
     eq = EquivalentProfile(d, F, mat)
     back = np.array([float(approach_from_force(eq, mat, f * (1 - 1e-5))) for f in F])  # the wall: 1e-6 short
     assert np.allclose(back, d, rtol=1e-3, atol=0.0)
+
+
+#: a rough face's normal curve (b = 0.6 mm on a surface whose waviness ends at 2 a, steel on steel: the
+#: rough half-space's F(d), m and N), on whose equivalent profile the Newton iteration of the contact radius
+#: once stalled inside its bracket near 0.285 N (an undamped step across the kink of the tabulated slope)
+ROUGH_FACE_D = [8.22258e-09, 1.0224e-08, 1.27126e-08, 1.58069e-08, 1.96544e-08, 2.44383e-08, 3.03867e-08,
+                3.7783e-08, 4.69796e-08, 5.66371e-08, 6.57569e-08, 7.61211e-08, 8.5239e-08, 9.66864e-08,
+                1.11009e-07, 1.28889e-07, 1.49534e-07, 1.64994e-07, 1.81525e-07, 2.0151e-07, 2.26315e-07,
+                2.56415e-07, 2.91368e-07, 3.30369e-07]
+ROUGH_FACE_F = [0.005, 0.00621703, 0.00773028, 0.00961187, 0.0119515, 0.0148605, 0.0184776, 0.0229752,
+                0.0285674, 0.0355209, 0.0441669, 0.0549173, 0.0682845, 0.0849053, 0.105572, 0.131268, 0.16322,
+                0.202948, 0.252347, 0.313769, 0.390143, 0.485105, 0.603182, 0.75]
+
+
+def test_the_approach_of_every_force_inverts_a_rough_curves_profile():
+    """Truth: the inverse of force_from_approach. Every force of the curve's range, densely, gives an
+    approach whose force is the one asked, within 1e-8 (the iteration's own tolerance on its step)."""
+    mat = Materials(E1=200e9, nu1=0.29, E2=200e9, nu2=0.29)
+    eq = EquivalentProfile(ROUGH_FACE_D, ROUGH_FACE_F, mat)
+    F = np.linspace(0.005, 0.7, 3000)
+    d = approach_from_force(eq, mat, F)
+    assert np.max(np.abs(force_from_approach(eq, mat, d) / F - 1)) < 1e-8
+    for f in F[::10]:  # one at a time, as the apparatus asks
+        assert abs(float(force_from_approach(eq, mat, approach_from_force(eq, mat, f))) / f - 1) < 1e-8
