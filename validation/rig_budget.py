@@ -5,9 +5,9 @@ Each cell takes the cheapest model that measures it at the rig's points:
 
 - *half-space size* (``<name>-validity``, family ``validity``): the axisymmetric FE model with the cap
   and the block at the rig's sizes over the largest contact radius of its points, against the default
-  bodies (200 a) on the same mesh, under force control at that point's face and load (force amplitude
-  half its smallest friction limit, partial slip); a bound at every point (smaller contacts see larger
-  bodies);
+  bodies (200 a) on the same mesh, under force control at that point's load and face (the sphere where
+  the face is the whole contact, which sticks at that mesh; force amplitude half its smallest friction
+  limit, partial slip); a bound at every point (smaller contacts see larger bodies);
 - *curvature* (``<name>-points``, family ``points``, axisymmetric): every point in the apparatus, the FE
   model (the cap's real sphere) against MDR on both ladders;
 - *traction direction* (``<name>-direction``, family ``points``, 3D): every point in the apparatus, the
@@ -69,6 +69,11 @@ def _base(rig) -> dict:
                 E1=m.E1, nu1=m.nu1, E2=m.E2, nu2=m.nu2, F0=L["F0"], dF=L["dF"], mu=L["mu1"], mu2=L["mu2"])
 
 
+def _whole_contact(p, setup) -> bool:
+    """Whether the point's face is its whole contact (the contact radius is b: a flat punch's)."""
+    return p.b > 0 and contact_radius(p, setup) <= p.b * (1 + 1e-9)
+
+
 def _check(rig, a: float) -> None:
     """What the generated scenes need of the rig, refused in its own terms (InputError naming the file,
     the table and the field): bodies larger than ``VALIDITY_MIN_SIZE`` contact radii of its largest point
@@ -105,15 +110,19 @@ def scenes(rig) -> tuple:
     inp_cap, inp_block = _bodies(rig)
     sizes = {"cap": inp_cap / a, "block": inp_block / a}
     variant = {k: x for k, x in sizes.items() if x < VALIDITY_DEFAULT_SIZE}
-    if variant:  # at the largest contact's face and load (its contact radius is the scene's a_ref)
-        at = {**base, "profile": "truncated" if largest.b > 0 else "sphere", "b": largest.b, "F0": largest.F0,
-              "dF": largest.dF, "mu": largest.mu1}
+    if variant:  # at the largest contact's load, its face where it slips (the sizes in its contact radii)
+        face = largest.b > 0 and not _whole_contact(largest, setup)
+        at = {**base, "profile": "truncated" if face else "sphere", "b": largest.b if face else 0.0,
+              "F0": largest.F0, "dF": largest.dF, "mu": largest.mu1}
         out.append(Scene(f"{name}-validity", f"{rig.title or name}: the bodies' size", **at, drive="force",
                          amplitude=0.5 * largest.mu1 * (largest.F0 - largest.dF), fe_levels=(1 / 40,),
                          mdr_cells=(400,), variants=(variant,), family="validity", group="validity",
-                         notes="The rig's cap and block over the largest contact radius of its points, against the "
-                               "default 200 a bodies on the same mesh (h = a/40), force control at that point's "
-                               "face and load."))
+                         notes="The rig's cap and block over the largest contact radius of its points (in units of "
+                               "this scene's contact radius), against the default 200 a bodies on the same mesh "
+                               "(h = a/40), force control at that point's load and face; where the face is the "
+                               "whole contact (which sticks at this mesh under half the friction limit) the sphere "
+                               "at that load, whose size effect at the same ratio of body to contact is taken as "
+                               "the face's (as the paper's budget takes its sphere's sweep)."))
     apparatus = dict(drive="apparatus", amplitude=rig.loading["ua"], kx=float(rig.apparatus["kx"]),
                      apparatus=setup.apparatus, family="points")
     variants = tuple(asdict(p) for p in points)
