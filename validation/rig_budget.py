@@ -14,10 +14,12 @@ Each cell takes the cheapest model that measures it at the rig's points:
   traction of free direction against along x on the same mesh;
 - *coupling* (``<name>-coupling``, family ``assumptions3d``; only for a dissimilar pair, Dundurs' beta
   not 0): the 3D model with the normal-tangential coupling against without, on the same mesh, under
-  force control at each load (F0, dF, mu1) of the rig's points (one scene per load, ``-1``, ``-2``, ...
+  force control (``SHARE_3D`` of the friction limit) at each load (F0, dF, mu1) of the rig's points (one scene per load, ``-1``, ``-2``, ...
   where there are several), per face radius of its points there;
 - *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
-  the face tilted by the bound against the aligned face on the same 3D mesh, per load as the coupling;
+  the face tilted by the bound against the aligned face on the same 3D mesh, per load as the coupling; a
+  face that is the whole contact with its loaded edge refined as the catalogue's rows resolve it
+  (``_tilt_variant``);
 - *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
   ``validation.budget_plates.cell``), computed by the budget itself;
 - *roughness*: no scene: the budget runs the readings of the rig's rms values on its rough contacts
@@ -69,9 +71,38 @@ def _base(rig) -> dict:
                 E1=m.E1, nu1=m.nu1, E2=m.E2, nu2=m.nu2, F0=L["F0"], dF=L["dF"], mu=L["mu1"], mu2=L["mu2"])
 
 
+def _tilt_variant(b: float, tilt: float, p, setup) -> dict:
+    """The tilt scene's variant of the face b at the point's load. A face that is the whole contact loses
+    part of it past theta_c = F0 / (4 E* b^2) (the tilted punch's): its loaded edge refined as the
+    catalogue's rows resolve it, a ball of 0.8 b at half the level's size up to ``TILT_BALL_MAX`` theta_c
+    (the flat punch b = 100 um, 7.6 theta_c), beyond it the thin crescent on meshes banded along the
+    loaded rim arc (``TILT_BAND``: b = 0.6 mm, 274 theta_c); other faces on the scene's levels."""
+    from .scenes import TILT_BAND, TILT_BAND_LEVELS, TILT_REFINE_PUNCH
+
+    v = {"profile": "truncated", "b": b, "tilts": (tilt,)}
+    if not _whole_contact(p, setup):
+        return v
+    theta_c = p.F0 / (4.0 * setup.materials.E_star * b * b)
+    if tilt <= TILT_BALL_MAX * theta_c:
+        return {**v, "refine": TILT_REFINE_PUNCH}
+    return {**v, "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}
+
+
+#: the force amplitude of the 3D scenes under force control (the coupling, the tilt) over the smallest
+#: friction limit mu1 (F0 - dF): the catalogue's (0.06 N at Table 2's load), so that the paper's rig runs
+#: its rows; the tilted edge slips more the nearer the limit (the 0.6 mm face at Table 2's load: a change
+#: of the slip index of 0.008 at half the limit, 0.024 at 0.75 of it), and 0.75 keeps partial slip
+SHARE_3D = 0.75
+
+#: the largest tilt over theta_c a ball-refined loaded edge resolves (the catalogue's flat punch reaches
+#: 7.6 at pi/3600); beyond it the crescent is thin and the band resolves it
+TILT_BALL_MAX = 20.0
+
+
 def _whole_contact(p, setup) -> bool:
-    """Whether the point's face is its whole contact (the contact radius is b: a flat punch's)."""
-    return p.b > 0 and contact_radius(p, setup) <= p.b * (1 + 1e-9)
+    """Whether the point's face is its whole contact (the contact radius within 0.1 % of b: a flat
+    punch's; the sphere's annulus beyond it carries next to nothing)."""
+    return p.b > 0 and contact_radius(p, setup) <= p.b * (1 + 1e-3)
 
 
 def _check(rig, a: float) -> None:
@@ -138,7 +169,7 @@ def scenes(rig) -> tuple:
         here = [p for p in points if (p.F0, p.dF, p.mu1) == (F0, dF, mu1)]
         tag = "" if len(loads) == 1 else f"-{k + 1}"
         at = {**base, "F0": F0, "dF": dF, "mu": mu1}
-        load = dict(drive="force", amplitude=0.5 * mu1 * (F0 - dF), fe_model="3d", group="3d")
+        load = dict(drive="force", amplitude=SHARE_3D * mu1 * (F0 - dF), fe_model="3d", group="3d")
         where = f"force control at F0 = {F0:g} N, dF = {dF:g} N, mu1 = {mu1:g}"
         bs = sorted({p.b for p in here})
         if abs(rig.materials.dundurs_beta) >= 1e-12:
@@ -153,9 +184,11 @@ def scenes(rig) -> tuple:
             out.append(Scene(f"{name}-tilt{tag}", f"{rig.title or name}: the face tilted by its bound",
                              **{**at, "b": faces[0]}, **load, fe_levels=TILT_LEVELS_3D, cycles=4, steps=40,
                              family="tilt",
-                             variants=tuple({"profile": "truncated", "b": b, "tilts": (rig.tilt,)} for b in faces),
+                             variants=tuple(_tilt_variant(b, rig.tilt, next(p for p in here if p.b == b), setup)
+                                            for b in faces),
                              notes="Each face of the rig's points tilted by the rig's bound against the aligned "
-                                   f"face on the same 3D mesh, {where}."))
+                                   f"face on the same 3D mesh, {where}; a face that is the whole contact on meshes "
+                                   "banded along its loaded rim arc, where its edge crescent is resolved."))
     return tuple(out)
 
 
