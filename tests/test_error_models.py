@@ -88,7 +88,7 @@ MDR_SIZES = (100, 128, 200, 400, 512, 800, 1600)
 #: scenes' metrics. Measured: FE smooth 38 (the anchor's contact radius, whose sizes a/20, a/40, a/80 put
 #: the edge on a node; the others 3.3-13), gross 81 (the loops of the stiff apparatus, whose bound is the
 #: smooth class's), edge 21; MDR smooth 69, gross 344, edge 843 (MDR's errors at the finest grids are 1e-9
-#: of the slip index). Over all, the FE median 5.3, MDR's 11
+#: of the slip index)
 SHARPNESS = {("fem", "smooth"): 80, ("fem", "gross"): 160, ("fem", "edge"): 45,
              ("mdr", "smooth"): 140, ("mdr", "gross"): 700, ("mdr", "edge"): 1700}
 
