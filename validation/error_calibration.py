@@ -9,7 +9,7 @@ metric's envelope beside the bound in use::
 """
 from __future__ import annotations
 
-from .error_models import SAFETY, bound, bound_class, envelope
+from .error_models import SAFETY, bound, envelope
 
 #: the scalar metrics a calibration measures, in their bounds' units (the distances: those of the scene's
 #: ``validation.families.pair._distances``)
@@ -23,11 +23,11 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
     contact radius). The distance metrics are measured to the other side's run at ``reference`` (MDR at
     ``MDR_REFERENCE_CELLS`` for the FE calibration, the FE model at a/80 for MDR's), so their error is the
     change of the distance the verdict reads. Returns {metric: {"sizes", "errors"}, "reference": ...,
-    "class": the class of bounds they are held to (``error_models.bound_class``; gross slip where every run's
+    "class": the class of bounds they are held to (``families.pair.ladder_class``; gross slip where every run's
     stick radius, the other side's included, is 0)}."""
-    from .families.pair import _distances
+    from .families.pair import _distances, ladder_class
     from .scenes import a_ref
-    from .sides import ZERO, run_fe, run_mdr
+    from .sides import run_fe, run_mdr
 
     log = log or (lambda msg: None)
     run = (lambda x: run_fe(scene, x)[0]) if side == "fem" else (lambda x: run_mdr(scene, int(x)))
@@ -39,10 +39,10 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
     h_of = (lambda x: float(x) * unit) if side == "fem" else (lambda x: 1.0 / float(x))
     d_ref = pair(ref)
     out = {q: {"sizes": [], "errors": []} for q in SCALARS + tuple(d_ref)}
-    stick = [other["stick_radius"], ref["stick_radius"]]
+    runs = []
     for x in sizes:
         res = run(x)
-        stick.append(res["stick_radius"])
+        runs.append(res)
         h = h_of(x)
         d = pair(res)
         for q in SCALARS:
@@ -53,8 +53,8 @@ def measure(scene, sizes, reference: float, *, side: str = "fem", log=None) -> d
             out[q]["errors"].append(float(d[q]) - float(d_ref[q]))
         log(f"  {scene.name} {side} {x:g}: " + ", ".join(f"{q} {out[q]['errors'][-1]:+.2e}" for q in out))
     out["reference"] = reference
-    out["class"] = bound_class(scene.profile, scene.b, a_ref(scene),
-                               gross_slip=all(abs(float(c)) <= ZERO * a for c in stick))
+    mine, theirs = runs + [ref], [other]
+    out["class"] = ladder_class(scene, *((mine, theirs) if side == "fem" else (theirs, mine)))
     return out
 
 

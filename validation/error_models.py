@@ -92,9 +92,9 @@ _ENVELOPES = {
 # bound: the contact edge's quantisation stays, and the dissipation and the loops integrate the half-cycle
 # in which the stick zone shrinks from the contact edge to nothing (a bound measured in gross slip alone
 # failed there: a point of the soft apparatus, slip index 0.11, broke MDR's slip index bound)
-for _side, _traction in (("fem", (0.0472, 1.0)), ("mdr", (1.26, 2.0))):
-    _ENVELOPES[(_side, "gross")] = {**{q: v for q, v in _ENVELOPES[(_side, "smooth")].items() if q != "stick_radius"},
-                                    "traction_profile": _traction}
+_ENVELOPES.update({(side, "gross"): {**{q: v for q, v in _ENVELOPES[(side, "smooth")].items() if q != "stick_radius"},
+                                     "traction_profile": traction}
+                   for side, traction in (("fem", (0.0472, 1.0)), ("mdr", (1.26, 2.0)))})
 CALIBRATION = {("fem", "smooth"): "sphere-md, geom-b20um, exp-fig4: 13 meshes a/20-a/160 against a/320",
                ("mdr", "smooth"): "sphere-md, geom-b20um, exp-fig4: 10 grids 100-1600 cells against 12800",
                ("fem", "edge"): "geom-b30um, geom-b50um, geom-b100um: 13 meshes a/20-a/160 against a/320",

@@ -38,7 +38,8 @@ from common.errors import InputError
 
 from .budget_cells import Inputs
 from .paper_points import Setup, contact_radius
-from .scenes import FE_LEVELS_3D, TILT_LEVELS_3D, Scene
+from .scenes import (FE_LEVELS_3D, TILT_BAND, TILT_BAND_LEVELS, TILT_LEVELS_3D, TILT_REFINE_PUNCH, Scene,
+                     tilt_critical)
 
 #: the 3D levels of the direction's points scene (as the catalogue's ``direction-points``)
 DIRECTION_LEVELS_3D = (0.2, 0.14)
@@ -73,17 +74,14 @@ def _base(rig) -> dict:
 
 def _tilt_variant(b: float, tilt: float, p, setup) -> dict:
     """The tilt scene's variant of the face b at the point's load. A face that is the whole contact loses
-    part of it past theta_c = F0 / (4 E* b^2) (the tilted punch's): its loaded edge refined as the
+    part of it past theta_c (``scenes.tilt_critical``, the tilted punch's): its loaded edge refined as the
     catalogue's rows resolve it, a ball of 0.8 b at half the level's size up to ``TILT_BALL_MAX`` theta_c
     (the flat punch b = 100 um, 7.6 theta_c), beyond it the thin crescent on meshes banded along the
     loaded rim arc (``TILT_BAND``: b = 0.6 mm, 274 theta_c); other faces on the scene's levels."""
-    from .scenes import TILT_BAND, TILT_BAND_LEVELS, TILT_REFINE_PUNCH
-
     v = {"profile": "truncated", "b": b, "tilts": (tilt,)}
     if not _whole_contact(p, setup):
         return v
-    theta_c = p.F0 / (4.0 * setup.materials.E_star * b * b)
-    if tilt <= TILT_BALL_MAX * theta_c:
+    if tilt <= TILT_BALL_MAX * tilt_critical(p.F0, b, setup.materials.E_star):
         return {**v, "refine": TILT_REFINE_PUNCH}
     return {**v, "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}
 
@@ -187,8 +185,9 @@ def scenes(rig) -> tuple:
                              variants=tuple(_tilt_variant(b, rig.tilt, next(p for p in here if p.b == b), setup)
                                             for b in faces),
                              notes="Each face of the rig's points tilted by the rig's bound against the aligned "
-                                   f"face on the same 3D mesh, {where}; a face that is the whole contact on meshes "
-                                   "banded along its loaded rim arc, where its edge crescent is resolved."))
+                                   f"face on the same 3D mesh, {where}; a face that is the whole contact with its "
+                                   "loaded edge refined as the catalogue's rows resolve its edge crescent (a ball, "
+                                   "or a band along the rim arc far beyond theta_c)."))
     return tuple(out)
 
 
