@@ -43,8 +43,8 @@ from common.errors import ConvergenceError, InputError
 from . import report
 from common.executors import check_choice, executor_for, worker_id
 
-from .runner import scene_tasks
-from .store import install_scene_files, load_scene, scene_files, write_scene
+from .runner import members_here, scene_tasks, split_stored
+from .store import install_scene_files, load_scene, scene_files, write_member, write_scene
 from .catalogue import CATALOGUE, select
 from .sources import code_version
 
@@ -131,9 +131,11 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def _work(scene, out, fingerprint, fields, verbose):
+def _work(scene, out, fingerprint, fields, verbose, stored=True):
     """One scene, stored under ``out`` with the worker that ran it. ``verbose``: False
-    (quiet), True (stdout), "stderr", or a callable taking one line (in-process)."""
+    (quiet), True (stdout), "stderr", or a callable taking one line (in-process); ``stored``: its
+    tasks stored by content under ``out`` read back and its new ones stored (``runner.members_here``;
+    not on a worker's temporary folder)."""
     from fem.solvers import blas_threads
 
     if callable(verbose):
@@ -142,7 +144,9 @@ def _work(scene, out, fingerprint, fields, verbose):
         stream = sys.stderr if verbose == "stderr" else sys.stdout
         log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
     with blas_threads(1):
-        res = write_scene(scene, out, fingerprint, fields=fields, log=log, meta={"worker": worker_id()})
+        members = members_here(scene, out, code_version(), log or (lambda msg: None)) if stored else None
+        res = write_scene(scene, out, fingerprint, fields=fields, log=log, meta={"worker": worker_id()},
+                          members=members)
     return _summary(res)
 
 
@@ -160,7 +164,7 @@ def _remote(scene, fingerprint, version, fields):
         raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({version}): "
                            "install the same version of the project on every worker")
     with tempfile.TemporaryDirectory(prefix="fretting-scene-") as tmp:
-        msg = _work(scene, tmp, fingerprint, fields, False)
+        msg = _work(scene, tmp, fingerprint, fields, False, stored=False)
         return msg, scene_files(tmp, scene.name)
 
 
@@ -271,7 +275,7 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
     job per task, reduced and stored here when its last task is back (a failed task fails its scene);
     every other scene as one job. Jobs go out longest first (``expected_cost``, a scene's split over its
     tasks by their pixel count squared)."""
-    jobs, pending, got, failed = [], {}, {}, {}
+    jobs, pending, got, failed, ready = [], {}, {}, {}, []
     for s, fp in todo:
         try:
             tasks = scene_tasks(s)
@@ -281,25 +285,39 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
             log(f"{s.name} FAILED: {status[s.name]}")
             continue
         if not tasks:
-            jobs.append((cost, s, fp, None))
+            jobs.append((cost, s, fp, None, None))
             continue
-        weight = [float(t.get("n", 1)) ** 2 for t in tasks]
-        pending[s.name], got[s.name] = len(tasks), []
-        jobs += [(cost * w / sum(weight), s, fp, t) for t, w in zip(tasks, weight)]
+        total = sum(float(t.get("n", 1)) ** 2 for t in tasks)
+        found, todo_tasks = split_stored(s, tasks, out, version)
+        pending[s.name], got[s.name] = len(todo_tasks), found
+        if not todo_tasks:
+            ready.append((s, fp))
+        jobs += [(cost * float(t.get("n", 1)) ** 2 / total, s, fp, t, key) for t, key in todo_tasks]
     jobs.sort(key=lambda j: -j[0])
     futs = {(executor.submit(_remote, s, fp, version, fields) if t is None
-             else executor.submit(_member_remote, s, t, version)): (s, fp, t) for _, s, fp, t in jobs}
+             else executor.submit(_member_remote, s, t, version)): (s, fp, t, key) for _, s, fp, t, key in jobs}
     n = len(todo)
     log(f"running {n} scene(s) as {len(futs)} job(s) on {workers} executor workers")
     done = 0
+    for s, fp in ready:  # every task stored by content: reduced here
+        done += 1
+        try:
+            res = write_scene(s, out, fp, fields=fields, meta={"worker": worker_id()}, members=got[s.name])
+            status[s.name] = "ok"
+            log(f"[{done}/{n}] {s.name} done: its {len(got[s.name])} task(s) stored by content: {_summary(res)}")
+        except Exception as e:  # a failed scene must not stop the others
+            status[s.name] = f"{type(e).__name__}: {e}"
+            log(f"[{done}/{n}] {s.name} FAILED: {status[s.name]}")
     for f in futures.as_completed(futs):
-        s, fp, t = futs[f]
+        s, fp, t, key = futs[f]
         try:
             if t is None:
                 msg, files = f.result()
                 install_scene_files(out, s.name, files)
             else:
                 got[s.name].append(f.result())
+                if key is not None:
+                    write_member(out, key, got[s.name][-1])
                 pending[s.name] -= 1
                 log(f"  {s.name}: task {len(got[s.name])} of {len(got[s.name]) + pending[s.name]} done "
                     f"({time.perf_counter() - t0:.0f} s elapsed)")

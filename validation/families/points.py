@@ -117,6 +117,30 @@ def member(s: Scene, task: dict) -> dict:
             "verdicts": ver, "runtime_s": time.perf_counter() - t0}
 
 
+#: the scene fields that name a point's run but do not enter its numbers
+_NAMING = ("name", "title", "notes", "group", "quick")
+
+
+def member_physics(s: Scene, task: dict) -> dict:
+    """What a point's run computes from (``validation.runner.member_key``): its pair scene's data
+    (``Variant.scene``) but the fields that name it, numbers to 12 significant digits, so the same point
+    in two scenes (the catalogue's and a rig's: a file's 0.07 and the code's 0.2 x 0.35) is one
+    computation. The numbers of the two differ by the rounding of their inputs alone (1e-12 relative)."""
+    sv = s.typed_variants[int(task["variant"])].scene(s)
+    return _rounded({k: v for k, v in sv.as_dict().items() if k not in _NAMING})
+
+
+def _rounded(x):
+    """``x`` with every float to 12 significant digits (nested lists and dicts)."""
+    if isinstance(x, float):
+        return float(f"{x:.12g}")
+    if isinstance(x, dict):
+        return {k: _rounded(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_rounded(v) for v in x]
+    return x
+
+
 #: the 3D time step: the effect at the coarsest level again with this many times the steps; the change
 #: joins the effect's error bar (the 3D runs cost too much to ladder the step at the finest level)
 STEP_FACTOR = 2
