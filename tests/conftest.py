@@ -1,3 +1,8 @@
+import json
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -53,3 +58,40 @@ def pytest_collection_modifyitems(config, items):
             "pytest-xdist's --dist loadgroup does not group with this pytest (pytest-dev/pytest-xdist#1386): "
             "the grouped heavy fixtures are built on every worker; install the test extra's pytest "
             "(pip install -e '.[test]') or run without -n"))
+
+
+# ------------------------------------------------------------------ the full catalogue (slow)
+#: the README's command for the full catalogue, run as a user runs it (a fresh process, hard cases included)
+README_COMMAND = [sys.executable, "-m", "validation.compare", "--jobs", "2"]
+ROOT = Path(__file__).resolve().parent.parent
+
+
+# session scope and one xdist group (the modules that read it: ``pytest.mark.xdist_group("catalogue")``):
+# a module fixture is torn down whenever its worker runs another module's test in between; under -n the
+# group keeps the tests that share it on one worker
+@pytest.fixture(scope="session")
+def full_run(tmp_path_factory):
+    """The README's full comparison in a fresh process: (the process, its output folder)."""
+    out = tmp_path_factory.mktemp("full")
+    proc = subprocess.run(README_COMMAND + ["--out", str(out)], capture_output=True, text=True, cwd=ROOT)
+    return proc, out
+
+
+@pytest.fixture(scope="session")
+def full(full_run):
+    """The full comparison, asserted to have run: (exit code, output folder, its scenes' results)."""
+    proc, out = full_run
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    data = json.loads((out / "results.json").read_text())
+    return proc.returncode, out, data["scenes"]
+
+
+@pytest.fixture(scope="session")
+def paper_budget(full):
+    """The paper's budget as a user runs it on the catalogue's folder (``python -m validation.budget``):
+    (the folder, the budget's JSON)."""
+    _, out, _ = full
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--out", str(out), "--jobs", "2", "--json",
+                        str(out / "budget.json")], capture_output=True, text=True, cwd=ROOT, check=False)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return out, json.loads((out / "budget.json").read_text())

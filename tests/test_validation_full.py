@@ -10,47 +10,22 @@ Asserts the agreement the physics predicts, each against an independent truth:
 - the half-space assumption fails as the block shrinks towards the contact radius and as
   the curvature a/R grows: there the verdicts must fail.
 
-Over 500 lines for a stated reason: every test reads the one full catalogue run of the module's
-fixture ``full_run`` (minutes); split, each part would run the catalogue again.
+Over 500 lines for a stated reason: every test reads the one full catalogue run of the session fixture
+``full_run`` (tests/conftest.py; minutes), which keeps its readers on one worker of one xdist group.
 """
 from __future__ import annotations
 
 import json
 import re
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 
 import pytest
 
-from validation import compare, metrics
+from validation import metrics
 from validation.catalogue import CATALOGUE
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("catalogue")]  # one worker runs the catalogue once
-
-
-#: the README's command for the full catalogue, run as a user runs it (a fresh process, hard cases included)
-README_COMMAND = [sys.executable, "-m", "validation.compare", "--jobs", "2"]
-
-
-# session scope and one xdist group: a module fixture is torn down whenever its worker runs another
-# module's test in between; under -n the group keeps the tests that share it on one worker
-@pytest.fixture(scope="session")
-def full_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("full")
-    proc = subprocess.run(README_COMMAND + ["--out", str(out)], capture_output=True, text=True,
-                          cwd=Path(__file__).resolve().parent.parent)
-    return proc, out
-
-
-@pytest.fixture(scope="session")
-def full(full_run):
-    proc, out = full_run
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    data = json.loads((out / "results.json").read_text())
-    return proc.returncode, out, data["scenes"]
 
 
 def test_the_readme_command_writes_the_whole_report_without_warnings(full_run):
@@ -392,7 +367,7 @@ def _driven_by_the_apparatus(rows, eq_bound, smooth_above):
         assert worst > smooth_above, (r["b"], r["rms"], worst)
 
 
-def test_the_budget_of_the_paper_from_the_catalogue(full):
+def test_the_budget_of_the_paper_from_the_catalogue(paper_budget):
     """docs/budget.md, run as a user runs it (python -m validation.budget on the catalogue's folder):
     negligible where docs/budget.md says so (size, coupling, the kink, the sphere's tilt); no bound
     matters (the tilt is the paper's inequality); the roughness and the plates are ranges over the readings
@@ -401,13 +376,8 @@ def test_the_budget_of_the_paper_from_the_catalogue(full):
     from validation import spectra as SP
     from validation.budget_readings import grade_range
 
-    _, out, _ = full
-    r = subprocess.run([sys.executable, "-m", "validation.budget", "--out", str(out), "--jobs", "2", "--json",
-                        str(out / "budget.json")], capture_output=True, text=True,
-                       cwd=Path(__file__).resolve().parent.parent, check=False)
-    assert r.returncode == 0, r.stderr[-2000:]
+    out, b = paper_budget
     assert (out / "budget.md").read_text().startswith("# The error budget")
-    b = json.loads((out / "budget.json").read_text())
     assert not b["stale"]
     cells = {x["key"]: x["cells"] for x in b["rows"]}
     for key, c in cells.items():
