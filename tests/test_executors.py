@@ -288,3 +288,27 @@ def test_quick_compare_on_two_dask_worker_processes_equals_jobs_2(tmp_path):
     for n in names.split(","):
         assert b["scenes"][n]["worker"] in workers
         assert_same(physics(a["scenes"][n]), physics(b["scenes"][n]))
+
+
+# ---------------------------------------------------------------- the budget's surfaces on a Dask worker
+
+
+def _where(task):
+    """A task's number and who ran it (top level: a task of ``validation.spectra.cached_map``)."""
+    return {"x": task["x"], "worker": worker_id()}
+
+
+def test_the_budgets_surfaces_run_on_a_dask_worker_and_are_cached_here(tmp_path, inproc_cluster):
+    """python -m validation.budget --scheduler: the roughness readings' surfaces and their apparatus runs
+    (``validation.spectra.cached_map``) go to the cluster's workers, come back in their order and are
+    cached here (a second budget, in this process, runs none); a worker of other sources is refused."""
+    from validation import spectra as SP
+
+    todo = [{"x": k} for k in range(5)]
+    with executor_for(1, inproc_cluster.scheduler_address) as (ex, _):
+        got = SP.cached_map(todo, _where, tmp_path, "v1", executor=ex)
+    assert [g["x"] for g in got] == list(range(5))
+    assert {g["worker"] for g in got} == {inproc_cluster.workers[0].address}
+    assert SP.cached_map(todo, _where, tmp_path, "v1") == got  # read back: no task runs in this process
+    with pytest.raises(RuntimeError, match="other sources"):
+        SP.remote_call(_where, "not this version", {"x": 0})

@@ -80,12 +80,13 @@ SOURCES = {"kink": "MDR apparatus", "plates": "MDR apparatus"}
 
 # --------------------------------------------------------------------------- the table
 def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, log=None, jobs: int = 1,
-           members: list | None = None, readings_dir=None) -> dict:
+           members: list | None = None, readings_dir=None, executor=None) -> dict:
     """The budget of the rig ``inp`` (default the paper's, ``paper_inputs``) from the scenes stored under
     the folder ``out`` (or a dict of results by scene name, results.json's ``scenes``; a missing scene's
     cells are undetermined, naming the command that measures them) and, with ``mdr_cells``, the cells
     computed here: the kink, the plates and, for the paper, the roughness readings (their surfaces'
-    curves from ``members`` where given, else ``validation.spectra.curves`` in ``jobs`` processes, cached
+    curves from ``members`` where given, else ``validation.spectra.curves`` in ``jobs`` processes or on
+    ``executor`` (as every surface's run here), cached
     under ``out``/readings or ``readings_dir``), the paper's loops against them and against the plates'
     readings, and the sticking transition. Every cell graded against the rig's resolution. Returns
     {"rig", "rows": [{key, title, slip_index, cells: {column: cell}}], "stale": [scene names stored by
@@ -116,9 +117,9 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
             from .spectra import curves
 
             folder = readings_dir if isinstance(out, dict) else Path(out) / "readings"
-            members = curves(inp.contacts, folder, jobs=jobs, log=log)
+            members = curves(inp.contacts, folder, jobs=jobs, log=log, executor=executor)
         R = BR.Readings(members, inp.contacts)
-        result["consistency"] = BR.consistency(R, log, jobs)
+        result["consistency"] = BR.consistency(R, log, jobs, executor=executor)
         admitted = BR.admitted_names(result["consistency"])
         result["plates_consistency"] = BP.consistency(log)
         plates_ok = {r["reading"] for r in result["plates_consistency"] if r["admitted"]}
@@ -127,10 +128,10 @@ def budget(out="results", *, inp: Inputs | None = None, mdr_cells: bool = True, 
         plates_stated = "plate_model" in inp.setup.app_kw
         R, eq_error, admitted, plates_ok = None, None, None, None
         if inp.contacts:
-            R, result["equivalent"] = _rig_readings(inp, out, jobs, log)
+            R, result["equivalent"] = _rig_readings(inp, out, jobs, log, executor)
             eq_error = result["equivalent"]["error"]
         if inp.loops and R is not None:
-            result["consistency"] = BR.consistency(R, log, jobs, inp.loops)
+            result["consistency"] = BR.consistency(R, log, jobs, inp.loops, executor=executor)
             admitted = BR.admitted_names(result["consistency"])
         if inp.loops and not plates_stated:
             result["plates_consistency"] = BP.consistency(log, inp.loops, inp.setup)
@@ -184,7 +185,7 @@ def _at(c: dict, label: str) -> dict:
     return {**c, "note": f"at {label}: {c['note']}" if c.get("note") else f"at {label}"}
 
 
-def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
+def _rig_readings(inp: Inputs, out, jobs: int, log, executor=None) -> tuple:
     """A rig's roughness readings on its contacts (``validation.spectra.curves``) and the equivalent
     profile's error in its apparatus (``validation.rig_roughness``), both cached under ``out``/readings."""
     from . import budget_readings as BR
@@ -193,7 +194,7 @@ def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
     from .spectra import curves
 
     folder = Path(out) / "readings"
-    members = curves(inp.contacts, folder, jobs=jobs, log=log)
+    members = curves(inp.contacts, folder, jobs=jobs, log=log, executor=executor)
     points = {}
     for r in inp.results:
         for p in r.points:
@@ -201,7 +202,8 @@ def _rig_readings(inp: Inputs, out, jobs: int, log) -> tuple:
             if p not in here:
                 here.append(p)
     return BR.Readings(members, inp.contacts, inp.setup), equivalent_error(
-        inp.contacts, members, points, folder, apparatus=inp.setup.apparatus, jobs=jobs, log=log)
+        inp.contacts, members, points, folder, apparatus=inp.setup.apparatus, jobs=jobs, log=log,
+        executor=executor)
 
 
 def cell_text(c: dict) -> str:
@@ -293,8 +295,8 @@ def build_parser():
     p.add_argument("--force", action="store_true",
                    help="with --scene-file: rerun the rig's scenes even where they are unchanged")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="with --scene-file: run the rig's scenes on the workers of a running Dask scheduler (e.g. "
-                        "tcp://host:8786; needs the dist extra; excludes --jobs)")
+                   help="run a rig's scenes and the roughness readings' surfaces on the workers of a running Dask "
+                        "scheduler (e.g. tcp://host:8786; needs the dist extra; excludes --jobs)")
     return p
 
 
@@ -310,9 +312,8 @@ def _checked(args):
         check_output_path(args.json, "--json")
     check_choice(args.jobs, args.scheduler)
     if args.scene_file is None:
-        if args.scheduler is not None or args.force:
-            raise InputError(f"{'--scheduler' if args.scheduler is not None else '--force'} runs a rig's scenes: "
-                             "give it with --scene-file")
+        if args.force:
+            raise InputError("--force reruns a rig's scenes: give it with --scene-file")
         if not (Path(args.out) / "scenes").is_dir():
             raise InputError(f"--out {args.out!r} holds no stored scenes: run python -m validation.compare "
                              f"--out {args.out} first, or give --scene-file RIG.toml")
@@ -336,21 +337,22 @@ def _run(args) -> int:
     def say(m):
         print(m, file=sys.stderr, flush=True)
 
-    if inp is not None:
-        from common.executors import executor_for
+    from common.executors import executor_for
 
-        from .compare import run_all
-
-        say(f"validation.budget: the rig {inp.name}: {len(inp.scenes)} scene(s) -> {out}/")
-        with executor_for(args.jobs, args.scheduler) as (executor, label):
+    with executor_for(args.jobs, args.scheduler) as (executor, label):
+        if inp is not None or executor is not None:
             say(f"executor: {label}")
+        if inp is not None:
+            from .compare import run_all
+
+            say(f"validation.budget: the rig {inp.name}: {len(inp.scenes)} scene(s) -> {out}/")
             status = run_all(inp.scenes, out, executor=executor, jobs=args.jobs, force=args.force, fields=False,
                              log=say, detail=False)
-        failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
-        if failed:
-            say(f"{PROG}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "
-                "before is not read)")
-    b = budget(out, inp=inp, mdr_cells=not args.no_mdr, jobs=args.jobs, log=say)
+            failed = [k for k, v in status.items() if v not in ("ok", "skipped")]
+            if failed:
+                say(f"{PROG}: scenes failed ({', '.join(failed)}): their cells read undetermined (a result stored "
+                    "before is not read)")
+        b = budget(out, inp=inp, mdr_cells=not args.no_mdr, jobs=args.jobs, log=say, executor=executor)
     head = "# The error budget of the paper's model" if inp is None else f"# The error budget of the rig {inp.name}"
     text = "\n".join([head, ""] + markdown(b)) + "\n"
     write_bytes_atomic(out / ("budget.md" if inp is None else f"budget-{inp.name}.md"), text.encode())

@@ -276,11 +276,12 @@ def loop_contacts(loops: tuple, setup: Setup = PAPER) -> dict:
     return out
 
 
-def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None) -> dict:
+def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None, executor=None) -> dict:
     """The measured loops (default the paper's, ``consistency.paper_loops``) against every reading
     (``surface_checks``) on each surface of the finer grid of each loop's contact (``loop_contacts``: the
     paper's sphere by Figs. 4-5, its face of b = 0.6 mm by Figs. 6-7); each surface once (a reading that
-    coincides with another on a contact shares its surfaces), in ``jobs`` processes. Returns {"sphere" |
+    coincides with another on a contact shares its surfaces), in ``jobs`` processes or on ``executor``
+    (``validation.spectra.remote_call``). Returns {"sphere" |
     "face": [{reading, surfaces: [{loop: check}], consistent_surfaces, admitted}]}; a reading is admitted
     where at least one of its surfaces passes every check of its contact (the specimen may be that
     surface), excluded where none does."""
@@ -293,9 +294,16 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
     for (kind, _), lv in levels.items():
         for m in (lv[-1] if lv else []):
             todo.setdefault((kind, id(m)), (m, contacts[kind][1], R.setup.app_kw or None))
-    log(f"budget: the measured loops against {len(todo)} surfaces, {jobs} process(es)")
+    log(f"budget: the measured loops against {len(todo)} surfaces, "
+        + (f"{jobs} process(es)" if executor is None else "the executor's workers"))
     keys = list(todo)
-    if jobs > 1 and len(keys) > 1:
+    if executor is not None:
+        from .sources import code_version
+
+        version = code_version()
+        futs = {k: executor.submit(SP.remote_call, surface_checks, version, *todo[k]) for k in keys}
+        done = {k: f.result() for k, f in futs.items()}
+    elif jobs > 1 and len(keys) > 1:
         from concurrent.futures import ProcessPoolExecutor
 
         with ProcessPoolExecutor(max_workers=jobs) as ex:

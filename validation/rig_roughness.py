@@ -68,13 +68,15 @@ def tasks(contacts, members: list, points: dict, apparatus: tuple = ()) -> list:
 
 
 def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus: tuple = (), jobs: int = 1,
-                     log=None) -> dict:
+                     log=None, executor=None) -> dict:
     """The equivalent profile's error in the rig's apparatus (module docstring): {"error": the largest
     |mean| + standard error, or None where a surface failed or nothing ran, "rows": [{contact, reading,
-    point, mean, sem, surfaces}]}; the surfaces' runs cached under ``folder`` (None: not cached)."""
+    point, mean, sem, surfaces}]}; the surfaces' runs (in ``jobs`` processes or on ``executor``) cached
+    under ``folder`` (None: not cached)."""
     todo = tasks(contacts, members, points, apparatus)
     results = SP.cached_map(todo, check, folder, SP.member_version(CHECK_SOURCES), tag="apparatus", jobs=jobs,
-                            log=log, what="the rough half-space in the rig's apparatus, surfaces", every=4)
+                            log=log, what="the rough half-space in the rig's apparatus, surfaces", every=4,
+                            executor=executor)
     groups = {}
     for t, r in zip(todo, results):
         g = groups.setdefault((t["member"]["contact"]["b"], t["member"]["reading"]), {"failed": False, "rows": []})

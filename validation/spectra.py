@@ -266,9 +266,9 @@ def _key(task: dict, version: str, tag: str | None = None) -> str:
 
 
 def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = None, jobs: int = 1, log=None,
-               what: str = "surfaces", every: int = 8) -> list:
+               what: str = "surfaces", every: int = 8, executor=None) -> list:
     """``fun`` of every task of ``todo`` (plain data, a top-level function: it may run in ``jobs``
-    processes), in their order: each result read from ``cache_dir`` where one of the same task, sources
+    processes, or on ``executor``, e.g. a Dask client's: ``remote_call``), in their order: each result read from ``cache_dir`` where one of the same task, sources
     (``version``) and ``tag`` is stored, else computed and stored there (one JSON file each, written
     atomically; ``cache_dir`` None: nothing read or stored); a progress line every ``every`` results."""
     from common.io import write_json
@@ -284,29 +284,55 @@ def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = No
         else:
             run.append((k, t))
     if run:
-        log(f"budget: {what}, {len(run)} to solve ({len(done)} cached), {jobs} process(es)")
-    for (k, _), r in zip(run, _run([t for _, t in run], fun, jobs, log, what, every)):
+        where = f"{jobs} process(es)" if executor is None else "the executor's workers"
+        log(f"budget: {what}, {len(run)} to solve ({len(done)} cached), {where}")
+    for (k, _), r in zip(run, _run([t for _, t in run], fun, jobs, log, what, every, executor)):
         if cache is not None:
             write_json(cache / f"{k}.json", r)
         done[k] = r
     return [done[k] for k in keys]
 
 
-def curves(contacts, cache_dir, *, jobs: int = 1, log=None) -> list:
+def curves(contacts, cache_dir, *, jobs: int = 1, log=None, executor=None) -> list:
     """The members of every reading on ``contacts`` (``tasks``, ``member``), cached by content under
-    ``cache_dir`` (``cached_map``)."""
+    ``cache_dir`` (``cached_map``; in ``jobs`` processes or on ``executor``)."""
     return cached_map(tasks(contacts), member, cache_dir, member_version(), jobs=jobs, log=log,
-                      what="the roughness readings' surfaces")
+                      what="the roughness readings' surfaces", executor=executor)
 
 
-def _run(todo: list, fun, jobs: int, log, what: str, every: int) -> list:
-    """``fun`` of every task, in ``jobs`` processes, a progress line every ``every`` results."""
+def remote_call(fun, version: str, *args):
+    """``fun(*args)`` on a worker of an executor (top level: picklable), refused where the worker runs
+    other sources than the caller (``version``, ``validation.sources.code_version``): its result would be
+    cached under the caller's key."""
+    from .sources import code_version
+
+    here = code_version()
+    if here != version:
+        raise RuntimeError(f"a worker runs other sources (hash {here}) than the caller ({version}): install the "
+                           "same version of the project on every worker")
+    return fun(*args)
+
+
+def _run(todo: list, fun, jobs: int, log, what: str, every: int, executor=None) -> list:
+    """``fun`` of every task, in ``jobs`` processes or on ``executor`` (``remote_call``), a progress line
+    every ``every`` results."""
     out = [None] * len(todo)
 
     def say(j):
         if j % every == 0 or j == len(todo):
             log(f"  {what}: {j} of {len(todo)}")
 
+    if executor is not None:
+        from concurrent.futures import as_completed
+
+        from .sources import code_version
+
+        version = code_version()
+        futures = {executor.submit(remote_call, fun, version, t): k for k, t in enumerate(todo)}
+        for j, f in enumerate(as_completed(futures), 1):
+            out[futures[f]] = f.result()
+            say(j)
+        return out
     if jobs <= 1 or len(todo) <= 1:
         for j, t in enumerate(todo, 1):
             out[j - 1] = fun(t)
