@@ -600,3 +600,62 @@ def test_the_paper_rigs_size_scene_measures_a_slipping_contact():
     assert abs(default["contact_radius_mdr_minus_fe"]) <= em.bound("fem", "contact_radius", "smooth")(1 / 40)
     assert small["contact_radius_vs_default"] > 0
     assert 0 < abs(small["dissipation_vs_default"]) < 1e-3
+
+
+SPECTRUM = "\n[tolerances.roughness.spectrum]\n"
+
+
+def test_a_stated_spectrum_is_the_rigs_one_reading(tmp_path):
+    """A rig that states its surfaces' spectrum ([tolerances.roughness.spectrum]) runs that reading alone on
+    each rough contact, and its plastic twin where a hardness is stated. Stated as the ISO band reading
+    (Hurst 0.8, the waviness to lambda_c, the values areal) its surfaces are that reading's own, height
+    for height; a waviness end in m is the reading's in the contact's smooth radii."""
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from validation import spectra as SP
+
+    text = MINE.read_text() + SPECTRUM + "hurst = 0.8\nprofile = false\n"
+    (tmp_path / "iso.toml").write_text(text)
+    rig = load_rig(tmp_path / "iso.toml")
+    assert rig.roughness.spectrum.hurst == 0.8 and rig.roughness.spectrum.rolloff is None
+    stated, default = RB.rough_contacts(rig), RB.rough_contacts(load_rig(MINE))
+    for c, d in zip(stated, default):
+        assert [r.name for r in c.readings] == ["stated spectrum"]
+        tasks = SP.tasks([c])  # the face's grid does not resolve the ISO band: not run there, as the default's
+        assert len(tasks) == len([t for t in SP.tasks([d]) if t["reading"] == 0]) == (0 if c.b else 8)
+        for t in tasks[:2]:
+            mine = SP.surface(t)[3].h
+            theirs = SP.surface({**t, "contact": asdict(d)})[3].h  # the default's reading 0: the ISO band
+            assert SP.READINGS[0].name == "ISO band" and np.array_equal(mine, theirs)
+    # the cell: a range of that one reading (members whose curves are the smooth sphere's: no effect)
+    from validation import budget_readings as BR
+
+    inp = RB.inputs(rig)
+    R = BR.Readings(_hertz_members(inp.contacts[0]), inp.contacts, inp.setup)
+    c = BR.rig_roughness_cell(inp.results[1].points[1], R, 0.004)
+    assert list(c["readings"]) == ["stated spectrum"] and c["admitted"] == ["stated spectrum"]
+    assert c["range"][0] == c["range"][1] == c["readings"]["stated spectrum"]["effect"] and abs(c["effect"]) < 3e-3
+    # a waviness end in m, the plastic twin with a hardness
+    text = MINE.read_text().replace("# hardness = 1.0e9", "hardness = 1.0e9") + SPECTRUM + "hurst = 0.6\nrolloff = 2e-4\n"
+    (tmp_path / "wavy.toml").write_text(text)
+    for c in RB.rough_contacts(load_rig(tmp_path / "wavy.toml")):
+        el, pl = c.readings
+        assert (el.hurst, el.profile, el.plastic, pl.plastic) == (0.6, True, False, True)
+        assert el.rolloff * c.a() == pytest.approx(2e-4, rel=1e-12)
+
+
+@pytest.mark.parametrize("body, named", [
+    ("hurst = 1.5\n", "hurst must be in (0, 1]"),
+    ("profile = false\n", "hurst is missing"),
+    ("hurst = 0.8\nprofile = 'yes'\n", "profile must be true"),
+    ("hurst = 0.8\nrolloff = 1e-6\n", "rolloff: with the"),
+    ("hurst = 0.8\nband = 2\n", "unknown field 'band'"),
+])
+def test_a_bad_stated_spectrum_is_refused_in_one_line(tmp_path, body, named):
+    (tmp_path / "rig.toml").write_text(MINE.read_text() + SPECTRUM + body)
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--scene-file", str(tmp_path / "rig.toml"),
+                        "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and named in r.stderr, r.stderr
+    assert "[tolerances.roughness.spectrum]" in r.stderr and not (tmp_path / "out").exists()

@@ -144,8 +144,8 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
     ``roughness_cell``)."""
     contact = R.contacts[b]
     try:
-        if not SP.resolved(SP.READINGS[i], contact):
-            share = SP.form_share(SP.READINGS[i], contact)
+        if not SP.resolved(contact.readings[i], contact):
+            share = SP.form_share(contact.readings[i], contact)
             return {"effect": None, "unresolved": f"{share:.0%} of its variance lies beyond the grid of {contact.period:g} a"}
     except InputError as e:  # a reading the contact's scales cannot hold (its waviness below the band)
         return {"effect": None, "unresolved": str(e)}
@@ -165,7 +165,7 @@ def reading_effect(R: Readings, b: float, i: int, p: Point, smooth: float, eq_er
         form = form_effect(p, m0["form_curvature"], smooth, R.setup) if not b else [0.0, 0.0]
     except InputError as e:  # the form beyond the grid as large as the sphere's own curvature
         return {"effect": None, "unresolved": str(e)}
-    beyond = SP.form_share(SP.READINGS[i], contact) * abs(fine.mean() - smooth) if b else 0.0
+    beyond = SP.form_share(contact.readings[i], contact) * abs(fine.mean() - smooth) if b else 0.0
     return {"effect": float(fine.mean() - smooth), "form": form, "slip_index": float(fine.mean()), "surfaces_sd": sd,
             "sem": sd / math.sqrt(fine.size), "grid": float(grid), "sampling": sampling, "equivalent": eq_error,
             "beyond_grid": beyond, "error": sd + grid + sampling + (eq_error or 0.0) + beyond, "members": fine.tolist(),
@@ -222,7 +222,7 @@ def roughness_cell(p: Point, R: Readings, admitted: dict, eq_error, eq_missing: 
                 "source": "roughness readings", "note": f"{what}: the equivalent profile's error not measured "
                 "(run python -m validation.compare --scenes roughness,roughness-faces)"}
     smooth = point_slip_index(replace(p, b=b), setup=R.setup)
-    per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(SP.READINGS)
+    per = {r.name: reading_effect(R, b, i, p, smooth, eq_error) for i, r in enumerate(R.contacts[b].readings)
            if R.contacts[b].runs(r)}
     c = range_cell(per, admitted["face" if b else "sphere"], "roughness readings", what)
     if admitted["face" if b else "sphere"] is None and any(v is None for v in per.values()):
@@ -289,7 +289,8 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
 
     log = log or (lambda msg: None)
     contacts = loop_contacts(paper_loops() if loops is None else loops, R.setup)
-    levels = {(kind, i): R.members(b, i) for kind, (b, _) in contacts.items() for i in range(len(SP.READINGS))}
+    levels = {(kind, i): R.members(b, i) for kind, (b, _) in contacts.items()
+              for i in range(len(R.contacts[b].readings))}
     todo = {}
     for (kind, _), lv in levels.items():
         for m in (lv[-1] if lv else []):
@@ -313,7 +314,7 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
     out = {}
     for kind, (b, _) in contacts.items():
         rows = []
-        for i, r in enumerate(SP.READINGS):
+        for i, r in enumerate(R.contacts[b].readings):
             lv = levels[(kind, i)]
             surfaces = [done[(kind, id(m))] for m in (lv[-1] if lv else [])]
             good = sum(1 for x in surfaces if "failed" not in x and all(c["consistent"] for c in x.values()))
@@ -322,7 +323,7 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
                 j = SP.canonical(i, R.contacts[b])
             except InputError:
                 j = i
-            rows.append({"reading": r.name, "same_as": None if j == i else SP.READINGS[j].name,
+            rows.append({"reading": r.name, "same_as": None if j == i else R.contacts[b].readings[j].name,
                          "surfaces": surfaces, "consistent_surfaces": good,
                          "admitted": good > 0, "window": {"rms": m0.get("rms_window"),
                                                           "form": m0.get("form_curvature", 0.0) * R.contacts[b].R}})
@@ -372,7 +373,7 @@ def transitions(R: Readings, admitted: dict) -> dict:
 
     smooth = sticking_transition(TruncatedSphere(SP.R_INDENTER, 0.0))
     rows = [{"reading": "smooth", "kx": smooth, "sd": 0.0, "form": [1.0, 1.0], "admitted": True}]
-    for i, r in enumerate(SP.READINGS):
+    for i, r in enumerate(R.contacts[0.0].readings):
         levels = R.members(0.0, i)
         ks = None
         if levels:

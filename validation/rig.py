@@ -18,9 +18,13 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
     [tolerances]   tilt (rad, a bound: "less than"; not stated: its cell undetermined), and
                    [tolerances.roughness]: each surface's rms
                    height Rq (m; ISO 4287, over the ISO 4288 band of its value): sphere (the indenter's
-                   spherical part), face (its flat face), block (the spectrum's shape is left open:
-                   the budget runs its readings, ``validation.spectra.READINGS``); hardness (Pa, of the
-                   softer body: the plastic readings run where it is stated)
+                   spherical part), face (its flat face), block (without a stated spectrum its shape is left
+                   open: the budget runs its readings, ``validation.spectra.READINGS``); hardness (Pa, of the
+                   softer body: the plastic readings run where it is stated);
+                   [tolerances.roughness.spectrum] where the spectrum is known: hurst, rolloff (m, the
+                   longest wavelength of the waviness; default ISO's lambda_c), profile (true: the values
+                   are a profile's Rq; false: areal): the budget runs that reading alone (and its
+                   plastic one where a hardness is stated)
     [[loop]]       a measured loop, the check of the readings of what the rig leaves open (its roughness
                    spectrum, its plates; ``validation.consistency``): key, amplitude (the measured tangential
                    force amplitude, N), gross (true where gross slip was seen; default false) and the
@@ -80,16 +84,29 @@ class Bodies:
 
 
 @dataclass(frozen=True)
+class Spectrum:
+    """The surfaces' spectrum where the rig states it (every body's): the Hurst exponent ``hurst`` of its
+    self-affine part, the longest wavelength of its waviness ``rolloff`` (m; None: ISO 4288's lambda_c of
+    the stated value's band) and whether the stated values are a ``profile``'s Rq (ISO 4287) or the
+    surfaces' areal rms."""
+
+    hurst: float
+    rolloff: float | None = None
+    profile: bool = True
+
+
+@dataclass(frozen=True)
 class Roughness:
     """The surfaces' rms heights Rq (m; a profile's, ISO 4287, over the ISO 4288 band of its value; 0: not
     stated): the indenter's spherical part, its flat face, the block; the ``hardness`` (Pa) of the softer
     body's asperities, for the readings of perfectly plastic asperities (None: not stated, elastic
-    readings only)."""
+    readings only); the ``spectrum`` where stated (None: left open, the budget runs its readings)."""
 
     sphere: float = 0.0
     face: float = 0.0
     block: float = 0.0
     hardness: float | None = None
+    spectrum: Spectrum | None = None
 
 
 @dataclass(frozen=True)
@@ -233,9 +250,35 @@ def _tolerances(where, t) -> tuple:
                       "micrometres is refused)", 0.0) for k in ("sphere", "face", "block")}
     hardness = r.number("hardness", lambda x: 1e7 <= x <= 1e11, "in [1e7, 1e11] (Pa: an indentation hardness; a "
                         "value in GPa or HV is refused)", -1.0)
-    r.done(("sphere", "face", "block", "hardness"))
+    spectrum = _spectrum(where, r.left.pop("spectrum"), rq) if "spectrum" in r.left else None
+    r.done(("sphere", "face", "block", "hardness", "spectrum"))
     t.done(("tilt", "roughness"))
-    return tilt, Roughness(**rq, hardness=None if hardness < 0 else hardness)
+    return tilt, Roughness(**rq, hardness=None if hardness < 0 else hardness, spectrum=spectrum)
+
+
+def _spectrum(where, t, rq: dict) -> Spectrum:
+    """The stated spectrum, its waviness's end beyond the short cut-off lambda_s of every stated value's
+    ISO 4288 band (``rough.spectra.Finish``)."""
+    from rough.spectra import Finish
+
+    s = _Table(where, t, "tolerances.roughness.spectrum")
+    hurst = s.number("hurst", lambda x: 0 < x <= 1, "in (0, 1] (the Hurst exponent of the self-affine part)")
+    rolloff = s.number("rolloff", lambda x: 1e-7 <= x <= 0.1, "in [1e-7, 0.1] (m: the longest wavelength of the "
+                       "waviness; not stated: ISO 4288's lambda_c)", -1.0)
+    profile = s.left.pop("profile", True)
+    if not isinstance(profile, bool):
+        s.left["profile"] = profile
+        raise s.bad("profile", "true (the stated values are a profile's Rq) or false (the surfaces' areal rms)")
+    s.done(("hurst", "rolloff", "profile"))
+    out = Spectrum(hurst, None if rolloff < 0 else rolloff, profile)
+    for body, value in rq.items():
+        try:
+            if value > 0:
+                Finish(value, out.hurst, out.rolloff, out.profile)
+        except InputError as e:
+            raise InputError(f"{where}: [tolerances.roughness.spectrum] rolloff: with the {body}'s rms {value:g} m, "
+                             f"{e}") from None
+    return out
 
 
 def _point(where, indenter: Indenter, loading: dict, apparatus: dict, given: dict) -> Point:

@@ -207,7 +207,8 @@ def rough_contacts(rig) -> tuple:
     each face's that reaches into the sphere's contact, ``paper_points.rough_row_b``) with its R, materials and stated rms
     heights and hardness (none stated: elastic readings only), at the reference load F_ref: the rig's own F0
     (as the paper's contacts take Table 2's), raised where a point's largest force F0 + dF lies above the
-    curves' top (``spectra.PRELOAD`` F_ref); () where it states no rms."""
+    curves' top (``spectra.PRELOAD`` F_ref), each running the stated spectrum's reading where the rig
+    states one (``stated``); () where it states no rms."""
     from . import spectra as SP
     from .paper_points import rough_row_b
 
@@ -222,4 +223,20 @@ def rough_contacts(rig) -> tuple:
               F_ref=max(rig.loading["F0"], max(p.F0 + p.dF for p in points) / SP.PRELOAD),
               hardness=r.hardness)
     bs = sorted({rough_row_b(p, setup) for p in points})
-    return tuple(SP.face(b, **kw) if b else SP.sphere(**kw) for b in bs)
+    return tuple(stated(SP.face(b, **kw) if b else SP.sphere(**kw), r.spectrum) for b in bs)
+
+
+def stated(contact, spectrum):
+    """The contact running the rig's stated ``spectrum`` (``validation.rig.Spectrum``) as its one reading,
+    and its plastic twin where the contact has a hardness (the waviness's end in the contact's smooth
+    radii, ``spectra.Reading.rolloff``); unchanged where none is stated (the readings of ``spectra.READINGS``)."""
+    from dataclasses import replace
+
+    from .spectra import Reading
+
+    if spectrum is None:
+        return contact
+    rolloff = None if spectrum.rolloff is None else spectrum.rolloff / contact.a()
+    r = Reading("stated spectrum", hurst=spectrum.hurst, rolloff=rolloff, profile=spectrum.profile)
+    twin = (replace(r, name="stated spectrum, plastic", plastic=True),) if contact.hardness is not None else ()
+    return replace(contact, readings=(r,) + twin)

@@ -31,9 +31,9 @@ def check(task: dict) -> dict:
     from .families.roughness import rough_in_apparatus
 
     m = task["member"]
-    contact = SP.Contact(**m["contact"])
+    contact = SP.Contact.of(m["contact"])
     p, _, grid, heights, prof = SP.surface(m)
-    plastic = SP.READINGS[m["reading"]].plastic
+    plastic = contact.readings[m["reading"]].plastic
     try:
         rows = rough_in_apparatus(prof, contact.mat(), Grid(p.size, int(m["n"])), heights, task["curve"],
                                   [Point(**x) for x in task["points"]],
@@ -82,7 +82,7 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus
         g = groups.setdefault((t["member"]["contact"]["b"], t["member"]["reading"]), {"failed": False, "rows": []})
         g["failed"] |= "failed" in r
         g["rows"].append(r.get("rows") or [])
-    rows, failed = [], False
+    rows, failed, by_b = [], False, {c.b: c for c in contacts}
     for (b, i), g in groups.items():
         failed |= g["failed"]
         for pt in points.get(b, ()):
@@ -95,7 +95,7 @@ def equivalent_error(contacts, members: list, points: dict, folder, *, apparatus
                 failed = True
                 continue
             d = np.asarray(diffs)
-            rows.append({"contact": b, "reading": SP.READINGS[i].name, "point": asdict(pt), "mean": float(d.mean()),
+            rows.append({"contact": b, "reading": by_b[b].readings[i].name, "point": asdict(pt), "mean": float(d.mean()),
                          "sem": float(d.std(ddof=1) / math.sqrt(d.size)), "surfaces": int(d.size)})
     worst = max((abs(r["mean"]) + r["sem"] for r in rows), default=None)
     return {"error": None if failed or worst is None else worst, "rows": rows}

@@ -91,8 +91,9 @@ class Contact:
     smooth contact radii, its two pixel counts and the short cut-off in pixels of the coarser; the
     indenter's radius ``R``, the pair's ``materials`` (E1, nu1, E2, nu2), each body's stated rms height
     ``rq`` ((body, m) pairs; 0: not stated, no finish), the reference load ``F_ref`` (N; the curves run to
-    1.5 of it, the plastic readings flatten there) and the ``hardness`` (Pa) of the plastic readings
-    (None: not stated, those readings not run)."""
+    1.5 of it, the plastic readings flatten there), the ``hardness`` (Pa) of the plastic readings
+    (None: not stated, those readings not run) and the ``readings`` it runs (default ``READINGS``; a rig
+    that states its spectrum: that one, ``stated``)."""
 
     b: float
     bodies: tuple
@@ -104,6 +105,14 @@ class Contact:
     rq: tuple = tuple(PAPER_RQ.items())
     F_ref: float = F_REF
     hardness: float | None = HARDNESS_X5CRNI18_10
+    readings: tuple = READINGS
+
+    @classmethod
+    def of(cls, d: dict) -> "Contact":
+        """The contact of its plain data (``dataclasses.asdict``, as a task carries it)."""
+        return cls(**{**d, "bodies": tuple(d["bodies"]), "grids": tuple(d["grids"]), "materials": tuple(d["materials"]),
+                      "rq": tuple(tuple(x) for x in d["rq"]),
+                      "readings": tuple(Reading(**r) for r in d.get("readings", [asdict(x) for x in READINGS]))})
 
     def mat(self):
         from mdr.materials import Materials
@@ -178,8 +187,9 @@ def resolved(reading: Reading, contact: Contact) -> bool:
 def canonical(i: int, contact: Contact) -> int:
     """The first reading that generates the same surfaces as reading ``i`` on the contact (the same
     window, rms, Hurst exponent and asperities): ``i`` itself unless an earlier one coincides."""
-    key = (params(READINGS[i], contact, 0)[0], READINGS[i].plastic)
-    return next(j for j in range(i + 1) if (params(READINGS[j], contact, 0)[0], READINGS[j].plastic) == key)
+    rs = contact.readings
+    key = (params(rs[i], contact, 0)[0], rs[i].plastic)
+    return next(j for j in range(i + 1) if (params(rs[j], contact, 0)[0], rs[j].plastic) == key)
 
 
 def surface(task: dict) -> tuple:
@@ -191,8 +201,8 @@ def surface(task: dict) -> tuple:
     from rough.normal import Grid
     from rough.surfaces import band_limited
 
-    contact = Contact(**task["contact"])
-    p, kappa = params(READINGS[task["reading"]], contact, task["seed"])
+    contact = Contact.of(task["contact"])
+    p, kappa = params(contact.readings[task["reading"]], contact, task["seed"])
     n = int(task["n"])
     prof = make_profile("truncated" if contact.b else "sphere", contact.R, contact.b or None)
     return p, kappa, Grid(p.size, n), band_limited(p, n), prof
@@ -206,9 +216,9 @@ def member(task: dict) -> dict:
     from rough.normal import force_approach
 
     t0 = time.perf_counter()
-    reading = READINGS[task["reading"]]
+    contact = Contact.of(task["contact"])
+    reading = contact.readings[task["reading"]]
     p, kappa, grid, heights, prof = surface(task)
-    contact = Contact(**task["contact"])
     mat = contact.mat()
     out = {**task, "rms_window": p.rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
            "period": p.size, "form_curvature": kappa}
@@ -227,7 +237,7 @@ def tasks(contacts) -> list:
     """Every member of every reading on every contact, the finer grids first: each reading once per
     contact (``canonical``), only where the contact's grid resolves it (``resolved``)."""
     out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
-           for c in contacts for i in range(len(READINGS))
+           for c in contacts for i in range(len(c.readings))
            if _runs(i, c) for s in SEEDS for n in c.grids]
     return sorted(out, key=lambda t: -t["n"])
 
@@ -238,7 +248,7 @@ def _runs(i: int, c: Contact) -> bool:
     from common.errors import InputError
 
     try:
-        return c.runs(READINGS[i]) and canonical(i, c) == i and resolved(READINGS[i], c)
+        return c.runs(c.readings[i]) and canonical(i, c) == i and resolved(c.readings[i], c)
     except InputError:
         return False
 
