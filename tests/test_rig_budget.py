@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 
+from common.errors import InputError
 from validation import budget_cells as C
 from validation import rig_budget as RB
 from validation.rig import load_rig
@@ -659,3 +660,76 @@ def test_a_bad_stated_spectrum_is_refused_in_one_line(tmp_path, body, named):
                         "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and named in r.stderr, r.stderr
     assert "[tolerances.roughness.spectrum]" in r.stderr and not (tmp_path / "out").exists()
+
+
+def _iso_maps(tmp_path, seeds=(0, 1)):
+    """The ISO band reading's surfaces on my_rig's sphere contact (its coarser grid), written as measured
+    maps: (the rig file's text that gives them, the contact)."""
+    import numpy as np
+
+    from validation import spectra as SP
+
+    sphere = RB.rough_contacts(load_rig(MINE))[0]
+    files = []
+    for s in seeds:
+        t = next(t for t in SP.tasks([sphere]) if t["reading"] == 0 and t["seed"] == s and t["n"] == sphere.grids[0])
+        p, _, _, h, _ = SP.surface(t)
+        np.save(tmp_path / f"map{s}.npy", h.h)
+        files.append(f"map{s}.npy")
+    import json
+
+    return MINE.read_text() + f"\n[tolerances.roughness.maps]\nfiles = {json.dumps(files)}\npixel = {h.pixel!r}\n", sphere
+
+
+def test_measured_maps_are_the_rigs_one_reading_surface_for_surface(tmp_path):
+    """Measured height maps ([tolerances.roughness.maps]) run as the rig's one reading, each map a surface
+    on its own pixels and 1.5 times them: maps that are the ISO band reading's generated surfaces give
+    that reading's surfaces, height for height on both grids; another map's content is another task (its
+    digest in the key: a cached surface of the old map is not read)."""
+    import numpy as np
+
+    from validation import spectra as SP
+
+    text, sphere = _iso_maps(tmp_path)
+    (tmp_path / "rig.toml").write_text(text)
+    rig = load_rig(tmp_path / "rig.toml")
+    c = RB.rough_contacts(rig)[0]
+    assert [r.name for r in c.readings] == ["measured maps"] and c.readings[0].n == sphere.grids[0]
+    tasks = [t for t in SP.tasks([c]) if t["contact"]["b"] == 0.0]
+    assert sorted((t["seed"], t["n"]) for t in tasks) == [(s, n) for s in (0, 1) for n in sphere.grids]
+    for t in tasks:
+        mine = SP.surface(t)[3]
+        theirs = SP.surface({**t, "reading": 0, "contact": asdict_(sphere)})[3]
+        assert mine.pixel == pytest.approx(theirs.pixel, rel=1e-12)
+        assert np.allclose(mine.h, theirs.h - theirs.h.mean(), rtol=0, atol=1e-12 * np.abs(theirs.h).max())
+    key = SP._key(tasks[0], "v")
+    np.save(tmp_path / "map0.npy", 2 * np.load(tmp_path / "map0.npy"))
+    assert SP._key(next(t for t in SP.tasks(RB.rough_contacts(load_rig(tmp_path / "rig.toml")))
+                        if (t["seed"], t["n"]) == (tasks[0]["seed"], tasks[0]["n"]) and t["contact"]["b"] == 0.0),
+                   "v") != key
+
+
+@pytest.mark.parametrize("edit, named", [
+    (lambda t: t.replace('"map1.npy"]', '"map0.npy"]'), "distinct maps"),
+    (lambda t: t.replace(', "map1.npy"]', "]"), "at least 2 height-map files"),
+    (lambda t: t.replace('"map1.npy"]', '"gone.npy"]'), "gone.npy"),
+    (lambda t: t.rsplit("pixel = ", 1)[0] + "pixel = 2e-3\n", "pixel must be"),
+    (lambda t: t + "\n[tolerances.roughness.spectrum]\nhurst = 0.8\n", "not both"),
+])
+def test_bad_maps_are_refused_in_one_line(tmp_path, edit, named):
+    text, _ = _iso_maps(tmp_path)
+    (tmp_path / "rig.toml").write_text(edit(text))
+    r = subprocess.run([sys.executable, "-m", "validation.budget", "--scene-file", str(tmp_path / "rig.toml"),
+                        "--out", str(tmp_path / "out")], capture_output=True, text=True, cwd=ROOT)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and named in r.stderr, r.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_maps_smaller_than_four_contact_radii_are_refused(tmp_path):
+    text, sphere = _iso_maps(tmp_path)
+    small = 3.0 * sphere.a() / sphere.grids[0]  # 3 contact radii on a side
+    import re
+
+    (tmp_path / "rig.toml").write_text(re.sub(r"pixel = [0-9.e-]+\n", f"pixel = {small!r}\n", text))
+    with pytest.raises(InputError, match="at least 4 smooth contact radii"):
+        RB.inputs(load_rig(tmp_path / "rig.toml"))

@@ -24,7 +24,9 @@ is the rig of Willert, Machines 11 (2023) 484, ``docs/examples/my_rig.toml`` a w
                    [tolerances.roughness.spectrum] where the spectrum is known: hurst, rolloff (m, the
                    longest wavelength of the waviness; default ISO's lambda_c), profile (true: the values
                    are a profile's Rq; false: areal): the budget runs that reading alone (and its
-                   plastic one where a hardness is stated)
+                   plastic one where a hardness is stated); or [tolerances.roughness.maps]: files (at least
+                   2 square height maps of the pair's composite topography, .npy or a text grid, relative
+                   to the rig file), pixel (m): the budget runs them as the one reading
     [[loop]]       a measured loop, the check of the readings of what the rig leaves open (its roughness
                    spectrum, its plates; ``validation.consistency``): key, amplitude (the measured tangential
                    force amplitude, N), gross (true where gross slip was seen; default false) and the
@@ -96,17 +98,31 @@ class Spectrum:
 
 
 @dataclass(frozen=True)
+class Maps:
+    """The surfaces' measured height maps where the rig gives them: the ``files`` (absolute paths; one
+    surface each, the pair's composite topography), their ``pixel`` (m) and side ``n`` (pixels), and the
+    ``digest`` of their content."""
+
+    files: tuple
+    pixel: float
+    n: int
+    digest: str
+
+
+@dataclass(frozen=True)
 class Roughness:
     """The surfaces' rms heights Rq (m; a profile's, ISO 4287, over the ISO 4288 band of its value; 0: not
     stated): the indenter's spherical part, its flat face, the block; the ``hardness`` (Pa) of the softer
     body's asperities, for the readings of perfectly plastic asperities (None: not stated, elastic
-    readings only); the ``spectrum`` where stated (None: left open, the budget runs its readings)."""
+    readings only); the ``spectrum`` or the measured ``maps`` where given (None: left open, the budget
+    runs its readings)."""
 
     sphere: float = 0.0
     face: float = 0.0
     block: float = 0.0
     hardness: float | None = None
     spectrum: Spectrum | None = None
+    maps: Maps | None = None
 
 
 @dataclass(frozen=True)
@@ -240,7 +256,7 @@ def _apparatus(where, t) -> dict:
     return dict(t)
 
 
-def _tolerances(where, t) -> tuple:
+def _tolerances(where, t, folder: Path) -> tuple:
     t = _Table(where, t, "tolerances")
     tilt = t.number("tilt", lambda x: 0 <= x <= TILT_MAX, f"in [0, {TILT_MAX:.4g}] (rad: at most one degree; "
                     "a bound in degrees above that is refused)", -1.0)
@@ -251,9 +267,43 @@ def _tolerances(where, t) -> tuple:
     hardness = r.number("hardness", lambda x: 1e7 <= x <= 1e11, "in [1e7, 1e11] (Pa: an indentation hardness; a "
                         "value in GPa or HV is refused)", -1.0)
     spectrum = _spectrum(where, r.left.pop("spectrum"), rq) if "spectrum" in r.left else None
-    r.done(("sphere", "face", "block", "hardness", "spectrum"))
+    maps = _maps(where, r.left.pop("maps"), folder) if "maps" in r.left else None
+    if spectrum is not None and maps is not None:
+        raise InputError(f"{where}: [tolerances.roughness] give the surfaces' spectrum or their measured maps, "
+                         "not both (the maps carry their spectrum)")
+    r.done(("sphere", "face", "block", "hardness", "spectrum", "maps"))
     t.done(("tilt", "roughness"))
-    return tilt, Roughness(**rq, hardness=None if hardness < 0 else hardness, spectrum=spectrum)
+    return tilt, Roughness(**rq, hardness=None if hardness < 0 else hardness, spectrum=spectrum, maps=maps)
+
+
+def _maps(where, t, folder: Path) -> Maps:
+    """The measured maps: at least two distinct square files of one size (``rough.surfaces.load_height_map``;
+    paths relative to the rig file), their pixel, and their content's hash."""
+    import hashlib
+
+    from rough.surfaces import load_height_map
+
+    s = _Table(where, t, "tolerances.roughness.maps")
+    files = s.left.pop("files", None)
+    if not isinstance(files, list) or len(files) < 2 or not all(isinstance(f, str) for f in files):
+        s.left["files"] = files
+        raise s.bad("files", "a list of at least 2 height-map files (.npy or a text grid; one surface each, the "
+                             "pair's composite topography, paths relative to the rig file)")
+    pixel = s.number("pixel", lambda x: 1e-9 <= x <= 1e-3, "in [1e-9, 1e-3] (m: the maps' lateral sampling)")
+    s.done(("files", "pixel"))
+    paths = tuple(str((folder / f).resolve()) for f in files)
+    try:
+        read = [load_height_map(f, pixel, square=True) for f in paths]
+    except InputError as e:
+        raise InputError(f"{where}: [tolerances.roughness.maps] files: {e}") from None
+    if len({m.h.tobytes() for m in read}) != len(read):
+        raise InputError(f"{where}: [tolerances.roughness.maps] files must be distinct maps (the same map twice is "
+                         "one surface)")
+    sizes = sorted({m.h.shape[0] for m in read})
+    if len(sizes) != 1:
+        raise InputError(f"{where}: [tolerances.roughness.maps] files must be maps of one size, got {sizes} pixels")
+    digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in paths)).hexdigest()[:16]
+    return Maps(paths, pixel, sizes[0], digest)
 
 
 def _spectrum(where, t, rq: dict) -> Spectrum:
@@ -380,7 +430,7 @@ def load_rig(path) -> Rig:
     indenter = _indenter(where, data["indenter"])
     loading = _loading(where, data["loading"])
     apparatus = _apparatus(where, data["apparatus"])
-    tilt, roughness = _tolerances(where, data.get("tolerances", {}))
+    tilt, roughness = _tolerances(where, data.get("tolerances", {}), path.parent)
     if indenter.profile == "sphere" and tilt:
         tilt = 0.0  # a tilted sphere is the same sphere displaced
     return Rig(name=name, title=title, indenter=indenter, materials=_materials(where, data["materials"]),

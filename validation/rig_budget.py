@@ -213,7 +213,7 @@ def rough_contacts(rig) -> tuple:
     from .paper_points import rough_row_b
 
     r = rig.roughness
-    if not (r.sphere or r.face or r.block):
+    if not (r.sphere or r.face or r.block or r.maps):
         return ()
     setup = setup_of(rig)
     points = rig.points() + tuple(lp.point for lp in rig.loops)
@@ -223,20 +223,30 @@ def rough_contacts(rig) -> tuple:
               F_ref=max(rig.loading["F0"], max(p.F0 + p.dF for p in points) / SP.PRELOAD),
               hardness=r.hardness)
     bs = sorted({rough_row_b(p, setup) for p in points})
-    return tuple(stated(SP.face(b, **kw) if b else SP.sphere(**kw), r.spectrum) for b in bs)
+    return tuple(stated(SP.face(b, **kw) if b else SP.sphere(**kw), r, rig.source or rig.name) for b in bs)
 
 
-def stated(contact, spectrum):
-    """The contact running the rig's stated ``spectrum`` (``validation.rig.Spectrum``) as its one reading,
-    and its plastic twin where the contact has a hardness (the waviness's end in the contact's smooth
-    radii, ``spectra.Reading.rolloff``); unchanged where none is stated (the readings of ``spectra.READINGS``)."""
+def stated(contact, roughness, where: str = "the rig"):
+    """The contact running the rig's stated spectrum (``validation.rig.Spectrum``: the waviness's end in
+    the contact's smooth radii, ``spectra.Reading.rolloff``) or its measured maps (``validation.rig.Maps``:
+    at least 4 smooth contact radii on a side, else InputError) as its one reading, and its plastic twin
+    where the contact has a hardness; unchanged where neither is given (the readings of
+    ``spectra.READINGS``)."""
     from dataclasses import replace
 
     from .spectra import Reading
 
-    if spectrum is None:
+    spectrum, maps = roughness.spectrum, roughness.maps
+    if maps is not None:
+        a, size = contact.a(), maps.pixel * maps.n
+        if not size >= 4.0 * a:
+            raise InputError(f"{where}: [tolerances.roughness.maps] files: maps of at least 4 smooth contact radii "
+                             f"of the {contact.name()} contact ({4.0 * a:.3g} m) on a side, got {size:.3g} m")
+        r = Reading("measured maps", maps=maps.files, pixel=maps.pixel, n=maps.n, digest=maps.digest)
+    elif spectrum is not None:
+        rolloff = None if spectrum.rolloff is None else spectrum.rolloff / contact.a()
+        r = Reading("stated spectrum", hurst=spectrum.hurst, rolloff=rolloff, profile=spectrum.profile)
+    else:
         return contact
-    rolloff = None if spectrum.rolloff is None else spectrum.rolloff / contact.a()
-    r = Reading("stated spectrum", hurst=spectrum.hurst, rolloff=rolloff, profile=spectrum.profile)
-    twin = (replace(r, name="stated spectrum, plastic", plastic=True),) if contact.hardness is not None else ()
+    twin = (replace(r, name=f"{r.name}, plastic", plastic=True),) if contact.hardness is not None else ()
     return replace(contact, readings=(r,) + twin)

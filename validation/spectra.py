@@ -60,13 +60,23 @@ class Reading:
     (``rolloff`` in smooth contact radii of the contact; None: at ISO's lambda_c, all of the
     profilometer's band), perfectly ``plastic`` asperities (flattened at ``ROUGH_PRELOAD``) or elastic,
     the values a profile's Rq (``profile``: the areal rms larger, ``rough.spectra.Finish``) or the
-    surfaces' areal rms."""
+    surfaces' areal rms. A rig's ``measured`` reading: its height ``maps`` (files, one surface each, the
+    pair's composite topography, square, ``n`` pixels of ``pixel`` m; ``digest``: their content's hash,
+    so a cached surface of other content is computed again); its spectrum then is the maps'."""
 
     name: str
     hurst: float = 0.8
     rolloff: float | None = None
     plastic: bool = False
     profile: bool = False
+    maps: tuple = ()
+    pixel: float | None = None
+    n: int = 0
+    digest: str = ""
+
+    @property
+    def measured(self) -> bool:
+        return bool(self.maps)
 
     def finishes(self, contact: "Contact", a: float) -> tuple:
         from rough.spectra import Finish
@@ -112,7 +122,8 @@ class Contact:
         """The contact of its plain data (``dataclasses.asdict``, as a task carries it)."""
         return cls(**{**d, "bodies": tuple(d["bodies"]), "grids": tuple(d["grids"]), "materials": tuple(d["materials"]),
                       "rq": tuple(tuple(x) for x in d["rq"]),
-                      "readings": tuple(Reading(**r) for r in d.get("readings", [asdict(x) for x in READINGS]))})
+                      "readings": tuple(Reading(**{**r, "maps": tuple(r.get("maps", ()))})
+                                        for r in d.get("readings", [asdict(x) for x in READINGS]))})
 
     def mat(self):
         from mdr.materials import Materials
@@ -130,8 +141,10 @@ class Contact:
         return "sphere" if not self.b else f"b = {self.b * 1e6:g} um"
 
     def runs(self, reading: "Reading") -> bool:
-        """Whether the contact runs the reading: a finish stated, and a hardness for a plastic one."""
-        return any(v > 0 for k, v in self.rq if k in self.bodies) and (self.hardness is not None or not reading.plastic)
+        """Whether the contact runs the reading: a finish stated (or measured maps), and a hardness for a
+        plastic one."""
+        return ((reading.measured or any(v > 0 for k, v in self.rq if k in self.bodies))
+                and (self.hardness is not None or not reading.plastic))
 
 
 #: the sphere's contact: 32 radii (the rough contact spreads over several), cut off at one radius
@@ -149,12 +162,28 @@ def sphere(**rig) -> Contact:
     return Contact(0.0, ("sphere", "block"), 32.0, (256, 384), 8.0, **rig)
 
 
+@dataclass(frozen=True)
+class Measured:
+    """A measured map's place in ``params``: its file, side (m), pixels, and the band it holds (two pixels
+    to its side); its rms is the map's own (``surface``)."""
+
+    path: str
+    size: float
+    n: int
+    lambda_short: float
+    lambda_long: float
+
+
 def params(reading: Reading, contact: Contact, seed: int):
-    """The ``rough.surfaces.RoughnessParams`` of a member on the coarser grid, and the form curvature
-    (1/m) the grid leaves out."""
+    """The ``rough.surfaces.RoughnessParams`` of a member on the coarser grid (a measured reading's map:
+    ``Measured``), and the form curvature (1/m) the grid leaves out (none of a measured map: its form is
+    what was removed from it)."""
     from rough.spectra import form_curvature_rms, window_rms
     from rough.surfaces import RoughnessParams
 
+    if reading.measured:
+        return Measured(reading.maps[int(seed)], reading.pixel * reading.n, reading.n, 2.0 * reading.pixel,
+                        reading.pixel * reading.n), 0.0
     a = contact.a()
     P, n0 = contact.period * a, contact.grids[0]
     short = contact.short * P / n0
@@ -168,9 +197,12 @@ def params(reading: Reading, contact: Contact, seed: int):
 
 @functools.lru_cache(maxsize=None)
 def form_share(reading: Reading, contact: Contact) -> float:
-    """The share of the reading's gap variance in wavelengths longer than the contact's grid."""
+    """The share of the reading's gap variance in wavelengths longer than the contact's grid (0 for
+    measured maps: the grid is theirs)."""
     from rough.spectra import variance_fraction
 
+    if reading.measured:
+        return 0.0
     a = contact.a()
     fin = reading.finishes(contact, a)
     beyond = sum(f.areal_rq() ** 2 * variance_fraction(f.hurst, f.band(), (contact.period * a, math.inf)) for f in fin)
@@ -199,12 +231,16 @@ def surface(task: dict) -> tuple:
     a plastic reading's flattening is ``member``'s)."""
     from mdr.profiles import make_profile
     from rough.normal import Grid
-    from rough.surfaces import band_limited
+    from rough.surfaces import band_limited, load_height_map, resample
 
     contact = Contact.of(task["contact"])
-    p, kappa = params(contact.readings[task["reading"]], contact, task["seed"])
+    reading = contact.readings[task["reading"]]
+    p, kappa = params(reading, contact, task["seed"])
     n = int(task["n"])
     prof = make_profile("truncated" if contact.b else "sphere", contact.R, contact.b or None)
+    if reading.measured:
+        heights = resample(load_height_map(p.path, reading.pixel, square=True), n)
+        return p, kappa, Grid(p.size, n), heights, prof
     return p, kappa, Grid(p.size, n), band_limited(p, n), prof
 
 
@@ -220,7 +256,8 @@ def member(task: dict) -> dict:
     reading = contact.readings[task["reading"]]
     p, kappa, grid, heights, prof = surface(task)
     mat = contact.mat()
-    out = {**task, "rms_window": p.rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
+    rms = float(heights.h.std()) if reading.measured else p.rms
+    out = {**task, "rms_window": rms, "lambda_short": p.lambda_short, "lambda_long": p.lambda_long,
            "period": p.size, "form_curvature": kappa}
     try:
         if reading.plastic:
@@ -238,8 +275,16 @@ def tasks(contacts) -> list:
     contact (``canonical``), only where the contact's grid resolves it (``resolved``)."""
     out = [{"reading": i, "contact": asdict(c), "seed": s, "n": n}
            for c in contacts for i in range(len(c.readings))
-           if _runs(i, c) for s in SEEDS for n in c.grids]
+           if _runs(i, c) for s, n in _members_of(c.readings[i], c)]
     return sorted(out, key=lambda t: -t["n"])
+
+
+def _members_of(reading: Reading, c: Contact) -> list:
+    """A reading's (seed, grid) pairs on a contact: ``SEEDS`` on its grids, or each measured map on its own
+    pixels and 1.5 times them (resampled)."""
+    if reading.measured:
+        return [(s, n) for s in range(len(reading.maps)) for n in (reading.n, 3 * reading.n // 2)]
+    return [(s, n) for s in SEEDS for n in c.grids]
 
 
 def _runs(i: int, c: Contact) -> bool:
