@@ -312,3 +312,76 @@ def test_the_budgets_surfaces_run_on_a_dask_worker_and_are_cached_here(tmp_path,
     assert SP.cached_map(todo, _where, tmp_path, "v1") == got  # read back: no task runs in this process
     with pytest.raises(RuntimeError, match="other sources"):
         SP.remote_call(_where, "not this version", {"x": 0})
+
+
+def _fails_at_3(task):
+    if task["x"] == 3:
+        raise ValueError("no convergence")
+    return {"x": task["x"]}
+
+
+def test_a_failed_surface_loses_none_of_the_finished_ones(tmp_path):
+    """``validation.spectra.cached_map`` stores each result as it completes: a task that fails stops the map
+    but the results before it are cached (a rerun computes only the rest)."""
+    from validation import spectra as SP
+
+    todo = [{"x": k} for k in range(5)]
+    with pytest.raises(ValueError):
+        SP.cached_map(todo, _fails_at_3, tmp_path, "v1")
+    assert len(list(tmp_path.glob("*.json"))) == 3
+
+
+class _Recording(cf.ThreadPoolExecutor):
+    """A thread pool that counts what is submitted to it."""
+
+    submitted = 0
+
+    def submit(self, *a, **k):
+        type(self).submitted += 1
+        return super().submit(*a, **k)
+
+
+def test_the_budget_hands_its_executor_to_every_surface_run(monkeypatch, tmp_path):
+    """python -m validation.budget --scheduler/--jobs: the executor reaches the readings' surfaces of the
+    paper's and of a rig's budget, and the measured loops' checks (those on the executor equal the serial
+    ones)."""
+    from pathlib import Path
+
+    from validation import budget as B
+    from validation import budget_readings as BR
+    from validation import rig_budget as RB
+    from validation import spectra as SP
+    from validation.budget_cells import paper_inputs
+    from validation.rig import load_rig
+
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def curves(contacts, cache_dir, *, jobs=1, log=None, executor=None):
+        seen.append(executor)
+        raise Stop
+
+    monkeypatch.setattr(SP, "curves", curves)
+    ex = object()
+    rig = RB.inputs(load_rig(Path(__file__).resolve().parents[1] / "docs" / "examples" / "my_rig.toml"))
+    for inp in (paper_inputs(), rig):
+        with pytest.raises(Stop):
+            B.budget(tmp_path, inp=inp, executor=ex)
+    assert seen == [ex, ex]
+    # the loops' checks on an executor: the same checks as in this process
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from mdr import reference as ref
+
+    F = 0.5 * np.geomspace(1e-2, 1.5, 24)
+    d = [float(ref.hertz(f, SP.SPHERE.R, SP.SPHERE.mat().E_star)["d"]) for f in F]
+    members = [{"reading": 0, "contact": asdict(SP.SPHERE), "seed": s, "n": n, "rms_window": 1e-6,
+                "form_curvature": 0.0, "curve": {"d": d, "F": F.tolist()}} for s in (0, 1) for n in SP.SPHERE.grids]
+    R = BR.Readings(members)
+    with _Recording(2) as pool:
+        on = BR.consistency(R, executor=pool)
+    assert _Recording.submitted >= 2 and on == BR.consistency(R)

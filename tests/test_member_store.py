@@ -19,7 +19,7 @@ def counted(monkeypatch):
     def fake(s, task):
         sv = s.typed_variants[task["variant"]].scene(s)
         calls.append((s.name, sv.b, sv.kx, sv.mu))
-        return {"variant": task["variant"], "b": sv.b, "kx": sv.kx, "runtime_s": 0.0,
+        return {"variant": task["variant"], "b": sv.b, "kx": sv.kx, "runtime_s": 1.0,
                 **({"failed": "no convergence"} if sv.kx == 3e6 else {})}
 
     monkeypatch.setattr(runner, "run_member", fake)
@@ -47,16 +47,22 @@ def test_a_point_stored_by_another_scene_is_read_back(tmp_path, counted, executo
         assert len(counted) == 3 and counted[-1][1:3] == (b.typed_variants[1].scene(b).b, b.typed_variants[1].kx)
         from validation.store import load_scene
 
-        rows = load_scene(tmp_path, b.name)["points"]
+        res = load_scene(tmp_path, b.name)
+        rows = res["points"]
         assert [r["variant"] for r in rows] == [0, 1]  # the stored point at its index in the reading scene
+        assert rows[0]["kx"] == b.typed_variants[0].kx  # this scene's point, not the one the store ran
+        assert res["members_cpu_s"] == 1.0  # the point read back cost nothing
         # every task stored: the scene is reduced without running one
         c = replace(b, name="again")
         assert compare.run_all([c], tmp_path, executor=ex, log=lambda m: None) == {c.name: "ok"}
         assert len(counted) == 3
+        # --force reruns every point
+        compare.run_all([c], tmp_path, executor=ex, force=True, log=lambda m: None)
+        assert len(counted) == 5
         # another friction: new physics, run again
         d = replace(b, name="other-mu", mu=b.mu * 1.5)
         compare.run_all([d], tmp_path, executor=ex, log=lambda m: None)
-        assert len(counted) == 5
+        assert len(counted) == 7
     finally:
         if ex:
             ex.shutdown()

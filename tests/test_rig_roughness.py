@@ -302,7 +302,8 @@ def test_measured_maps_are_the_rigs_one_reading_surface_for_surface(tmp_path):
     """Measured height maps ([tolerances.roughness.maps]) run as the rig's one reading, each map a surface
     on its own pixels and 1.5 times them: maps that are the ISO band reading's generated surfaces give
     that reading's surfaces, height for height on both grids; another map's content is another task (its
-    digest in the key: a cached surface of the old map is not read)."""
+    digest in the key: a cached surface of the old map is not read; a task of the old content refuses the
+    new one)."""
     import numpy as np
 
     from validation import spectra as SP
@@ -321,6 +322,8 @@ def test_measured_maps_are_the_rigs_one_reading_surface_for_surface(tmp_path):
         assert np.allclose(mine.h, theirs.h - theirs.h.mean(), rtol=0, atol=1e-12 * np.abs(theirs.h).max())
     key = SP._key(tasks[0], "v")
     np.save(tmp_path / "map0.npy", 2 * np.load(tmp_path / "map0.npy"))
+    with pytest.raises(InputError, match="changed since the rig file was read"):
+        SP.surface(next(t for t in tasks if t["seed"] == 0))
     assert SP._key(next(t for t in SP.tasks(RB.rough_contacts(load_rig(tmp_path / "rig.toml")))
                         if (t["seed"], t["n"]) == (tasks[0]["seed"], tasks[0]["n"]) and t["contact"]["b"] == 0.0),
                    "v") != key
@@ -350,3 +353,12 @@ def test_maps_smaller_than_four_contact_radii_are_refused(tmp_path):
     (tmp_path / "rig.toml").write_text(re.sub(r"pixel = [0-9.e-]+\n", f"pixel = {small!r}\n", text))
     with pytest.raises(InputError, match="at least 4 smooth contact radii"):
         RB.inputs(load_rig(tmp_path / "rig.toml"))
+
+
+def test_a_spectrum_without_an_rms_height_is_refused(tmp_path):
+    text = MINE.read_text()
+    for body in ("sphere", "face", "block"):
+        text = "\n".join(ln for ln in text.splitlines() if not ln.startswith(f"{body} = "))
+    (tmp_path / "rig.toml").write_text(text + SPECTRUM + "hurst = 0.8\n")
+    with pytest.raises(InputError, match="spectrum without a height"):
+        load_rig(tmp_path / "rig.toml")

@@ -44,7 +44,7 @@ Where the cells come from (``COLUMNS``; the paper's scenes named, a rig's are ``
   the catalogue's scenes ``roughness`` and ``roughness-faces``). A rig of one's own: the plates over
   every reading unless it states its ``plate_model`` (then exactly 0); the roughness over every reading
   of its own rms values on its own contacts (``rig_budget.rough_contacts``; plastic readings where it
-  states a hardness), the equivalent profile's error measured in its apparatus on the readings' own
+  states a hardness; the one reading of its stated spectrum or measured maps where it gives them), the equivalent profile's error measured in its apparatus on the readings' own
   surfaces (``validation.rig_roughness``);
 - *kink rounding*: computed here with the MDR apparatus at every point: the fillet of the kink
   (``mdr.profiles.RoundedTruncatedSphere``, of the stated widest rounding; the paper's "less than the

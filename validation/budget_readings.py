@@ -5,7 +5,8 @@ The roughness: each admitted reading of the paper's roughness at each point, and
 span (``roughness_cell``), the paper's loops as the check that admits a reading (``admitted``), the
 sticking transition over the admitted readings (``transitions``).
 
-A reading (``validation.spectra.READINGS``) on a contact is four surfaces, each on two grids; each surface's
+A reading on a contact (``validation.spectra.READINGS``, or a rig's stated spectrum or measured maps: the
+contact's ``readings``) is four surfaces (one per measured map), each on two grids; each surface's
 normal force-approach curve gives MDR's equivalent profile (``mdr.equivalent.EquivalentProfile``), driven by
 the apparatus at the point at the paper's mu1. Per reading the change of the slip index against the smooth
 indenter is the surfaces' mean on the finer grid, and its bar, for the paper's one specimen pair, is
@@ -299,9 +300,9 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
         + (f"{jobs} process(es)" if executor is None else "the executor's workers"))
     keys = list(todo)
     if executor is not None:
-        from .sources import code_version
+        from .sources import all_sources_version
 
-        version = code_version()
+        version = all_sources_version()
         futs = {k: executor.submit(SP.remote_call, surface_checks, version, *todo[k]) for k in keys}
         done = {k: f.result() for k, f in futs.items()}
     elif jobs > 1 and len(keys) > 1:

@@ -46,7 +46,7 @@ from common.executors import check_choice, executor_for, worker_id
 from .runner import members_here, scene_tasks, split_stored
 from .store import install_scene_files, load_scene, scene_files, write_member, write_scene
 from .catalogue import CATALOGUE, select
-from .sources import code_version
+from .sources import code_version, refuse_other_sources
 
 
 #: after this many seconds without a message ``main`` says what it is still doing (mesh
@@ -131,11 +131,11 @@ def _pid_alive(pid: int) -> bool:
     return True
 
 
-def _work(scene, out, fingerprint, fields, verbose, stored=True):
+def _work(scene, out, fingerprint, fields, verbose, stored=True, force=False):
     """One scene, stored under ``out`` with the worker that ran it. ``verbose``: False
     (quiet), True (stdout), "stderr", or a callable taking one line (in-process); ``stored``: its
-    tasks stored by content under ``out`` read back and its new ones stored (``runner.members_here``;
-    not on a worker's temporary folder)."""
+    tasks stored by content under ``out`` read back (not with ``force``) and its new ones stored
+    (``runner.members_here``; not on a worker's temporary folder)."""
     from fem.solvers import blas_threads
 
     if callable(verbose):
@@ -144,7 +144,7 @@ def _work(scene, out, fingerprint, fields, verbose, stored=True):
         stream = sys.stderr if verbose == "stderr" else sys.stdout
         log = (lambda msg: print(f"[{scene.name}] {msg.strip()}", file=stream, flush=True)) if verbose else None
     with blas_threads(1):
-        members = members_here(scene, out, code_version(), log or (lambda msg: None)) if stored else None
+        members = members_here(scene, out, code_version(), log or (lambda msg: None), force) if stored else None
         res = write_scene(scene, out, fingerprint, fields=fields, log=log, meta={"worker": worker_id()},
                           members=members)
     return _summary(res)
@@ -159,10 +159,7 @@ def _remote(scene, fingerprint, version, fields):
     result would be stored under the wrong fingerprint."""
     import tempfile
 
-    here = code_version()
-    if here != version:
-        raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({version}): "
-                           "install the same version of the project on every worker")
+    refuse_other_sources(code_version(), version)
     with tempfile.TemporaryDirectory(prefix="fretting-scene-") as tmp:
         msg = _work(scene, tmp, fingerprint, fields, False, stored=False)
         return msg, scene_files(tmp, scene.name)
@@ -243,12 +240,12 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
                 log(f"[{i}/{n}] {s.name}: {s.title}")
                 try:
                     status[s.name] = "ok"
-                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, log if detail else False)}")
+                    log(f"[{i}/{n}] {s.name} done: {_work(s, out, fp, fields, log if detail else False, force=force)}")
                 except (InputError, ConvergenceError, RuntimeError, ValueError, ArithmeticError) as e:
                     status[s.name] = f"{type(e).__name__}: {e}"
                     log(f"[{i}/{n}] {s.name} FAILED: {status[s.name]}")
         else:
-            _run_on(executor, todo, out, version, fields, status, log, t0, jobs if own else "the given")
+            _run_on(executor, todo, out, version, fields, status, log, t0, jobs if own else "the given", force)
     finally:
         if own is not None:
             own.shutdown(cancel_futures=True)
@@ -258,10 +255,7 @@ def run_all(scenes, out, *, executor: futures.Executor | None = None, jobs: int 
 def _member_remote(scene, task, version):
     """One task of a scene of independent tasks (``runner.scene_tasks``) on a worker of an executor
     (top level: picklable); refuses other sources than the caller's, as ``_remote``."""
-    here = code_version()
-    if here != version:
-        raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({version}): "
-                           "install the same version of the project on every worker")
+    refuse_other_sources(code_version(), version)
     from fem.solvers import blas_threads
 
     from .runner import run_member
@@ -270,7 +264,7 @@ def _member_remote(scene, task, version):
         return run_member(scene, task)
 
 
-def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
+def _run_on(executor, todo, out, version, fields, status, log, t0, workers, force=False):
     """The scenes ``todo`` on ``executor``: a scene of independent tasks (``runner.scene_tasks``) as one
     job per task, reduced and stored here when its last task is back (a failed task fails its scene);
     every other scene as one job. Jobs go out longest first (``expected_cost``, a scene's split over its
@@ -288,7 +282,7 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers):
             jobs.append((cost, s, fp, None, None))
             continue
         total = sum(float(t.get("n", 1)) ** 2 for t in tasks)
-        found, todo_tasks = split_stored(s, tasks, out, version)
+        found, todo_tasks = split_stored(s, tasks, out, version, force)
         pending[s.name], got[s.name] = len(todo_tasks), found
         if not todo_tasks:
             ready.append((s, fp))

@@ -100,13 +100,13 @@ class Spectrum:
 @dataclass(frozen=True)
 class Maps:
     """The surfaces' measured height maps where the rig gives them: the ``files`` (absolute paths; one
-    surface each, the pair's composite topography), their ``pixel`` (m) and side ``n`` (pixels), and the
-    ``digest`` of their content."""
+    surface each, the pair's composite topography), their ``pixel`` (m) and side ``n`` (pixels), and each
+    file's content ``digest`` (``validation.spectra.file_digest``)."""
 
     files: tuple
     pixel: float
     n: int
-    digest: str
+    digest: tuple
 
 
 @dataclass(frozen=True)
@@ -268,6 +268,9 @@ def _tolerances(where, t, folder: Path) -> tuple:
                         "value in GPa or HV is refused)", -1.0)
     spectrum = _spectrum(where, r.left.pop("spectrum"), rq) if "spectrum" in r.left else None
     maps = _maps(where, r.left.pop("maps"), folder) if "maps" in r.left else None
+    if spectrum is not None and not any(rq.values()):
+        raise InputError(f"{where}: [tolerances.roughness.spectrum] needs the surfaces' rms heights ([tolerances."
+                         "roughness] sphere, face or block > 0, m): a spectrum without a height is no roughness")
     if spectrum is not None and maps is not None:
         raise InputError(f"{where}: [tolerances.roughness] give the surfaces' spectrum or their measured maps, "
                          "not both (the maps carry their spectrum)")
@@ -279,9 +282,9 @@ def _tolerances(where, t, folder: Path) -> tuple:
 def _maps(where, t, folder: Path) -> Maps:
     """The measured maps: at least two distinct square files of one size (``rough.surfaces.load_height_map``;
     paths relative to the rig file), their pixel, and their content's hash."""
-    import hashlib
-
     from rough.surfaces import load_height_map
+
+    from .spectra import file_digest
 
     s = _Table(where, t, "tolerances.roughness.maps")
     files = s.left.pop("files", None)
@@ -302,8 +305,7 @@ def _maps(where, t, folder: Path) -> Maps:
     sizes = sorted({m.h.shape[0] for m in read})
     if len(sizes) != 1:
         raise InputError(f"{where}: [tolerances.roughness.maps] files must be maps of one size, got {sizes} pixels")
-    digest = hashlib.sha256(b"".join(Path(f).read_bytes() for f in paths)).hexdigest()[:16]
-    return Maps(paths, pixel, sizes[0], digest)
+    return Maps(paths, pixel, sizes[0], tuple(file_digest(f) for f in paths))
 
 
 def _spectrum(where, t, rq: dict) -> Spectrum:

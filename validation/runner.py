@@ -47,16 +47,16 @@ def member_key(s: Scene, task: dict, version: str) -> str | None:
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
 
 
-def split_stored(s: Scene, tasks: list, out, version: str) -> tuple:
-    """The tasks of ``s`` whose results ``out`` stores by content (``store.load_member``): (their results,
-    each with its task's keys here and ``stored`` True; the other tasks as (task, key) pairs, key None
-    where the family states no content)."""
+def split_stored(s: Scene, tasks: list, out, version: str, force: bool = False) -> tuple:
+    """The tasks of ``s`` whose results ``out`` stores by content (``store.load_member``; none with
+    ``force``): (their results, each with its task's keys here and ``stored`` True; the other tasks as
+    (task, key) pairs, key None where the family states no content)."""
     from .store import load_member
 
     found, todo = [], []
     for t in tasks:
         key = member_key(s, t, version)
-        m = None if key is None else load_member(out, key)
+        m = None if key is None or force else load_member(out, key)
         if m is None:
             todo.append((t, key))
         else:
@@ -64,15 +64,16 @@ def split_stored(s: Scene, tasks: list, out, version: str) -> tuple:
     return found, todo
 
 
-def members_here(s: Scene, out, version: str, log) -> list | None:
+def members_here(s: Scene, out, version: str, log, force: bool = False) -> list | None:
     """The results of every task of ``s`` in this process, those stored by content read back
-    (``split_stored``) and the others run and stored; None for a scene without tasks or content."""
+    (``split_stored``; none with ``force``) and the others run and stored; None for a scene without tasks
+    or content."""
     from .store import write_member
 
     tasks = scene_tasks(s)
     if not tasks or member_key(s, tasks[0], version) is None:
         return None
-    found, todo = split_stored(s, tasks, out, version)
+    found, todo = split_stored(s, tasks, out, version, force)
     if found:
         log(f"  {len(found)} of {len(tasks)} task(s) stored by content: read back")
     for k, (t, key) in enumerate(todo, 1):

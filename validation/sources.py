@@ -45,3 +45,25 @@ def code_version() -> str:
         h.update(p.relative_to(root).as_posix().encode())
         h.update(p.read_bytes())
     return h.hexdigest()[:16]
+
+
+def all_sources_version() -> str:
+    """Hash of every module of ``SOURCE_PACKAGES``, the report-only ones included: what a worker computing
+    for this process (a scene, a task, a roughness reading's surface) must share with it."""
+    root = Path(__file__).resolve().parent.parent
+    h = hashlib.sha256()
+    for p in sorted((p for pkg in SOURCE_PACKAGES for p in (root / pkg).rglob("*.py")),
+                    key=lambda p: p.relative_to(root).as_posix()):
+        h.update(p.relative_to(root).as_posix().encode())
+        h.update(p.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def refuse_other_sources(here: str, caller: str) -> None:
+    """RuntimeError where a worker's sources (``here``) are not the caller's: its results would be stored
+    under the caller's keys."""
+    if here != caller:
+        from common.executors import worker_id
+
+        raise RuntimeError(f"worker {worker_id()} runs other sources (hash {here}) than the caller ({caller}): "
+                           "install the same version of the project on every worker")

@@ -8,7 +8,8 @@ value still leaves the spectrum's shape open. The budget therefore runs every re
 lambda_c; the Hurst exponent, 0.5 to 1; asperities elastic, or perfectly plastic at the steel's
 hardness; the values the surfaces' areal rms, or a profile's Rq, whose areal rms is larger), each on
 the contact of the sphere (sphere on block) and of each flat face (face on block): the paper's own loop
-data then exclude the readings they contradict (``validation.consistency``).
+data then exclude the readings they contradict (``validation.consistency``). A rig that states its
+spectrum or gives measured height maps runs that one reading instead (``Contact.readings``).
 
 A reading on a contact is generated as the catalogue's rough surfaces are (``rough.surfaces``): on a
 periodic grid of ``period`` smooth contact radii, the window [short cut-off, period] of the pair's
@@ -36,7 +37,7 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from common.errors import ConvergenceError
+from common.errors import ConvergenceError, InputError
 from mdr.paper import R_INDENTER, STEEL_E, STEEL_NU
 from rough.normal import HARDNESS_X5CRNI18_10
 
@@ -61,8 +62,9 @@ class Reading:
     profilometer's band), perfectly ``plastic`` asperities (flattened at ``ROUGH_PRELOAD``) or elastic,
     the values a profile's Rq (``profile``: the areal rms larger, ``rough.spectra.Finish``) or the
     surfaces' areal rms. A rig's ``measured`` reading: its height ``maps`` (files, one surface each, the
-    pair's composite topography, square, ``n`` pixels of ``pixel`` m; ``digest``: their content's hash,
-    so a cached surface of other content is computed again); its spectrum then is the maps'."""
+    pair's composite topography, square, ``n`` pixels of ``pixel`` m; ``digest``: each file's content
+    hash, in the cache key and checked where a surface is read, ``surface``); its spectrum then is the
+    maps'."""
 
     name: str
     hurst: float = 0.8
@@ -72,7 +74,11 @@ class Reading:
     maps: tuple = ()
     pixel: float | None = None
     n: int = 0
-    digest: str = ""
+    digest: tuple = ()
+
+    def __post_init__(self):
+        object.__setattr__(self, "maps", tuple(self.maps))  # hashable (lru_cache) from plain data too
+        object.__setattr__(self, "digest", tuple(self.digest))
 
     @property
     def measured(self) -> bool:
@@ -103,7 +109,8 @@ class Contact:
     ``rq`` ((body, m) pairs; 0: not stated, no finish), the reference load ``F_ref`` (N; the curves run to
     1.5 of it, the plastic readings flatten there), the ``hardness`` (Pa) of the plastic readings
     (None: not stated, those readings not run) and the ``readings`` it runs (default ``READINGS``; a rig
-    that states its spectrum: that one, ``stated``)."""
+    that states its spectrum or gives measured maps: that one reading and its plastic twin where a
+    hardness is stated, ``validation.rig_budget.stated``)."""
 
     b: float
     bodies: tuple
@@ -122,8 +129,7 @@ class Contact:
         """The contact of its plain data (``dataclasses.asdict``, as a task carries it)."""
         return cls(**{**d, "bodies": tuple(d["bodies"]), "grids": tuple(d["grids"]), "materials": tuple(d["materials"]),
                       "rq": tuple(tuple(x) for x in d["rq"]),
-                      "readings": tuple(Reading(**{**r, "maps": tuple(r.get("maps", ()))})
-                                        for r in d.get("readings", [asdict(x) for x in READINGS]))})
+                      "readings": tuple(Reading(**r) for r in d.get("readings", [asdict(x) for x in READINGS]))})
 
     def mat(self):
         from mdr.materials import Materials
@@ -162,6 +168,11 @@ def sphere(**rig) -> Contact:
     return Contact(0.0, ("sphere", "block"), 32.0, (256, 384), 8.0, **rig)
 
 
+def file_digest(path) -> str:
+    """A file's content hash (a measured map's, ``Reading.digest``)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:16]
+
+
 @dataclass(frozen=True)
 class Measured:
     """A measured map's place in ``params``: its file, side (m), pixels, and the band it holds (two pixels
@@ -176,8 +187,8 @@ class Measured:
 
 def params(reading: Reading, contact: Contact, seed: int):
     """The ``rough.surfaces.RoughnessParams`` of a member on the coarser grid (a measured reading's map:
-    ``Measured``), and the form curvature (1/m) the grid leaves out (none of a measured map: its form is
-    what was removed from it)."""
+    ``Measured``), and the form curvature (1/m) the grid leaves out (none of a measured map: the map is
+    taken as it is given, its mean removed only; its form and tilt are the user's to remove)."""
     from rough.spectra import form_curvature_rms, window_rms
     from rough.surfaces import RoughnessParams
 
@@ -226,9 +237,11 @@ def canonical(i: int, contact: Contact) -> int:
 
 def surface(task: dict) -> tuple:
     """A member's surface (``task``: reading index, contact, seed, grid n): its ``RoughnessParams`` on the
-    coarser grid, the form curvature the grid leaves out (1/m), the ``rough.normal.Grid``, the heights
-    resampled to n pixels (one band-limited map on every grid) and the smooth indenter (as generated;
-    a plastic reading's flattening is ``member``'s)."""
+    coarser grid (a measured map's ``Measured``), the form curvature the grid leaves out (1/m), the
+    ``rough.normal.Grid``, the heights resampled to n pixels (one band-limited map on every grid; a
+    measured map, InputError where its content is not the digest the rig was read with: edited since, or
+    another file at that path on this worker) and the smooth indenter (as generated; a plastic reading's
+    flattening is ``member``'s)."""
     from mdr.profiles import make_profile
     from rough.normal import Grid
     from rough.surfaces import band_limited, load_height_map, resample
@@ -239,6 +252,9 @@ def surface(task: dict) -> tuple:
     n = int(task["n"])
     prof = make_profile("truncated" if contact.b else "sphere", contact.R, contact.b or None)
     if reading.measured:
+        if file_digest(p.path) != reading.digest[int(task["seed"])]:
+            raise InputError(f"height map {p.path!r} changed since the rig file was read (or is another file on "
+                             "this worker: every worker must read the same maps at the same path)")
         heights = resample(load_height_map(p.path, reading.pixel, square=True), n)
         return p, kappa, Grid(p.size, n), heights, prof
     return p, kappa, Grid(p.size, n), band_limited(p, n), prof
@@ -323,9 +339,10 @@ def _key(task: dict, version: str, tag: str | None = None) -> str:
 def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = None, jobs: int = 1, log=None,
                what: str = "surfaces", every: int = 8, executor=None) -> list:
     """``fun`` of every task of ``todo`` (plain data, a top-level function: it may run in ``jobs``
-    processes, or on ``executor``, e.g. a Dask client's: ``remote_call``), in their order: each result read from ``cache_dir`` where one of the same task, sources
-    (``version``) and ``tag`` is stored, else computed and stored there (one JSON file each, written
-    atomically; ``cache_dir`` None: nothing read or stored); a progress line every ``every`` results."""
+    processes, or on ``executor``, e.g. a Dask client's: ``remote_call``), in their order: each result
+    read from ``cache_dir`` where one of the same task, sources (``version``) and ``tag`` is stored, else
+    computed and stored there as it completes (one JSON file each, written atomically; ``cache_dir``
+    None: nothing read or stored); a progress line every ``every`` results."""
     from common.io import write_json
 
     log = log or (lambda msg: None)
@@ -341,10 +358,13 @@ def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = No
     if run:
         where = f"{jobs} process(es)" if executor is None else "the executor's workers"
         log(f"budget: {what}, {len(run)} to solve ({len(done)} cached), {where}")
-    for (k, _), r in zip(run, _run([t for _, t in run], fun, jobs, log, what, every, executor)):
+    def keep(i, r):
+        k = run[i][0]
         if cache is not None:
             write_json(cache / f"{k}.json", r)
         done[k] = r
+
+    _run([t for _, t in run], fun, jobs, log, what, every, executor, keep)
     return [done[k] for k in keys]
 
 
@@ -357,47 +377,47 @@ def curves(contacts, cache_dir, *, jobs: int = 1, log=None, executor=None) -> li
 
 def remote_call(fun, version: str, *args):
     """``fun(*args)`` on a worker of an executor (top level: picklable), refused where the worker runs
-    other sources than the caller (``version``, ``validation.sources.code_version``): its result would be
-    cached under the caller's key."""
-    from .sources import code_version
+    other sources than the caller (``version``: ``validation.sources.all_sources_version``, every module:
+    its result would be cached under the caller's key)."""
+    from .sources import all_sources_version, refuse_other_sources
 
-    here = code_version()
-    if here != version:
-        raise RuntimeError(f"a worker runs other sources (hash {here}) than the caller ({version}): install the "
-                           "same version of the project on every worker")
+    refuse_other_sources(all_sources_version(), version)
     return fun(*args)
 
 
-def _run(todo: list, fun, jobs: int, log, what: str, every: int, executor=None) -> list:
-    """``fun`` of every task, in ``jobs`` processes or on ``executor`` (``remote_call``), a progress line
-    every ``every`` results."""
+def _run(todo: list, fun, jobs: int, log, what: str, every: int, executor=None, keep=None) -> list:
+    """``fun`` of every task, in ``jobs`` processes or on ``executor`` (``remote_call``), each result
+    handed to ``keep(k, result)`` as it completes (a failed task then loses none of the finished ones;
+    the tasks not started are cancelled), a progress line every ``every`` results."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
     out = [None] * len(todo)
 
-    def say(j):
+    def got(j, k, r):
+        out[k] = r
+        if keep is not None:
+            keep(k, r)
         if j % every == 0 or j == len(todo):
             log(f"  {what}: {j} of {len(todo)}")
 
+    def drain(ex, submit):
+        futures = {submit(ex, t): k for k, t in enumerate(todo)}
+        try:
+            for j, f in enumerate(as_completed(futures), 1):
+                got(j, futures[f], f.result())
+        finally:
+            for f in futures:
+                f.cancel()
+
     if executor is not None:
-        from concurrent.futures import as_completed
+        from .sources import all_sources_version
 
-        from .sources import code_version
-
-        version = code_version()
-        futures = {executor.submit(remote_call, fun, version, t): k for k, t in enumerate(todo)}
-        for j, f in enumerate(as_completed(futures), 1):
-            out[futures[f]] = f.result()
-            say(j)
-        return out
-    if jobs <= 1 or len(todo) <= 1:
+        version = all_sources_version()
+        drain(executor, lambda ex, t: ex.submit(remote_call, fun, version, t))
+    elif jobs <= 1 or len(todo) <= 1:
         for j, t in enumerate(todo, 1):
-            out[j - 1] = fun(t)
-            say(j)
-        return out
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    with ProcessPoolExecutor(max_workers=jobs) as ex:
-        futures = {ex.submit(fun, t): k for k, t in enumerate(todo)}
-        for j, f in enumerate(as_completed(futures), 1):
-            out[futures[f]] = f.result()
-            say(j)
+            got(j, j - 1, fun(t))
+    else:
+        with ProcessPoolExecutor(max_workers=jobs) as ex:
+            drain(ex, lambda ex, t: ex.submit(fun, t))
     return out

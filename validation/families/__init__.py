@@ -88,8 +88,9 @@ def members_of(s, members, tasks, member, log, describe) -> tuple:
 
 def result_of_members(s, key: str, rows: list, t0: float, out_dir, figure, members: list, given: bool) -> dict:
     """``result_of`` for a family of independent tasks: ``members_cpu_s`` (their summed run times) beside
-    the rows; where the members ran elsewhere (``given``) the scene's cost is theirs."""
-    cpu = sum(m.get("runtime_s", 0.0) for m in members)
+    the rows; where the members ran elsewhere (``given``) the scene's cost is theirs, those read back from
+    the store by content (``stored``) costing nothing."""
+    cpu = sum(m.get("runtime_s", 0.0) for m in members if not m.get("stored"))
     res = result_of(s, key, rows, t0, out_dir, figure, members_cpu_s=cpu)
     if given:
         res["runtime_s"] = cpu

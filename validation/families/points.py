@@ -197,7 +197,8 @@ def _direction_row(s: Scene, m: dict) -> dict:
     ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
     grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
                                            else "beyond the budget's resolution")
-    return {"variant": m["variant"], **s.typed_variants[m["variant"]].given(), "b": m["b"], "kx": m["kx"], "failed": m.get("failed"),
+    sv = s.typed_variants[m["variant"]].scene(s)  # this scene's point (a member read back ran another's, within rounding)
+    return {"variant": m["variant"], **s.typed_variants[m["variant"]].given(), "b": sv.b, "kx": sv.kx, "failed": m.get("failed"),
             "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
             "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
             "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}
@@ -213,7 +214,8 @@ def _row(s: Scene, m: dict) -> dict:
     err = None if si.get("fem_error") is None or si.get("mdr_error") is None else si["fem_error"] + si["mdr_error"]
     a = m.get("contact_radius")
     holds, grade = metrics.conjunction(m["verdicts"]), metrics.scene_grade(m["verdicts"])
-    return {"variant": m["variant"], "failed": m.get("failed"), "b": m["b"], "kx": m["kx"], "a_over_R": None if a is None else a / s.R,
+    sv = s.typed_variants[m["variant"]].scene(s)  # this scene's point (a member read back ran another's, within rounding)
+    return {"variant": m["variant"], "failed": m.get("failed"), "b": sv.b, "kx": sv.kx, "a_over_R": None if a is None else a / s.R,
             "slip_index_fem": fe, "slip_index_mdr": md,
             "effect": None if fe is None or md is None else fe - md, "error": err,
             "bounded": bool(si.get("bounded")), "verdicts": m["verdicts"], "holds": holds, "grade": grade,
