@@ -1,5 +1,5 @@
 """The tasks of a scene of independent tasks stored by their content (``validation.runner.member_key``,
-``validation.store.load_member``): the same point in another scene (a rig's, named otherwise, its inputs
+``validation.members.load_member``): the same point in another scene (a rig's, named otherwise, its inputs
 equal within rounding) is read back, not run again; a point whose physics changed, or a task that
 failed, runs again. Truth: the count of the runs a store makes (``run_member`` counted)."""
 from concurrent.futures import ThreadPoolExecutor

@@ -44,7 +44,8 @@ from . import report
 from common.executors import check_choice, executor_for, worker_id
 
 from .runner import members_here, scene_tasks, split_stored
-from .store import install_scene_files, load_scene, scene_files, write_member, write_scene
+from .members import write_member
+from .store import install_scene_files, load_scene, scene_files, write_scene
 from .catalogue import CATALOGUE, select
 from .sources import code_version, refuse_other_sources
 

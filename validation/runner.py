@@ -48,10 +48,10 @@ def member_key(s: Scene, task: dict, version: str) -> str | None:
 
 
 def split_stored(s: Scene, tasks: list, out, version: str, force: bool = False) -> tuple:
-    """The tasks of ``s`` whose results ``out`` stores by content (``store.load_member``; none with
+    """The tasks of ``s`` whose results ``out`` stores by content (``members.load_member``; none with
     ``force``): (their results, each with its task's keys here and ``stored`` True; the other tasks as
     (task, key) pairs, key None where the family states no content)."""
-    from .store import load_member
+    from .members import load_member
 
     found, todo = [], []
     for t in tasks:
@@ -68,7 +68,7 @@ def members_here(s: Scene, out, version: str, log, force: bool = False) -> list 
     """The results of every task of ``s`` in this process, those stored by content read back
     (``split_stored``; none with ``force``) and the others run and stored; None for a scene without tasks
     or content."""
-    from .store import write_member
+    from .members import write_member
 
     tasks = scene_tasks(s)
     if not tasks or member_key(s, tasks[0], version) is None:
