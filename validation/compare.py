@@ -285,6 +285,8 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers, forc
         total = sum(float(t.get("n", 1)) ** 2 for t in tasks)
         found, todo_tasks = split_stored(s, tasks, out, version, force)
         pending[s.name], got[s.name] = len(todo_tasks), found
+        if found and todo_tasks:
+            log(f"  {s.name}: {len(found)} of {len(tasks)} task(s) stored by content: read back")
         if not todo_tasks:
             ready.append((s, fp))
         jobs += [(cost * float(t.get("n", 1)) ** 2 / total, s, fp, t, key) for t, key in todo_tasks]
