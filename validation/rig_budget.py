@@ -195,7 +195,7 @@ def inputs(rig) -> Inputs:
     """The budget's inputs of the rig: its setup, bodies, bounds, results, resolution and ``scenes``;
     InputError for a flat punch (the budget's points are the sphere and the truncated sphere)."""
     if rig.indenter.profile == "flat":
-        raise InputError(f"rig {rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
+        raise InputError(f"{rig.source or rig.name}: [indenter] profile flat: the budget runs the sphere and the truncated "
                          "sphere (a flat punch is the truncated sphere of a large R)")
     return Inputs(rig.name, setup_of(rig), *_bodies(rig), rig.indenter.kink_rounding, rig.tilt, rig.results,
                   rig.resolution, scenes(rig), rough_contacts(rig),
