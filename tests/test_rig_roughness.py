@@ -10,7 +10,6 @@ statements are refused in one line before any work."""
 import subprocess
 import sys
 from dataclasses import replace
-from pathlib import Path
 
 import pytest
 
@@ -19,16 +18,7 @@ from validation import budget_cells as C
 from validation import rig_budget as RB
 from validation.rig import load_rig
 
-ROOT = Path(__file__).resolve().parents[1]
-MINE = ROOT / "docs" / "examples" / "my_rig.toml"
-
-
-def _edited(tmp_path, old: str, new: str, src=MINE) -> Path:
-    text = src.read_text()
-    assert old in text, old
-    path = tmp_path / "rig.toml"
-    path.write_text(text.replace(old, new, 1))
-    return path
+from test_rig_budget import MINE, ROOT, _edited
 
 
 def asdict_(x):

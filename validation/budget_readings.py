@@ -263,6 +263,12 @@ def surface_checks(m: dict, loops: tuple, app_kw=None) -> dict:
         return {"failed": str(e)}
 
 
+def _surface_checks(args: tuple) -> dict:
+    """``surface_checks`` of one task (member, loops, apparatus fields): top level, a task of
+    ``validation.spectra.map_tasks``."""
+    return surface_checks(*args)
+
+
 def loop_contacts(loops: tuple, setup: Setup = PAPER) -> dict:
     """The measured loops by the kind of their rough contact ("sphere", "face": ``rough_row_b``): {kind:
     (b, loops)}; InputError where a kind's loops lie on two face radii (one face contact checks a reading)."""
@@ -282,7 +288,7 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
     (``surface_checks``) on each surface of the finer grid of each loop's contact (``loop_contacts``: the
     paper's sphere by Figs. 4-5, its face of b = 0.6 mm by Figs. 6-7); each surface once (a reading that
     coincides with another on a contact shares its surfaces), in ``jobs`` processes or on ``executor``
-    (``validation.spectra.remote_call``). Returns {"sphere" |
+    (``validation.spectra.map_tasks``). Returns {"sphere" |
     "face": [{reading, surfaces: [{loop: check}], consistent_surfaces, admitted}]}; a reading is admitted
     where at least one of its surfaces passes every check of its contact (the specimen may be that
     surface), excluded where none does."""
@@ -299,19 +305,8 @@ def consistency(R: Readings, log=None, jobs: int = 1, loops: tuple | None = None
     log(f"budget: the measured loops against {len(todo)} surfaces, "
         + (f"{jobs} process(es)" if executor is None else "the executor's workers"))
     keys = list(todo)
-    if executor is not None:
-        from .sources import all_sources_version
-
-        version = all_sources_version()
-        futs = {k: executor.submit(SP.remote_call, surface_checks, version, *todo[k]) for k in keys}
-        done = {k: f.result() for k, f in futs.items()}
-    elif jobs > 1 and len(keys) > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(max_workers=jobs) as ex:
-            done = dict(zip(keys, ex.map(surface_checks, *zip(*(todo[k] for k in keys)))))
-    else:
-        done = {k: surface_checks(*todo[k]) for k in keys}
+    done = dict(zip(keys, SP.map_tasks([todo[k] for k in keys], _surface_checks, jobs, log, "the measured loops' "
+                                       "surfaces", max(1, len(keys)), executor)))
     out = {}
     for kind, (b, _) in contacts.items():
         rows = []

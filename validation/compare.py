@@ -296,12 +296,17 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers, forc
     n = len(todo)
     log(f"running {n} scene(s) as {len(futs)} job(s) on {workers} executor workers")
     done = 0
-    for s, fp in ready:  # every task stored by content: reduced here
+
+    def reduced(s, fp) -> str:
+        """A scene whose tasks are all in (``got``), reduced and stored here: its summary."""
+        return _summary(write_scene(s, out, fp, fields=fields, meta={"worker": worker_id()}, members=got[s.name]))
+
+    for s, fp in ready:  # every task stored by content
         done += 1
         try:
-            res = write_scene(s, out, fp, fields=fields, meta={"worker": worker_id()}, members=got[s.name])
+            msg = reduced(s, fp)
             status[s.name] = "ok"
-            log(f"[{done}/{n}] {s.name} done: its {len(got[s.name])} task(s) stored by content: {_summary(res)}")
+            log(f"[{done}/{n}] {s.name} done: its {len(got[s.name])} task(s) stored by content: {msg}")
         except Exception as e:  # a failed scene must not stop the others
             status[s.name] = f"{type(e).__name__}: {e}"
             log(f"[{done}/{n}] {s.name} FAILED: {status[s.name]}")
@@ -320,8 +325,7 @@ def _run_on(executor, todo, out, version, fields, status, log, t0, workers, forc
                     f"({time.perf_counter() - t0:.0f} s elapsed)")
                 if pending[s.name] or s.name in failed:
                     continue
-                res = write_scene(s, out, fp, fields=fields, meta={"worker": worker_id()}, members=got[s.name])
-                msg = _summary(res)
+                msg = reduced(s, fp)
             done += 1
             status[s.name] = "ok"
             log(f"[{done}/{n}] {s.name} done: {msg} ({time.perf_counter() - t0:.0f} s elapsed)")

@@ -39,23 +39,24 @@ def source_files() -> list:
 def code_version() -> str:
     """Hash of the sources a scene result depends on (``source_files``, by path and content): results of
     other code are rerun."""
-    root = Path(__file__).resolve().parent.parent
-    h = hashlib.sha256()
-    for p in source_files():
-        h.update(p.relative_to(root).as_posix().encode())
-        h.update(p.read_bytes())
-    return h.hexdigest()[:16]
+    return digest(source_files())
 
 
 def all_sources_version() -> str:
     """Hash of every module of ``SOURCE_PACKAGES``, the report-only ones included: what a worker computing
     for this process (a scene, a task, a roughness reading's surface) must share with it."""
     root = Path(__file__).resolve().parent.parent
+    return digest(sorted((p for pkg in SOURCE_PACKAGES for p in (root / pkg).rglob("*.py")),
+                         key=lambda p: p.relative_to(root).as_posix()))
+
+
+def digest(files) -> str:
+    """Hash of ``files`` (paths below the repository's root, in the given order) by path and content."""
+    root = Path(__file__).resolve().parent.parent
     h = hashlib.sha256()
-    for p in sorted((p for pkg in SOURCE_PACKAGES for p in (root / pkg).rglob("*.py")),
-                    key=lambda p: p.relative_to(root).as_posix()):
-        h.update(p.relative_to(root).as_posix().encode())
-        h.update(p.read_bytes())
+    for p in files:
+        h.update(Path(p).relative_to(root).as_posix().encode())
+        h.update(Path(p).read_bytes())
     return h.hexdigest()[:16]
 
 

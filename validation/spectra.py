@@ -322,13 +322,10 @@ MEMBER_SOURCES = ("rough/*.py", "validation/spectra.py", "mdr/profiles.py", "mdr
 def member_version(sources=MEMBER_SOURCES) -> str:
     """A digest of the files of ``sources`` (patterns from the project's root; default ``MEMBER_SOURCES``):
     a cached member of other sources is computed again."""
+    from .sources import digest
+
     root = Path(__file__).resolve().parent.parent
-    h = hashlib.sha256()
-    for pattern in sources:
-        for f in sorted(root.glob(pattern)):
-            h.update(f.relative_to(root).as_posix().encode())
-            h.update(f.read_bytes())
-    return h.hexdigest()[:16]
+    return digest([f for pattern in sources for f in sorted(root.glob(pattern))])
 
 
 def _key(task: dict, version: str, tag: str | None = None) -> str:
@@ -364,7 +361,7 @@ def cached_map(todo: list, fun, cache_dir, version: str, *, tag: str | None = No
             write_json(cache / f"{k}.json", r)
         done[k] = r
 
-    _run([t for _, t in run], fun, jobs, log, what, every, executor, keep)
+    map_tasks([t for _, t in run], fun, jobs, log, what, every, executor, keep)
     return [done[k] for k in keys]
 
 
@@ -385,7 +382,7 @@ def remote_call(fun, version: str, *args):
     return fun(*args)
 
 
-def _run(todo: list, fun, jobs: int, log, what: str, every: int, executor=None, keep=None) -> list:
+def map_tasks(todo: list, fun, jobs: int, log, what: str, every: int, executor=None, keep=None) -> list:
     """``fun`` of every task, in ``jobs`` processes or on ``executor`` (``remote_call``), each result
     handed to ``keep(k, result)`` as it completes (a failed task then loses none of the finished ones;
     the tasks not started are cancelled), a progress line every ``every`` results."""

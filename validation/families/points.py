@@ -197,8 +197,9 @@ def _direction_row(s: Scene, m: dict) -> dict:
     ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
     grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
                                            else "beyond the budget's resolution")
-    sv = s.typed_variants[m["variant"]].scene(s)  # this scene's point (a member read back ran another's, within rounding)
-    return {"variant": m["variant"], **s.typed_variants[m["variant"]].given(), "b": sv.b, "kx": sv.kx, "failed": m.get("failed"),
+    v = s.typed_variants[m["variant"]]
+    sv = v.scene(s)  # this scene's point (a member read back ran another's, within rounding)
+    return {"variant": m["variant"], **v.given(), "b": sv.b, "kx": sv.kx, "failed": m.get("failed"),
             "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
             "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
             "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}
