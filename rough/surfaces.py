@@ -138,6 +138,36 @@ def load_height_map(path, pixel, *, square: bool = False) -> HeightMap:
     return HeightMap(h=h - h.mean(), pixel=pixel)
 
 
+#: the smallest side of a periodic map over the smooth contact radius: the contact must not overlap its
+#: periodic images
+MIN_CONTACT_RADII = 4.0
+
+
+def load_realisations(paths, pixel) -> list:
+    """Measured maps as realisations of one surface (``load_height_map``, square): at least two, distinct
+    and of one size; ValueError saying what they must be where they are not (the caller names the field).
+    Assumes each file is one realisation on the same pixel."""
+    paths = list(paths)
+    if len(paths) < 2:
+        raise ValueError("a list of at least 2 height-map files (one realisation is no answer)")
+    read = [load_height_map(f, pixel, square=True) for f in paths]
+    if len({m.h.tobytes() for m in read}) != len(read):
+        raise ValueError("distinct maps (the same map twice is one realisation)")
+    sizes = sorted({m.h.shape[0] for m in read})
+    if len(sizes) != 1:
+        raise ValueError(f"maps of one size, got {sizes} pixels")
+    return read
+
+
+def covers(size: float, a: float) -> str | None:
+    """Why a periodic map of side ``size`` (m) cannot carry a contact of smooth radius ``a`` (at least
+    ``MIN_CONTACT_RADII`` radii on a side), None where it can."""
+    if size >= MIN_CONTACT_RADII * a:
+        return None
+    return (f"maps of at least {MIN_CONTACT_RADII:g} smooth contact radii ({MIN_CONTACT_RADII * a:.3g} m) on a side: "
+            f"the contact overlaps its periodic images on {size:.3g} m")
+
+
 def radial_psd(m: HeightMap) -> tuple:
     """The radially averaged power spectrum of a square periodic map: (q (1/m, angular: 2 pi / wavelength),
     C(q) (m^4)), one value per integer wavenumber ring 1 .. n/2 (isotropic surfaces: the estimate whose

@@ -282,7 +282,7 @@ def _tolerances(where, t, folder: Path) -> tuple:
 def _maps(where, t, folder: Path) -> Maps:
     """The measured maps: at least two distinct square files of one size (``rough.surfaces.load_height_map``;
     paths relative to the rig file), their pixel, and their content's hash."""
-    from rough.surfaces import load_height_map
+    from rough.surfaces import load_realisations
 
     from .spectra import file_digest
 
@@ -296,16 +296,12 @@ def _maps(where, t, folder: Path) -> Maps:
     s.done(("files", "pixel"))
     paths = tuple(str((folder / f).resolve()) for f in files)
     try:
-        read = [load_height_map(f, pixel, square=True) for f in paths]
+        read = load_realisations(paths, pixel)
     except InputError as e:
         raise InputError(f"{where}: [tolerances.roughness.maps] files: {e}") from None
-    if len({m.h.tobytes() for m in read}) != len(read):
-        raise InputError(f"{where}: [tolerances.roughness.maps] files must be distinct maps (the same map twice is "
-                         "one surface)")
-    sizes = sorted({m.h.shape[0] for m in read})
-    if len(sizes) != 1:
-        raise InputError(f"{where}: [tolerances.roughness.maps] files must be maps of one size, got {sizes} pixels")
-    return Maps(paths, pixel, sizes[0], tuple(file_digest(f) for f in paths))
+    except ValueError as e:
+        raise InputError(f"{where}: [tolerances.roughness.maps] files must be {e}") from None
+    return Maps(paths, pixel, read[0].h.shape[0], tuple(file_digest(f) for f in paths))
 
 
 def _spectrum(where, t, rq: dict) -> Spectrum:

@@ -234,14 +234,15 @@ def stated(contact, roughness, where: str = "the rig"):
     ``spectra.READINGS``)."""
     from dataclasses import replace
 
+    from rough.surfaces import covers
+
     from .spectra import Reading
 
     spectrum, maps = roughness.spectrum, roughness.maps
     if maps is not None:
-        a, size = contact.a(), maps.pixel * maps.n
-        if not size >= 4.0 * a:
-            raise InputError(f"{where}: [tolerances.roughness.maps] files: maps of at least 4 smooth contact radii "
-                             f"of the {contact.name()} contact ({4.0 * a:.3g} m) on a side, got {size:.3g} m")
+        why = covers(maps.pixel * maps.n, contact.a())
+        if why:
+            raise InputError(f"{where}: [tolerances.roughness.maps] files: the {contact.name()} contact needs {why}")
         r = Reading("measured maps", maps=maps.files, pixel=maps.pixel, n=maps.n, digest=maps.digest)
     elif spectrum is not None:
         rolloff = None if spectrum.rolloff is None else spectrum.rolloff / contact.a()

@@ -84,25 +84,22 @@ class RoughVariant:
 
     @classmethod
     def _measured(cls, v, b, a, bad) -> "RoughVariant":
-        from rough.surfaces import load_height_map
+        from rough.surfaces import covers, load_realisations
 
         maps = v["maps"]
-        if isinstance(maps, str) or not isinstance(maps, (list, tuple)) or len(maps) < 2:
-            raise bad("maps", "a list of at least 2 height-map files (one realisation is no answer)")
-        read = [load_height_map(f, v.get("pixel"), square=True) for f in maps]
-        if len({m.h.tobytes() for m in read}) != len(read):
-            raise bad("maps", "distinct maps (the same map twice is one realisation)")
-        sizes = {m.h.shape[0] for m in read}
-        if len(sizes) != 1:
-            raise bad("maps", f"maps of one size, got {sorted(sizes)} pixels")
-        n_map = sizes.pop()
+        try:
+            if isinstance(maps, str) or not isinstance(maps, (list, tuple)):
+                raise ValueError("a list of at least 2 height-map files (one realisation is no answer)")
+            read = load_realisations(maps, v.get("pixel"))
+        except ValueError as e:
+            raise bad("maps", str(e)) from None
+        n_map = read[0].h.shape[0]
         grids = _grids(v.get("grids", maps_grids(n_map)), bad)
         if grids[0] != n_map:
             raise bad("grids", f"at least 2 pixel counts, a ladder from the maps' {n_map} pixels")
         size = read[0].pixel * n_map
-        if not size >= 4.0 * a:
-            raise bad("maps", f"maps of at least 4 smooth contact radii ({4.0 * a:.3g} m) on a side: the contact "
-                              f"overlaps its periodic images on {size:.3g} m")
+        if covers(size, a):
+            raise bad("maps", covers(size, a))
         return cls(b=b, seeds=tuple(range(len(maps))), grids=grids, size=size, maps=tuple(str(f) for f in maps),
                    pixel=float(read[0].pixel))
 
