@@ -59,12 +59,35 @@ def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
     same size would matter)."""
     from validation.scenes import TILT_BOUND
 
-    row = {"b": 600e-6, "variant": "tilt[b]", "banded": True, "levels": [{"runs": [{"slip_index": 1e-6}]}],
+    row = {"b": 100e-6, "variant": "tilt[b]", "banded": False, "levels": [{"runs": [{"slip_index": 1e-6}]}],
            "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
-    c = C.tilt_cell(loop_point("fig6"), lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
+    partial = Point(b=100e-6, kx=0.3e6)  # Fig. 9's softest apparatus: partial slip, half the friction limit
+    c = C.tilt_cell(partial, lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
     assert c["kind"] == "bound" and c["verdict"] == "undetermined" and c["effect"] == 0.03
     assert C.cell(0.03, 1e-4, "measured", "x")["verdict"] == "matters"
     assert B.cell_text(c).startswith("<= 0.03")
+
+
+def test_the_tilt_bounds_no_point_whose_force_exceeds_the_scenes():
+    """The tilt's change grows with the tangential force towards the friction limit, so the change under
+    the scene's force control (0.75 of the limit) bounds a point only where the point's own force
+    amplitude in its apparatus is at most that. Truth: the Cattaneo-Mindlin limit. Fig. 9's point at
+    k_x = 0.3 N/um stays in partial slip (its amplitude measured 0.52 of mu1 (F0 - dF)); Fig. 6's point
+    slides (1.37: beyond mu1 (F0 - dF), up to mu1 (F0 + dF) = 1.5 of it)."""
+    from validation.paper_points import tangential_share
+    from validation.scenes import TILT_BOUND
+
+    from validation.paper_points import results
+
+    partial, sliding = Point(b=100e-6, kx=0.3e6), loop_point("fig6")
+    assert 0.3 < tangential_share(partial) < 0.75 and 1.0 < tangential_share(sliding) <= 1.5 * (1 + 1e-3)
+    # the docs' count: every point of the paper's results slides but Fig. 9's at k_x = 0.3 N/um
+    for p in (p for r in results() for p in r.points):
+        assert (tangential_share(p) < 0.75) if p.kx == 0.3e6 else (tangential_share(p) > 1.0), p
+    row = {"b": 600e-6, "variant": "tilt[b]", "banded": True, "levels": [{"runs": [{"slip_index": 1e-6}]}],
+           "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
+    c = C.tilt_cell(sliding, lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
+    assert c["effect"] is None and c["verdict"] == "undetermined" and "it slides" in c["note"], c
 
 
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():

@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .paper_points import PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, same, slip_indices
+from .paper_points import (PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, same, slip_indices,
+                           tangential_share)
 from .text import num
 
 #: the paper's widest rounding of the kink: "less than the rms roughness", up to 3 um
@@ -315,7 +316,9 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
     at the bound (the banded row where there is one): the change of the slip index itself (absolute: the
     aligned face hardly slips under the scene's force control, so a relative change has no meaning). The
     tilt is stated as an inequality ("less than"), so the change at the bound is a bound too (kind
-    ``bound``: never "matters")."""
+    ``bound``: never "matters"). It grows with the tangential force towards the friction limit, so it
+    bounds only a point whose own force amplitude in its apparatus (``paper_points.tangential_share``)
+    is at most the scene's; beyond it the cell is undetermined."""
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
     stated = _stated(inp.tilt, "no tilt bound stated ([tolerances] tilt)", "a tilt of 0 stated")
@@ -325,6 +328,13 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
     res = store(scenes[0].name) if scenes else None
     if res is None:
         return missing(scenes[0].name if scenes else "tilt", inp=inp)
+    s = scenes[0]
+    measured, own = s.amplitude / (s.mu * (s.F0 - s.dF)), tangential_share(p, setup=inp.setup)
+    if own > measured:
+        return cell(None, None, "bound", s.name,
+                    f"measured under force control at {measured:.2g} of the friction limit; this point's tangential "
+                    f"force in its apparatus reaches {own:.2g} of it{' (it slides)' if own > 1 else ''}, where the "
+                    "change grows towards the limit: no bound here")
     rows = [r for r in res["tilt"] if abs(r["b"] - p.b) < 1e-9]
     rows.sort(key=lambda r: not r.get("banded"))
     for r in rows:

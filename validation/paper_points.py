@@ -158,6 +158,20 @@ def difference_with_grid(fun, n=(100, 400)):
 ROUND_OFF = 16 * float(np.finfo(float).eps)
 
 
+def tangential_share(p: Point, n: int = 100, setup: Setup = PAPER) -> float:
+    """The point's tangential force amplitude in its apparatus (MDR, the sharp profile: half the last
+    cycle's peak-to-peak F_x) over its smallest friction limit mu1 (F0 - dF). Above 1 the contact slides
+    for part of the cycle (the limit mu1 F_N follows the normal force up to mu1 (F0 + dF))."""
+    from mdr.profiles import TruncatedSphere
+    from studies.paper import RES, _slip_index
+
+    _, out = _slip_index(TruncatedSphere(setup.R, p.b), p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
+                         res={**RES, "n": n}, app_kw=setup.app_kw or None, materials=setup.materials)
+    Fx = np.asarray(out["Fx"], dtype=float).ravel()
+    last = Fx[Fx.size - Fx.size // RES["cycles"]:]
+    return float(0.5 * (last.max() - last.min()) / (p.mu1 * (p.F0 - p.dF)))
+
+
 def point_slip_index(p: Point, n: int = 400, setup: Setup = PAPER) -> float:
     """The point's slip index: MDR in the setup's apparatus, the sharp profile."""
     from mdr.profiles import TruncatedSphere

@@ -89,7 +89,9 @@ def _tilt_variant(b: float, tilt: float, p, setup) -> dict:
 #: the force amplitude of the 3D scenes under force control (the coupling, the tilt) over the smallest
 #: friction limit mu1 (F0 - dF): the catalogue's (0.06 N at Table 2's load), so that the paper's rig runs
 #: its rows; the tilted edge slips more the nearer the limit (the 0.6 mm face at Table 2's load: a change
-#: of the slip index of 0.008 at half the limit, 0.024 at 0.75 of it), and 0.75 keeps partial slip
+#: of the slip index of 0.008 at half the limit, 0.024 at 0.75 of it), and 0.75 keeps partial slip; the
+#: tilt cell of a point whose own force amplitude in its apparatus exceeds it is undetermined
+#: (``budget_cells.tilt_cell``)
 SHARE_3D = 0.75
 
 #: the largest tilt over theta_c a ball-refined loaded edge resolves (the catalogue's flat punch reaches
