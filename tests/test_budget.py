@@ -54,40 +54,38 @@ def test_exact_zeros_on_the_sphere():
 
 
 def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
-    """The paper states the tilt as an inequality (< pi/3600): the change at pi/3600 is a bound, so a
-    face whose slip index moves by 0.03 there is 'undetermined', not 'matters' (a measured change of the
-    same size would matter)."""
+    """The paper states the tilt as an inequality (< pi/3600): the change at pi/3600, measured at the point
+    in its apparatus (the row of ``tilt-points`` that runs it), is a bound, so a face whose slip index moves
+    by 0.03 there is 'undetermined', not 'matters' (a measured change of the same size would matter); a
+    point the scene does not tilt (a face below two elements) and an unresolved tilted contact get no
+    number."""
+    from validation.catalogue import CATALOGUE
     from validation.scenes import TILT_BOUND
 
-    row = {"b": 100e-6, "variant": "tilt[b]", "banded": False, "levels": [{"runs": [{"slip_index": 1e-6}]}],
-           "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
-    partial = Point(b=100e-6, kx=0.3e6)  # Fig. 9's softest apparatus: partial slip, half the friction limit
-    c = C.tilt_cell(partial, lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
-    assert c["kind"] == "bound" and c["verdict"] == "undetermined" and c["effect"] == 0.03
+    s, p = CATALOGUE["tilt-points"], loop_point("fig6")
+    i = next(i for i, v in enumerate(s.typed_variants) if p.matches(v.scene(s)))
+    row = {"variant": i, "tilt": TILT_BOUND, "effect": -0.03, "error": 1e-4, "slip_index": 0.5}
+    c = C.tilt_cell(p, {"tilt-points": {"points": [row]}}.get, PAPER)
+    assert c["kind"] == "bound" and c["verdict"] == "undetermined" and c["effect"] == -0.03
     assert C.cell(0.03, 1e-4, "measured", "x")["verdict"] == "matters"
     assert B.cell_text(c).startswith("<= 0.03")
+    unresolved = {**row, "effect": None, "error": None, "contact_vertices": 4}
+    c = C.tilt_cell(p, {"tilt-points": {"points": [unresolved]}}.get, PAPER)
+    assert c["effect"] is None and "not resolved (4 contact vertices)" in c["note"]
+    tiny = Point(b=1e-6, kx=1e6)  # Fig. 8's 1 um face: a fifth of an element, not tilted
+    assert not any(tiny.matches(v.scene(s)) for v in s.typed_variants)
+    assert C.tilt_cell(tiny, {"tilt-points": {"points": [row]}}.get, PAPER)["effect"] is None
 
 
-def test_the_tilt_bounds_no_point_whose_force_exceeds_the_scenes():
-    """The tilt's change grows with the tangential force towards the friction limit, so the change under
-    the scene's force control (0.75 of the limit) bounds a point only where the point's own force
-    amplitude in its apparatus is at most that. Truth: the Cattaneo-Mindlin limit. Fig. 9's point at
-    k_x = 0.3 N/um stays in partial slip (its amplitude measured 0.52 of mu1 (F0 - dF)); Fig. 6's point
-    slides (1.37: beyond mu1 (F0 - dF), up to mu1 (F0 + dF) = 1.5 of it)."""
-    from validation.paper_points import tangential_share
-    from validation.scenes import TILT_BOUND
+def test_every_point_but_the_softest_apparatus_slides():
+    """The paper's points in their apparatus (MDR): every point of its results slides (its tangential force
+    amplitude beyond mu1 (F0 - dF), up to mu1 (F0 + dF) = 1.5 of it) but Fig. 9's at k_x = 0.3 N/um, which
+    stay in partial slip (about half of it). Truth: the friction limit."""
+    from validation.paper_points import results, tangential_share
 
-    from validation.paper_points import results
-
-    partial, sliding = Point(b=100e-6, kx=0.3e6), loop_point("fig6")
-    assert 0.3 < tangential_share(partial) < 0.75 and 1.0 < tangential_share(sliding) <= 1.5 * (1 + 1e-3)
-    # the docs' count: every point of the paper's results slides but Fig. 9's at k_x = 0.3 N/um
     for p in (p for r in results() for p in r.points):
-        assert (tangential_share(p) < 0.75) if p.kx == 0.3e6 else (tangential_share(p) > 1.0), p
-    row = {"b": 600e-6, "variant": "tilt[b]", "banded": True, "levels": [{"runs": [{"slip_index": 1e-6}]}],
-           "points": [{"tilt": TILT_BOUND, "resolved": True, "aligned": {"slip_index": {"effect": 0.03, "error": 1e-4}}}]}
-    c = C.tilt_cell(sliding, lambda name: {"tilt": [row]} if name == "tilt" else None, PAPER)
-    assert c["effect"] is None and c["verdict"] == "undetermined" and "it slides" in c["note"], c
+        share = tangential_share(p)
+        assert (0.3 < share < 0.75) if p.kx == 0.3e6 else (1.0 < share <= 1.5 * (1 + 1e-3)), (p, share)
 
 
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():

@@ -41,7 +41,7 @@ def fig4_direction():
     s = CATALOGUE["direction-points"]
     i = next(i for i, v in enumerate(s.variants) if v["b"] == 0.0 and v["F0"] == 0.35)  # Fig. 4's loop
     coarse = replace(s, fe_levels=(0.3, 0.2), steps=40)
-    return points._direction_row(coarse, points.member(coarse, {"variant": i}))
+    return points._relaxed_row(coarse, points.member(coarse, {"variant": i}))
 
 
 def test_the_traction_direction_costs_the_loop_of_fig4_nothing_in_the_apparatus(fig4_direction):
@@ -73,3 +73,27 @@ def test_a_point_that_failed_leaves_its_row_undetermined_and_the_scene_goes_on(t
     assert (tmp_path / points.figure(res, tmp_path)["points"]).stat().st_size > 0
     p = Point(b=v["b"], kx=v["kx"])
     assert measured_in_apparatus(p, {"halfspace-points": res}.get, paper_inputs()) is None
+
+
+def test_a_tilted_point_runs_in_its_apparatus_and_vanishes_with_its_tilt():
+    """A point with a ``tilt`` (``points.tilt_member``) runs the face tilted against aligned on the same
+    3D mesh in its apparatus: its row says what it measures, carries a finite effect and error bar and the
+    tilted contact's size; as the tilt goes to 0 the effect vanishes with it (the pair of runs differs by
+    the tilt alone: at 1e-9 rad below 1e-7 of the slip index), while at pi/3600 a 10 um face moves it."""
+    from validation.scenes import TILT_BOUND
+
+    s = CATALOGUE["tilt-points"]
+    i = next(i for i, v in enumerate(s.variants) if v["b"] == 10e-6 and v["kx"] == 1e6)
+    rows = {}
+    for tilt in (1e-9, TILT_BOUND):
+        coarse = replace(s, fe_levels=(0.3, 0.2), steps=20,
+                         variants=tuple({**v, "tilt": tilt} for v in s.variants))
+        rows[tilt] = points._relaxed_row(coarse, points.member(coarse, {"variant": i}))
+    tiny, bound = rows[1e-9], rows[TILT_BOUND]
+    for r in (tiny, bound):
+        assert r["measures"] == "tilt" and r["contact_vertices"] >= 10 and r["error"] is not None, r
+        assert set(r["error_parts"]) == {"mesh", "time step", "cycles"}
+    assert abs(tiny["effect"]) < 1e-7 and abs(bound["effect"]) > 1e3 * abs(tiny["effect"]), (tiny, bound)
+    assert points.member_physics(s, {"variant": i}) != points.member_physics(
+        CATALOGUE["direction-points"], {"variant": next(
+            j for j, v in enumerate(CATALOGUE["direction-points"].variants) if v["b"] == 10e-6 and v["kx"] == 1e6)})

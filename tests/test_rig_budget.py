@@ -102,28 +102,26 @@ def test_the_paper_rig_runs_the_catalogues_computations_at_its_points():
                 assert theirs and any(_same_physics(mine[0], t) for t in theirs), (fe, p)
 
 
-def test_the_paper_rigs_tilt_at_table_2s_load_runs_the_catalogues_banded_row():
-    """One code path for the tilt: the paper's rig's 0.6 mm face at Table 2's load is run with the very data
-    of the catalogue's banded row (the variant, and the scene's load, amplitude, cycles, steps, materials),
-    so its number is the catalogue's (measured: 0.0237716445398642 and ...645). The other points' faces
-    run at their own loads (the paper's budget maps Table 2's row to them)."""
+def test_the_paper_rigs_tilt_runs_the_catalogues_tilted_points():
+    """One code path for the tilt: every face point of willert2023.toml is tilted by the very computation of
+    the catalogue's tilt-points (the member's data, ``points.member_physics``, equal: the same point, tilt
+    and meshes), so the rig's tilt cells are the paper's, and its store reads them back."""
     from validation.catalogue import CATALOGUE
+    from validation.families import points
 
-    cat = CATALOGUE["tilt"]
-    row = next(v for v in cat.variants if v.get("band"))
-    mine = next(s for s in RB.scenes(load_rig(PAPER_FILE)) if s.family == "tilt" and s.F0 == 0.5)
-    assert row in mine.variants
-    keep = {"name", "title", "notes", "variants", "profile", "b"}  # the variant sets profile and b
-    assert all(_same_physics_field(getattr(mine, f.name), getattr(cat, f.name))
-               for f in fields(mine) if f.name not in keep | set(_NAMES)), \
-        [f.name for f in fields(mine) if not _same_physics_field(getattr(mine, f.name), getattr(cat, f.name))]
+    cat = CATALOGUE["tilt-points"]
+    mine = next(s for s in RB.scenes(load_rig(PAPER_FILE)) if s.name == "willert2023-tilt")
+    theirs = [points.member_physics(cat, {"variant": i}) for i in range(len(cat.variants))]
+    for i in range(len(mine.variants)):
+        assert points.member_physics(mine, {"variant": i}) in theirs, mine.variants[i]
+    assert len(mine.variants) == len(cat.variants)
 
 
 def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
     """The store skips a scene whose fingerprint is unchanged (``validation.compare.run_all``): editing the
     tilt bound changes the tilt scene's only, the kink's rounding none (MDR computes it in the budget),
     the block's width the size scene's only, its height that and the apparatus scenes' (the bedding's
-    lever h), the block's material every scene's."""
+    lever h; the tilt runs in the apparatus too), the block's material every scene's."""
     v = code_version()
 
     def prints(path):
@@ -136,7 +134,7 @@ def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
                               ("block_width = 30e-3", "block_width = 8e-3", {"my-rig-validity"}),
                               # the block's height is the apparatus's h too (the bedding's lever)
                               ("block_height = 5e-3", "block_height = 3e-3",
-                               {"my-rig-validity", "my-rig-points", "my-rig-direction"}),
+                               {"my-rig-validity", "my-rig-points", "my-rig-direction", "my-rig-tilt"}),
                               ("E2 = 70e9", "E2 = 110e9", set(base))):
         now = prints(_edited(tmp_path, old, new))
         changed = {k for k in base if now.get(k) != base[k]} | (set(now) - set(base))
@@ -145,7 +143,8 @@ def test_an_edited_field_reruns_only_the_scenes_it_enters(tmp_path):
 
 def test_scenes_follow_the_rig():
     """One material: no coupling scene (its cell exactly 0); no tilt bound or no face: no tilt scene; every
-    point of the rig run by exactly one variant of its points and direction scenes."""
+    point of the rig run by exactly one variant of its points and direction scenes, every face point by one
+    of its tilt scene."""
     rig = load_rig(PAPER_FILE)
     names = {s.name for s in RB.scenes(rig)}
     assert not any("coupling" in n for n in names) and any(n.startswith("willert2023-tilt") for n in names)
@@ -156,17 +155,23 @@ def test_scenes_follow_the_rig():
     assert c["kind"] == "exact" and c["effect"] == 0.0
     mine = load_rig(MINE)
     for s in RB.scenes(mine):
-        if s.family == "points":
+        if s.family == "points":  # the tilt: every face point (the sphere has no tilt)
             runs = [v.scene(s) for v in s.typed_variants]
-            assert all(sum(p.matches(r) for r in runs) == 1 for p in mine.points()), s.name
+            here = [p for p in mine.points() if p.b > 0 or not s.name.endswith("-tilt")]
+            assert all(sum(p.matches(r) for r in runs) == 1 for p in here) and len(runs) == len(here), s.name
     # a face that is the whole contact has its loaded edge refined as the catalogue's rows that resolve it:
-    # the ball of the flat punch (b = 100 um at 7.6 theta_c), the band of the 0.6 mm face (274 theta_c)
+    # the ball of the flat punch (b = 100 um at 7.6 theta_c), the band of the 0.6 mm face (274 theta_c); a
+    # face inside the contact on the scene's levels; the 1 um faces (a fifth of an element) not tilted
+    from validation.families.tilt import edge_variant
     from validation.scenes import TILT_BAND, TILT_REFINE_PUNCH
 
-    table2 = next(s for s in RB.scenes(rig) if s.family == "tilt" and s.F0 == 0.5)
-    edge = {v["b"]: ("band" if v.get("band") == TILT_BAND else "ball" if v.get("refine") == TILT_REFINE_PUNCH
-                     else None) for v in table2.variants}
-    assert edge == {1e-06: None, 1e-05: None, 5e-05: None, 1e-04: "ball", 6e-04: "band", 1e-03: "band"}
+    tilt = next(s for s in RB.scenes(rig) if s.name == "willert2023-tilt")
+    edge = {}
+    for v in tilt.typed_variants:
+        e = edge_variant(v.scene(tilt), v.tilt)
+        edge[v.scene(tilt).b] = ("band" if e.get("band") == TILT_BAND else "ball" if e.get("refine") == TILT_REFINE_PUNCH
+                                 else None)
+    assert edge == {1e-05: None, 5e-05: None, 1e-04: "ball", 6e-04: "band", 1e-03: "band"}
     # the bodies' size at the largest contact (the paper's b = 1 mm face of Fig. 8): its a_ref is that
     # contact's radius, the block over it the rig's 19 mm
     from validation.paper_points import contact_radius
@@ -302,7 +307,7 @@ def test_the_rigs_apparatus_and_indenter_reach_every_model(tmp_path):
             assert all(v.scene(s).apparatus_of().plate_model == "rigid" for v in s.typed_variants)
     base = {s.name: s.fingerprint("v") for s in RB.scenes(load_rig(MINE))}
     moved = {s.name for s in inp.scenes if s.fingerprint("v") != base[s.name]}
-    assert moved == {"my-rig-points", "my-rig-direction"}  # the force-driven scenes have no apparatus
+    assert moved == {"my-rig-points", "my-rig-direction", "my-rig-tilt"}  # the force-driven ones have none
     p = inp.results[0].points[0]
     own, default = point_slip_index(p, setup=inp.setup), point_slip_index(p, setup=replace(inp.setup, apparatus=()))
     assert abs(own - default) > 0.01
@@ -316,22 +321,27 @@ def test_the_rigs_apparatus_and_indenter_reach_every_model(tmp_path):
 
 
 def test_a_force_controlled_effect_is_read_at_the_points_own_load(tmp_path):
-    """The coupling and the tilt are measured under force control: a rig whose points sweep the normal
-    force gets one scene per load, and each point's cell reads the scene at its own load (the tilt's
-    effect scales with theta / theta_c, theta_c = F / (4 E* b^2): a row at another load is no bound)."""
+    """The coupling is measured under force control: a rig whose points sweep the normal force gets one
+    scene per load, and each point's cell reads the scene at its own load. The tilt is measured at each
+    point in its apparatus (one scene: its cell reads the row of that very point)."""
     rig = load_rig(_edited(tmp_path, "sweep = {b = [0.0], ua = [100e-9, 200e-9, 400e-9]}",
                            "sweep = {b = [0.0, 50e-6], F0 = [0.5, 1.0]}"))
     inp = RB.inputs(rig)
     names = {s.name for s in inp.scenes}
-    assert {"my-rig-coupling-1", "my-rig-coupling-2", "my-rig-tilt-1", "my-rig-tilt-2"} <= names
+    assert {"my-rig-coupling-1", "my-rig-coupling-2", "my-rig-tilt"} <= names
     low = next(p for p in rig.points() if p.F0 == 0.5 and p.b == 50e-6)
     rows = {s.name: {"assumptions3d": [{"relax": "coupling", "b": 50e-6, "verdicts": {"dissipation": {
         "effect": 0.01 * (k + 1), "error": 0.001}}}]} for k, s in enumerate(inp.of_family("assumptions3d"))}
     c = C.coupling_cell(low, rows.get, inp)
     at = next(s for s in inp.of_family("assumptions3d") if s.F0 == 0.5)
     assert c["source"] == at.name and c["effect"] == rows[at.name]["assumptions3d"][0]["verdicts"]["dissipation"]["effect"]
-    assert C.tilt_cell(low, lambda name: None, inp)["source"].startswith(next(
-        s.name for s in inp.of_family("tilt") if s.F0 == 0.5))
+    tilt = next(s for s in inp.scenes if s.name == "my-rig-tilt")
+    i = next(i for i, v in enumerate(tilt.typed_variants) if low.matches(v.scene(tilt)))
+    row = {"variant": i, "tilt": rig.tilt, "effect": -0.02, "error": 0.001, "slip_index": 0.3}
+    c = C.tilt_cell(low, {"my-rig-tilt": {"points": [row]}}.get, inp)
+    assert c["source"] == "my-rig-tilt" and c["effect"] == -0.02 and c["kind"] == "bound"
+    other = next(p for p in rig.points() if p.F0 == 1.0 and p.b == 50e-6)  # the same face at the other load
+    assert C.tilt_cell(other, {"my-rig-tilt": {"points": [row]}}.get, inp)["effect"] is None
 
 
 def test_the_paper_rig_files_loops_are_the_papers():

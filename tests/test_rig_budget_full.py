@@ -10,7 +10,7 @@ the rig's at its own bodies, the paper's from the catalogue's sweep row of bodie
 falls with either body's size, so the rig's bound lies within the paper's.
 
 Cost: the catalogue's points run in the catalogue's folder are the rig's too (``validation.runner.
-member_key``): the rig's traction-direction scene runs none of its 23 points again.
+member_key``): the rig's traction-direction and tilt scenes run none of their 23 and 19 points again.
 """
 from __future__ import annotations
 
@@ -51,6 +51,7 @@ def test_the_paper_rig_file_reproduces_the_papers_budget(paper_budget, tmp_path_
                        capture_output=True, text=True, cwd=ROOT, check=False)
     assert r.returncode == 0, r.stderr[-3000:]
     assert "willert2023-direction done: its 23 task(s) stored by content" in r.stderr
+    assert "willert2023-tilt done: its 19 task(s) stored by content" in r.stderr
     rig = json.loads((mine / "budget.json").read_text())
     assert not rig["stale"]
     ours, theirs = _cells(rig), _cells(paper)

@@ -13,8 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .paper_points import (PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, same, slip_indices,
-                           tangential_share)
+from .paper_points import PAPER, RESOLUTION, Point, Setup, contact_radius, difference_with_grid, same, slip_indices
 from .text import num
 
 #: the paper's widest rounding of the kink: "less than the rms roughness", up to 3 um
@@ -267,11 +266,19 @@ def _assumption_row(p: Point, store, inp: Inputs, relax: str):
     return (scenes[0].name if scenes else None), None
 
 
+def _relaxing(inp: Inputs, what: str) -> tuple:
+    """The 3D ``points`` scenes of ``inp`` that measure ``what`` (``families.points.measures``: "direction",
+    "tilt") at their points in the apparatus."""
+    from .families.points import measures
+
+    return tuple(s for s in inp.of_family("points", "3d") if measures(s.as_dict()) == what)
+
+
 def direction_cell(p: Point, store, inp: Inputs) -> dict:
     """Mindlin's traction along x relaxed in 3D: measured at the point itself in the apparatus where a
     stored 3D ``points`` scene runs it (a change of the slip index); else under force control (an
     ``assumptions3d`` scene): the row of the same b, a relative change of the dissipation."""
-    for s in inp.of_family("points", "3d"):
+    for s in _relaxing(inp, "direction"):
         r = _row_at(p, s, store(s.name))
         if r is not None:
             return cell(r.get("effect"), r.get("error"), "absolute", s.name,
@@ -279,7 +286,7 @@ def direction_cell(p: Point, store, inp: Inputs) -> dict:
                         f"(ladder {r.get('ladder_status')})")
     name, r = _assumption_row(p, store, inp, "direction")
     if r is None:
-        own = next((s.name for s in inp.of_family("points", "3d")), None)
+        own = next((s.name for s in _relaxing(inp, "direction")), None)
         return missing(own or name or "direction-points", "" if own or name else "no 3D scene measures it", inp)
     d = r["verdicts"]["dissipation"]
     return cell(d["effect"], d["error"], "measured", name, "sphere" if p.b == 0 else f"b = {p.b * 1e6:g} um")
@@ -312,42 +319,36 @@ def _stated(bound, unstated: str, zero: str) -> dict | None:
 
 
 def tilt_cell(p: Point, store, inp: Inputs) -> dict:
-    """The flat face tilted by the rig's bound (family ``tilt``): the sphere exactly 0; a face of the same b
-    at the bound (the banded row where there is one): the change of the slip index itself (absolute: the
-    aligned face hardly slips under the scene's force control, so a relative change has no meaning). The
-    tilt is stated as an inequality ("less than"), so the change at the bound is a bound too (kind
-    ``bound``: never "matters"). It grows with the tangential force towards the friction limit, so it
-    bounds only a point whose own force amplitude in its apparatus (``paper_points.tangential_share``)
-    is at most the scene's; beyond it the cell is undetermined."""
+    """The flat face tilted by the rig's bound: the sphere exactly 0; a face: the change of the slip index
+    at the point itself in its apparatus, tilted minus aligned on the same 3D mesh (a stored 3D ``points``
+    scene whose points carry the tilt, ``families.points.tilt_member``). The tilt is stated as an
+    inequality ("less than"), so the change at the bound is a bound too (kind ``bound``: never
+    "matters"). (Under force control below the friction limit, the tilt family's, it would bound no point
+    that slides: a sliding point's change differs in sign and size, ``tests/test_punch3d.py``.)"""
     if p.b == 0:
         return cell(0.0, 0.0, "exact", "symmetry", "a tilted sphere is the same sphere displaced")
     stated = _stated(inp.tilt, "no tilt bound stated ([tolerances] tilt)", "a tilt of 0 stated")
     if stated is not None:
         return stated
-    scenes = inp.at_load("tilt", p)
-    res = store(scenes[0].name) if scenes else None
-    if res is None:
-        return missing(scenes[0].name if scenes else "tilt", inp=inp)
-    s = scenes[0]
-    measured, own = s.amplitude / (s.mu * (s.F0 - s.dF)), tangential_share(p, setup=inp.setup)
-    if own > measured:
-        return cell(None, None, "bound", s.name,
-                    f"measured under force control at {measured:.2g} of the friction limit; this point's tangential "
-                    f"force in its apparatus reaches {own:.2g} of it{' (it slides)' if own > 1 else ''}, where the "
-                    "change grows towards the limit: no bound here")
-    rows = [r for r in res["tilt"] if abs(r["b"] - p.b) < 1e-9]
-    rows.sort(key=lambda r: not r.get("banded"))
-    for r in rows:
-        pt = next((x for x in r["points"] if abs(x["tilt"] - inp.tilt) < 1e-3 * inp.tilt and x["resolved"]), None)
-        if pt is None:
+    scenes = _relaxing(inp, "tilt")
+    for s in scenes:
+        res = store(s.name)
+        if res is None:
+            return missing(s.name, inp=inp)
+        r = _row_at(p, s, res)
+        if r is None or r.get("tilt") is None or abs(r["tilt"] - inp.tilt) > 1e-3 * inp.tilt:
             continue
-        si = pt["aligned"]["slip_index"]
-        aligned = r["levels"][-1]["runs"][0].get("slip_index")
-        return cell(si["effect"], si["error"], "bound", scenes[0].name,
-                    f"{r['variant']}: the change of the slip index under force control, where the aligned face's "
-                    f"is {num(aligned, '.2g')}")
+        why = "" if r.get("effect") is not None else (
+            f": not resolved ({r.get('contact_vertices')} contact vertices)" if r.get("contact_vertices") is not None
+            else ": no answer")
+        return cell(r.get("effect"), r.get("error"), "bound", s.name,
+                    f"3D, tilted - aligned at the point, b = {p.b * 1e6:g} um (aligned slip index "
+                    f"{num(r.get('slip_index'), '.2g')}){why}")
+    if not scenes:
+        return missing("tilt-points", "no 3D scene tilts the point", inp)
     return cell(None, None, "bound", scenes[0].name,
-                f"b = {p.b * 1e6:g} um at {inp.tilt:.3g} rad not measured (or not resolved)")
+                f"b = {p.b * 1e6:g} um at {inp.tilt:.3g} rad not measured (a face below "
+                "two elements of the 3D mesh)")
 
 
 # ------------------------------------------------------------------ cells computed with MDR

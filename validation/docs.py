@@ -110,7 +110,7 @@ def tally_line(scenes: dict) -> list:
 
 #: the tables read from the run's scenes of one family each (their scene must be in the run)
 SCENE_TABLES = ("assumptions-3d", "validity", "validity-curvature", "halfspace-points", "direction-points",
-                "roughness", "roughness-faces")
+                "tilt-points", "roughness", "roughness-faces")
 #: the generated tables: name -> function of results.json's ``scenes``
 TABLES = {"catalogue": catalogue_table, "budget": budget_table, "bars": bars_table, "tally": tally_line,
           **{n: _family_table(n) for n in SCENE_TABLES}}

@@ -16,10 +16,10 @@ Each cell takes the cheapest model that measures it at the rig's points:
   not 0): the 3D model with the normal-tangential coupling against without, on the same mesh, under
   force control (``SHARE_3D`` of the friction limit) at each load (F0, dF, mu1) of the rig's points (one scene per load, ``-1``, ``-2``, ...
   where there are several), per face radius of its points there;
-- *tilt* (``<name>-tilt``, family ``tilt``; only where the rig states a bound and a point has a face):
-  the face tilted by the bound against the aligned face on the same 3D mesh, per load as the coupling; a
-  face that is the whole contact with its loaded edge refined as the catalogue's rows resolve it
-  (``_tilt_variant``);
+- *tilt* (``<name>-tilt``, family ``points``, 3D; only where the rig states a bound and a point has a
+  face of at least ``TILT_MIN_FACE_ELEMENTS`` elements): every face point in its apparatus, tilted by the
+  bound against aligned on the same mesh; a face that is the whole contact with its loaded edge refined as
+  the catalogue's rows resolve it (``families.tilt.edge_variant``);
 - *kink*, *plates*: MDR in the rig's apparatus (``validation.budget_cells.kink_cell``,
   ``validation.budget_plates.cell``), computed by the budget itself;
 - *roughness*: no scene: the budget runs the readings of the rig's rms values on its rough contacts
@@ -38,8 +38,7 @@ from common.errors import InputError
 
 from .budget_cells import Inputs
 from .paper_points import Setup, contact_radius
-from .scenes import (FE_LEVELS_3D, TILT_BAND, TILT_BAND_LEVELS, TILT_LEVELS_3D, TILT_REFINE_PUNCH, Scene,
-                     tilt_critical)
+from .scenes import FE_LEVELS_3D, TILT_MIN_FACE_ELEMENTS, Scene
 
 #: the 3D levels of the direction's points scene (as the catalogue's ``direction-points``)
 DIRECTION_LEVELS_3D = (0.2, 0.14)
@@ -72,32 +71,10 @@ def _base(rig) -> dict:
                 E1=m.E1, nu1=m.nu1, E2=m.E2, nu2=m.nu2, F0=L["F0"], dF=L["dF"], mu=L["mu1"], mu2=L["mu2"])
 
 
-def _tilt_variant(b: float, tilt: float, p, setup) -> dict:
-    """The tilt scene's variant of the face b at the point's load. A face that is the whole contact loses
-    part of it past theta_c (``scenes.tilt_critical``, the tilted punch's): its loaded edge refined as the
-    catalogue's rows resolve it, a ball of 0.8 b at half the level's size up to ``TILT_BALL_MAX`` theta_c
-    (the flat punch b = 100 um, 7.6 theta_c), beyond it the thin crescent on meshes banded along the
-    loaded rim arc (``TILT_BAND``: b = 0.6 mm, 274 theta_c); other faces on the scene's levels."""
-    v = {"profile": "truncated", "b": b, "tilts": (tilt,)}
-    if not _whole_contact(p, setup):
-        return v
-    if tilt <= TILT_BALL_MAX * tilt_critical(p.F0, b, setup.materials.E_star):
-        return {**v, "refine": TILT_REFINE_PUNCH}
-    return {**v, "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}
-
-
-#: the force amplitude of the 3D scenes under force control (the coupling, the tilt) over the smallest
-#: friction limit mu1 (F0 - dF): the catalogue's (0.06 N at Table 2's load), so that the paper's rig runs
-#: its rows; the tilted edge slips more the nearer the limit (the 0.6 mm face at Table 2's load: a change
-#: of the slip index of 0.008 at half the limit, 0.024 at 0.75 of it), and 0.75 keeps partial slip; the
-#: tilt cell of a point whose own force amplitude in its apparatus exceeds it is undetermined
-#: (``budget_cells.tilt_cell``)
+#: the force amplitude of the coupling's 3D scenes under force control over the smallest friction limit
+#: mu1 (F0 - dF): the catalogue's (0.06 N at Table 2's load), so that the paper's rig runs its rows; 0.75
+#: keeps partial slip
 SHARE_3D = 0.75
-
-#: the largest tilt over theta_c a ball-refined loaded edge resolves (the catalogue's flat punch reaches
-#: 7.6 at pi/3600); beyond it the crescent is thin and the band resolves it
-TILT_BALL_MAX = 20.0
-
 
 def _whole_contact(p, setup) -> bool:
     """Whether the point's face is its whole contact (the contact radius within 0.1 % of b: a flat
@@ -179,17 +156,16 @@ def scenes(rig) -> tuple:
                              variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
                              notes="The 3D model with the coupling of the rig's pair against without, on the same "
                                    f"mesh, {where}, per face radius of its points there."))
-        faces = [b for b in bs if b > 0]
-        if rig.tilt and faces:
-            out.append(Scene(f"{name}-tilt{tag}", f"{rig.title or name}: the face tilted by its bound",
-                             **{**at, "b": faces[0]}, **load, fe_levels=TILT_LEVELS_3D, cycles=4, steps=40,
-                             family="tilt",
-                             variants=tuple(_tilt_variant(b, rig.tilt, next(p for p in here if p.b == b), setup)
-                                            for b in faces),
-                             notes="Each face of the rig's points tilted by the rig's bound against the aligned "
-                                   f"face on the same 3D mesh, {where}; a face that is the whole contact with its "
-                                   "loaded edge refined as the catalogue's rows resolve its edge crescent (a ball, "
-                                   "or a band along the rim arc far beyond theta_c)."))
+    faces = [p for p in points if p.b >= TILT_MIN_FACE_ELEMENTS * DIRECTION_LEVELS_3D[-1] * contact_radius(p, setup)]
+    if rig.tilt and faces:
+        out.append(Scene(f"{name}-tilt", f"{rig.title or name}: the face tilted by its bound at the points", **base,
+                         **apparatus, cycles=3, steps=40, fe_model="3d", fe_levels=DIRECTION_LEVELS_3D,
+                         variants=tuple({**asdict(p), "tilt": rig.tilt} for p in faces), group="3d",
+                         notes="Every face of the rig's points (of at least two elements of the 3D mesh) in its "
+                               "apparatus: the 3D model with the face tilted by the rig's bound against aligned on "
+                               "the same mesh; a face that is the whole contact with its loaded edge refined as the "
+                               "catalogue's rows resolve its edge crescent (a ball, or a band along the rim arc far "
+                               "beyond theta_c)."))
     return tuple(out)
 
 

@@ -13,6 +13,9 @@ What a point measures is what the scene's FE model relaxes beyond MDR there:
   a traction of free direction against the same mesh with q_y = 0 (``FEContact3D.assuming``), both in
   the apparatus; the difference of the pair cancels the discretisation error the two share, so a
   short 3D ladder resolves it (``direction_member``).
+- ``fe_model = "3d"``, a point with a ``tilt`` (scene ``tilt-points``): **the face's alignment**, the 3D
+  model with the face tilted about y by ``tilt`` against the aligned face on the same mesh, the loaded
+  edge refined as the tilt family's rows resolve it (``tilt_member``).
 
 The effect of a point is a change of its slip index (the dissipation per cycle over 4 mu1 F0 u_A),
 what the error budget (``validation.budget``: columns *curvature a/R*, *traction direction*) reads.
@@ -62,15 +65,22 @@ class Variant:
     ua: float | None = None
     mu1: float | None = None
     mu2: float | None = None
+    #: a 3D point's face tilted about y by this angle (rad) against aligned (None: the traction direction)
+    tilt: float | None = None
 
     @classmethod
     def of(cls, v: dict, scene: Scene) -> "Variant":
-        """The mapping ``v`` checked (``RANGES``; the point's scene then meets the scene's own checks)."""
-        bad = variant_keys(scene, "point", v, tuple(SCENE_FIELDS))
+        """The mapping ``v`` checked (``RANGES``; the point's scene then meets the scene's own checks; a
+        ``tilt`` in (0, pi/2) rad on a 3D scene's face, b > 0)."""
+        bad = variant_keys(scene, "point", v, tuple(SCENE_FIELDS) + ("tilt",))
         if "kx" not in v:
             raise bad("kx", RANGES["kx"][1])
         out = cls(**{k: number(v, k, lambda x, ok=ok: ok(x, scene), bad, rng)
                      for k, (ok, rng) in RANGES.items() if k in v})
+        if "tilt" in v:
+            if scene.fe_model != "3d" or not (v.get("b", scene.b) or 0) > 0:
+                raise bad("tilt", "only on a face (b > 0) of a scene with fe_model '3d'")
+            out = replace(out, tilt=number(v, "tilt", lambda x: 0 < x < 0.5 * math.pi, bad, "in (0, pi/2) (rad)"))
         out.scene(scene)  # the point's scene checked whole (dF below F0, the drive's ranges)
         return out
 
@@ -105,9 +115,11 @@ def member(s: Scene, task: dict) -> dict:
     t0 = time.perf_counter()
     i = int(task["variant"])
     sv = s.typed_variants[i].scene(s)
+    v = s.typed_variants[i]
     try:
         if s.fe_model == "3d":
-            return {"variant": i, "b": sv.b, "kx": sv.kx, **direction_member(sv),
+            return {"variant": i, "b": sv.b, "kx": sv.kx,
+                    **(direction_member(sv) if v.tilt is None else tilt_member(sv, v.tilt)),
                     "runtime_s": time.perf_counter() - t0}
         res = run_pair(sv, None, fields=False)
     except ConvergenceError as e:  # a point without an answer is undetermined; the scene goes on
@@ -126,8 +138,9 @@ def member_physics(s: Scene, task: dict) -> dict:
     (``Variant.scene``) but the fields that name it, numbers to 12 significant digits, so the same point
     in two scenes (the catalogue's and a rig's: a file's 0.07 and the code's 0.2 x 0.35) is one
     computation. The numbers of the two differ by the rounding of their inputs alone (1e-12 relative)."""
-    sv = s.typed_variants[int(task["variant"])].scene(s)
-    return _rounded({k: v for k, v in sv.as_dict().items() if k not in _NAMING})
+    v = s.typed_variants[int(task["variant"])]
+    tilt = {} if v.tilt is None else {"tilt": v.tilt}
+    return _rounded({**{k: x for k, x in v.scene(s).as_dict().items() if k not in _NAMING}, **tilt})
 
 
 def _rounded(x):
@@ -146,61 +159,95 @@ def _rounded(x):
 STEP_FACTOR = 2
 
 
-def _apparatus_runs(sv: Scene, law, loading) -> dict:
-    """The point's apparatus run with the traction free and along x on the same 3D mesh (``law``; each
-    run from rest)."""
-    from mdr.apparatus import apparatus_result
-
-    app = sv.apparatus_of()
-    return {tr: apparatus_result(law.assuming(traction=tr), app, loading) for tr in ("free", "x")}
-
-
-def _effects_per_cycle(runs: dict) -> list:
-    """The effect free - x of every closed cycle (the cycle from rest left out) in slip-index units."""
-    scale = runs["x"]["slip_index"] / runs["x"]["dissipation"] if runs["x"]["dissipation"] else 0.0
-    return [(f - x) * scale for f, x in zip(runs["free"]["dissipation_per_cycle"][1:],
-                                             runs["x"]["dissipation_per_cycle"][1:])]
+def _effects_per_cycle(relaxed: dict, reference: dict) -> list:
+    """The effect relaxed - reference of every closed cycle (the cycle from rest left out) in slip-index
+    units."""
+    scale = reference["slip_index"] / reference["dissipation"] if reference["dissipation"] else 0.0
+    return [(f - x) * scale for f, x in zip(relaxed["dissipation_per_cycle"][1:],
+                                             reference["dissipation_per_cycle"][1:])]
 
 
-def direction_member(sv: Scene) -> dict:
-    """Mindlin's traction direction at the point ``sv`` in the apparatus: the slip index with the traction
-    free minus along x on each 3D level of ``sv.fe_levels``; the effect's error bar is its ladder's
-    (``metrics.ladder_error``; two levels: their difference, a spread), plus the change when the coarsest
-    level runs ``STEP_FACTOR`` times the steps, plus the finest level's settling over its cycles
-    (``common.ladder.settling_error``). The apparatus's dissipation settles within a cycle or two."""
+def _relaxed_member(sv: Scene, pair, levels) -> dict:
+    """What relaxing an assumption at the point ``sv`` costs its slip index in the apparatus: ``pair(law,
+    loading)`` gives the (relaxed, reference) apparatus runs on one 3D mesh, ``levels`` the (h, mesh
+    options) of its ladder. The effect's error bar is its ladder's (``metrics.ladder_error``; two levels:
+    their difference, a spread), plus the change when the coarsest level runs ``STEP_FACTOR`` times the
+    steps, plus the finest level's settling over its cycles (``common.ladder.settling_error``). The
+    apparatus's dissipation settles within a cycle or two."""
     from common.ladder import settling_error
 
     from ..sides import fe_law
 
-    levels, coarsest = [], None
-    for h in sv.fe_levels:
-        law = fe_law(sv, h)
+    out, coarsest = [], None
+    for h, mesh in levels:
+        law = fe_law(sv, h, **mesh)
         coarsest = coarsest or law
-        runs = _apparatus_runs(sv, law, sv.loading)
-        levels.append({"h": h, "slip_index": {tr: r["slip_index"] for tr, r in runs.items()},
-                       "effect": runs["free"]["slip_index"] - runs["x"]["slip_index"],
-                       "per_cycle": _effects_per_cycle(runs)})
-    finer = _apparatus_runs(sv, coarsest, replace(sv, steps=STEP_FACTOR * sv.steps).loading)
-    step = abs(finer["free"]["slip_index"] - finer["x"]["slip_index"] - levels[0]["effect"])
-    lad = metrics.ladder_error([x["h"] for x in levels], [x["effect"] for x in levels])
-    settle = settling_error(levels[-1]["per_cycle"], floor=1e-9)  # 1e-9 of the slip index: round-off
+        new, ref = pair(law, sv.loading)
+        out.append({"h": h, "slip_index": {"relaxed": new["slip_index"], "reference": ref["slip_index"]},
+                    "effect": new["slip_index"] - ref["slip_index"], "per_cycle": _effects_per_cycle(new, ref)})
+    new, ref = pair(coarsest, replace(sv, steps=STEP_FACTOR * sv.steps).loading)
+    step = abs(new["slip_index"] - ref["slip_index"] - out[0]["effect"])
+    lad = metrics.ladder_error([x["h"] for x in out], [x["effect"] for x in out])
+    settle = settling_error(out[-1]["per_cycle"], floor=1e-9)  # 1e-9 of the slip index: round-off
     parts = {"mesh": lad["error"], "time step": step, "cycles": settle["error"]}
     ok = all(x is not None and math.isfinite(x) for x in parts.values())
-    return {"levels": levels, "ladder": lad, "settling": settle, "error_parts": parts,
-            "effect_direction": lad["value"], "error_direction": sum(parts.values()) if ok else None,
-            "slip_index_x": levels[-1]["slip_index"]["x"], "bounded": False}
+    return {"levels": out, "ladder": lad, "settling": settle, "error_parts": parts, "effect": lad["value"],
+            "error": sum(parts.values()) if ok else None, "slip_index_reference": out[-1]["slip_index"]["reference"],
+            "bounded": False}
 
 
-def _direction_row(s: Scene, m: dict) -> dict:
-    """A 3D point's row: the effect of the free traction direction on the slip index, its error bar."""
-    e, err = m.get("effect_direction"), m.get("error_direction")
+def direction_member(sv: Scene) -> dict:
+    """Mindlin's traction direction at the point ``sv`` in the apparatus (``_relaxed_member``): the slip
+    index with the traction free minus along x on each 3D level of ``sv.fe_levels``."""
+    from mdr.apparatus import apparatus_result
+
+    app = sv.apparatus_of()
+
+    def pair(law, loading):
+        return tuple(apparatus_result(law.assuming(traction=tr), app, loading) for tr in ("free", "x"))
+
+    return {"measures": "direction", **_relaxed_member(sv, pair, [(h, {}) for h in sv.fe_levels])}
+
+
+def tilt_member(sv: Scene, tilt: float) -> dict:
+    """The face of the point ``sv`` tilted about y by ``tilt`` (rad) against aligned, in the apparatus
+    (``_relaxed_member``), on the tilt family's meshes for that face (``tilt.edge_variant``: the loaded
+    edge refined where the face is the whole contact). A tilted contact of fewer than
+    ``tilt.TILT_MIN_VERTICES`` vertices (half model) at the smallest normal force F0 - dF on the finest
+    level resolves nothing: its effect is None."""
+    from fem.solid3d.estimators import contact_mask
+    from mdr.apparatus import apparatus_result
+
+    from .tilt import TILT_MIN_VERTICES, Variant as TiltVariant, edge_variant
+
+    var = TiltVariant.of(edge_variant(sv, tilt), sv, force=False)
+    hs = var.fe_levels or sv.fe_levels
+    app, vertices = sv.apparatus_of(), []
+
+    def pair(law, loading):
+        tilted = law.assuming(tilt=tilt)
+        vertices.append(int(contact_mask(tilted.model, tilted.normal(F_N=sv.F0 - sv.dF).p).sum()))
+        return tuple(apparatus_result(x, app, loading) for x in (tilted, law))
+
+    out = _relaxed_member(replace(sv, fe_levels=hs), pair, [(h, var.mesh_options(j)) for j, h in enumerate(hs)])
+    fine = vertices[len(hs) - 1]  # the levels in turn, then the coarsest with its steps doubled
+    resolved = fine >= TILT_MIN_VERTICES
+    return {**out, "measures": "tilt", "tilt": tilt, "contact_vertices": fine, "resolved": resolved,
+            **({} if resolved else {"effect": None, "error": None})}
+
+
+def _relaxed_row(s: Scene, m: dict) -> dict:
+    """A 3D point's row: the effect of what it relaxes (``measures``: the traction direction, the face's
+    tilt) on the slip index, its error bar."""
+    e, err = m.get("effect"), m.get("error")
     ok = e is not None and err is not None and math.isfinite(e) and math.isfinite(err)
     grade = "undetermined" if not ok else ("below the budget's resolution" if abs(e) + err <= RESOLUTION
                                            else "beyond the budget's resolution")
     v = s.typed_variants[m["variant"]]
     sv = v.scene(s)  # this scene's point (a member read back ran another's, within rounding)
     return {"variant": m["variant"], **v.given(), "b": sv.b, "kx": sv.kx, "failed": m.get("failed"),
-            "slip_index": m.get("slip_index_x"), "effect": e if ok else None, "error": err if ok else None,
+            "measures": m.get("measures"), "tilt": m.get("tilt"), "contact_vertices": m.get("contact_vertices"),
+            "slip_index": m.get("slip_index_reference"), "effect": e if ok else None, "error": err if ok else None,
             "error_parts": m.get("error_parts"), "ladder_status": (m.get("ladder") or {}).get("status"),
             "bounded": False, "grade": grade, "holds": None, "runtime_s": m.get("runtime_s")}
 
@@ -230,18 +277,35 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
     log = log or (lambda msg: None)
     members, given = members_of(s, members, tasks, member, log,
                                 lambda k, task, m: f"  point {task['variant']}: {m['runtime_s']:.0f} s")
-    reduce = _direction_row if s.fe_model == "3d" else _row
+    reduce = _relaxed_row if s.fe_model == "3d" else _row
     rows = [reduce(s, m) for m in sorted(members, key=lambda m: m["variant"])]
-    what = "free - along x" if s.fe_model == "3d" else "FE - MDR"
+    what = WHAT[measures(s.as_dict())][0]
     for r in rows:
         log(f"  b = {num(r['b'], 'g', 1e6)} um, k_x = {num(r['kx'], 'g', 1e-6)} N/um: slip index {what} "
             f"{num(r['effect'], '+.2g')} +- {num(r['error'], '.2g')}: {r['grade']}")
     return result_of_members(s, KEY, rows, t0, out_dir, figure, members, given)
 
 
+#: what a points scene measures (``measures``): the difference's label, the figure's title and file
+WHAT = {"shape": ("FE - MDR", "The half-space's shape at the paper's points (FE against MDR, in the apparatus)",
+                  "points.png"),
+        "direction": ("free - along x", "Mindlin's traction direction at the paper's points (3D, in the apparatus)",
+                      "directions.png"),
+        "tilt": ("tilted - aligned", "The face tilted at the paper's points (3D, in the apparatus)", "tilts.png")}
+
+
+def measures(scene: dict) -> str:
+    """What the points scene (its data) measures: the half-space's shape (axisymmetric), the face's tilt (a
+    3D scene whose points carry a tilt) or Mindlin's traction direction (the other 3D scenes)."""
+    if scene.get("fe_model") != "3d":
+        return "shape"
+    return "tilt" if any("tilt" in v for v in scene.get("variants") or ()) else "direction"
+
+
 def table(res) -> list:
-    if (res.get("scene") or {}).get("fe_model") == "3d":
-        return _direction_table(res)
+    what = measures(res.get("scene") or {})
+    if what != "shape":
+        return _relaxed_table(res, what)
     lines = ["The paper's points in its apparatus (Table 2's load; b and k_x of Figs. 8-9 and Table 2 that no "
              "other scene runs): the axisymmetric FE model (the cap's real sphere, bodies of 200 a) against MDR, "
              "both on their ladders. FE - MDR of the slip index is what the half-space's shape costs there (the "
@@ -258,12 +322,19 @@ def table(res) -> list:
     return lines
 
 
-def _direction_table(res) -> list:
-    lines = ["The paper's points in its apparatus (every point of the budget's results, at its own load): the 3D "
-             "model with a traction of free direction minus the same mesh with the traction along x (Mindlin's "
-             "assumption, MDR's and the axisymmetric model's), the change of the slip index, with its error bar "
-             "(the effect's 3D ladder, its time step, its settling); the budget's resolution is 0.01.", "",
-             "| b (um) | k_x (N/um) | F0 (N) | slip index (along x) | free - along x | error bar | status |",
+def _relaxed_table(res, what: str) -> list:
+    """The table of a 3D points scene: per point the change of the slip index when the traction's direction
+    is freed or the face tilted, its error bar and status."""
+    head = ("the 3D model with a traction of free direction minus the same mesh with the traction along x "
+            "(Mindlin's assumption, MDR's and the axisymmetric model's)" if what == "direction" else
+            "the 3D model with the face tilted about y (its loaded edge refined where the face is the whole "
+            "contact) minus the aligned face on the same mesh; a tilted contact of fewer than 10 vertices at "
+            "F0 - dF resolves nothing (undetermined)")
+    ref = "along x" if what == "direction" else "aligned"
+    lines = [f"The paper's points in its apparatus (every point of the budget's results, at its own load): {head}, "
+             "the change of the slip index, with its error bar (the effect's 3D ladder, its time step, its "
+             "settling); the budget's resolution is 0.01.", "",
+             f"| b (um) | k_x (N/um) | F0 (N) | slip index ({ref}) | {WHAT[what][0]} | error bar | status |",
              "|---|---|---|---|---|---|---|"]
     for r in res[KEY]:
         lines.append(f"| {num(r.get('b'), 'g', 1e6)} | {num(r.get('kx'), 'g', 1e-6)} | {num(r.get('F0'), 'g')} | "
@@ -273,12 +344,13 @@ def _direction_table(res) -> list:
 
 
 def figure(result: dict, out_dir) -> dict:
-    """The effect of each point on its slip index (FE - MDR, or the 3D traction free - along x) with its
+    """The effect of each point on its slip index (FE - MDR; the 3D traction free - along x; the face tilted -
+    aligned: ``WHAT``) with its
     error bar against k_x, one line per face radius b (set slightly apart where they share a k_x): left
     against the budget's resolution (0.01 of the slip index), right zoomed to the measured values."""
     from ..figures import plt, save
 
-    three_d = (result.get("scene") or {}).get("fe_model") == "3d"
+    label, title, file = WHAT[measures(result.get("scene") or {})]
     rows = [r for r in result[KEY] if all(isinstance(r.get(k), (int, float)) and math.isfinite(r[k])
                                           for k in ("b", "kx", "effect"))]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -297,12 +369,11 @@ def figure(result: dict, out_dir) -> dict:
         ax.grid(alpha=0.3, which="both")
     axes[0].axhspan(-RESOLUTION, RESOLUTION, color="0.92", zorder=0, label=f"budget resolution ({RESOLUTION:g})")
     axes[0].set_ylim(-1.1 * RESOLUTION, 1.1 * RESOLUTION)
-    axes[0].set_ylabel("slip index, traction free - along x (3D)" if three_d else "slip index, FE - MDR")
+    axes[0].set_ylabel(f"slip index, {label}")
     axes[0].set_title("against the budget's resolution", fontsize=10)
     axes[1].set_title("zoomed: the measured effects and their error bars", fontsize=10)
     if rows:
         axes[0].legend(fontsize=7)
-    fig.suptitle("Mindlin's traction direction at the paper's points (3D, in the apparatus)" if three_d
-                 else "The half-space's shape at the paper's points (FE against MDR, in the apparatus)", fontsize=11)
+    fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    return {KEY: save(fig, Path(out_dir) / ("directions.png" if three_d else "points.png"))}
+    return {KEY: save(fig, Path(out_dir) / file)}

@@ -39,8 +39,9 @@ class Variant:
     refinements: tuple | None = None
 
     @classmethod
-    def of(cls, v: dict, scene: Scene) -> "Variant":
-        """The mapping ``v`` checked: a 3D, force-driven scene; ``profile``, ``b`` in (0, R), ``tilts`` a
+    def of(cls, v: dict, scene: Scene, *, force: bool = True) -> "Variant":
+        """The mapping ``v`` checked: a 3D scene, force-driven (``force``; a points scene's tilted point runs
+        in its apparatus); ``profile``, ``b`` in (0, R), ``tilts`` a
         non-empty list of angles in (0, pi/2); optionally ``fe_levels`` (the 3D model's range,
         non-increasing) and, one per level, ``refine`` (x, h, radius) or ``band`` (h, width, angle[, growth])
         in units of a_ref, each checked against the level's mesh (``meshes.half3d.Half3DMeshParams``)."""
@@ -48,7 +49,7 @@ class Variant:
         from meshes.half3d import H_CONTACT_3D_RANGE, Half3DMeshParams, Refinement
 
         bad = variant_keys(scene, "tilt", v, ("profile", "b", "tilts", "fe_levels", "refine", "band"))
-        if scene.fe_model != "3d" or scene.drive != "force":
+        if scene.fe_model != "3d" or (force and scene.drive != "force"):
             raise InputError(f"scene {scene.name}: tilt variants need fe_model='3d' and drive='force'")
         if v.get("profile") not in ("flat", "truncated"):
             raise bad("profile", "flat or truncated")
@@ -105,6 +106,30 @@ class Variant:
             return {}
         r = self.refinements[j]
         return {k: getattr(r, k) for k in ("refine", "band") if getattr(r, k) is not None}
+
+
+#: the largest tilt over theta_c a ball-refined loaded edge resolves (the catalogue's flat punch reaches
+#: 7.6 at pi/3600); beyond it the crescent is thin and the band resolves it
+TILT_BALL_MAX = 20.0
+
+
+def edge_variant(sv: Scene, tilt: float) -> dict:
+    """The tilt variant of the face of the pair scene ``sv`` (its b > 0) at ``tilt`` (rad). A face that is
+    the whole contact (its half-space contact radius at F0 + dF within 0.1 % of b: a flat punch's) loses
+    part of it past theta_c (``scenes.tilt_critical``, the tilted punch's at F0): its loaded edge refined
+    as the catalogue's rows resolve it, a ball of 0.8 b at half the level's size on ``TILT_LEVELS_3D`` up
+    to ``TILT_BALL_MAX`` theta_c (the flat punch b = 100 um, 7.6 theta_c), beyond it the thin crescent on
+    meshes banded along the loaded rim arc (``TILT_BAND``: b = 0.6 mm, 274 theta_c); a face inside the
+    contact on the scene's levels."""
+    from ..scenes import (TILT_BAND, TILT_BAND_LEVELS, TILT_LEVELS_3D, TILT_REFINE_PUNCH, a_ref,
+                          tilt_critical)
+
+    v = {"profile": "truncated", "b": sv.b, "tilts": (tilt,)}
+    if a_ref(sv) > sv.b * (1 + 1e-3):
+        return v
+    if tilt <= TILT_BALL_MAX * tilt_critical(sv.F0, sv.b, materials_of(sv).E_star):
+        return {**v, "fe_levels": TILT_LEVELS_3D, "refine": TILT_REFINE_PUNCH}
+    return {**v, "fe_levels": TILT_BAND_LEVELS, "band": TILT_BAND}
 
 
 #: the metrics of a tilt, each against the aligned face: tolerance key of ``Scene.tolerances`` (None:
