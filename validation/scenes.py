@@ -183,7 +183,7 @@ class Scene:
     ``family`` (``FAMILIES``): how the scene runs and reports, a module of ``validation.families``:
     ``pair`` (MDR against the FE model, both ladders; no variants), ``validity`` (the FE bodies
     shrunk), ``curvature`` (a/R swept), ``points`` (the paper's apparatus points, variants holding a
-    ``validation.paper_points.Point``'s fields: ``kx`` and any of ``b``, ``F0``, ``dF``, ``ua``, ``mu1``, ``mu2``), ``assumptions3d`` (Mindlin's assumptions relaxed in 3D), ``tilt`` (the flat face tilted),
+    ``validation.paper_points.Point``'s fields: ``kx`` and any of ``b``, ``F0``, ``dF``, ``ua``, ``mu1``, ``mu2``; on a 3D scene's face a ``tilt`` in rad, the face tilted against aligned instead of the traction direction), ``assumptions3d`` (Mindlin's assumptions relaxed in 3D), ``tilt`` (the flat face tilted),
     ``roughness`` (rough surfaces); each variant of a family holds its key (``FAMILIES``).
     ``tolerance``: overrides of ``TOLERANCES`` for this scene (none in the catalogue).
     """

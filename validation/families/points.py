@@ -18,7 +18,7 @@ What a point measures is what the scene's FE model relaxes beyond MDR there:
   edge refined as the tilt family's rows resolve it (``tilt_member``).
 
 The effect of a point is a change of its slip index (the dissipation per cycle over 4 mu1 F0 u_A),
-what the error budget (``validation.budget``: columns *curvature a/R*, *traction direction*) reads.
+what the error budget (``validation.budget``: columns *curvature a/R*, *traction direction*, *tilt*) reads.
 """
 from __future__ import annotations
 
@@ -26,6 +26,8 @@ import math
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
+
+from common.errors import InputError
 
 from .. import metrics
 from . import members_of, number, result_of_members, variant_keys
@@ -77,6 +79,9 @@ class Variant:
             raise bad("kx", RANGES["kx"][1])
         out = cls(**{k: number(v, k, lambda x, ok=ok: ok(x, scene), bad, rng)
                      for k, (ok, rng) in RANGES.items() if k in v})
+        if scene.fe_model == "3d" and scene.steps < 4 * 2 * STEP_FACTOR:
+            raise InputError(f"scene {scene.name}: steps must be >= {4 * 2 * STEP_FACTOR} for a 3D point (its time "
+                             f"step's error bar runs 1/{STEP_FACTOR} of them), got {scene.steps}")
         if "tilt" in v:
             if scene.fe_model != "3d" or not (v.get("b", scene.b) or 0) > 0:
                 raise bad("tilt", "only on a face (b > 0) of a scene with fe_model '3d'")
@@ -105,8 +110,8 @@ def tasks(s: Scene) -> list:
 
 def member(s: Scene, task: dict) -> dict:
     """One point (``task["variant"]``), plain data: of an axisymmetric scene the pair family's run of
-    the point's scene (``Variant.scene``) without files, reduced to the verdicts of ``KEPT`` and the FE contact radius; of
-    a 3D scene ``direction_member``. A solver that does not converge leaves the point ``failed`` (its
+    the point's scene (``Variant.scene``) without files, reduced to the verdicts of ``KEPT`` and the FE
+    contact radius; of a 3D scene ``direction_member``, or ``tilt_member`` for a point with a tilt. A solver that does not converge leaves the point ``failed`` (its
     row undetermined) and the scene goes on."""
     from .pair import run as run_pair
 
@@ -154,8 +159,11 @@ def _rounded(x):
     return x
 
 
-#: the 3D time step: the effect at the coarsest level again with this many times the steps; the change
-#: joins the effect's error bar (the 3D runs cost too much to ladder the step at the finest level)
+#: the 3D time step: the effect at the coarsest level again with at most this many times fewer steps
+#: (``coarse_steps``); the change joins the effect's error bar. For a step error of order p >= 1 it bounds
+#: the error of the scene's steps (e(n) <= (2^p - 1) e(n) = |effect(n / 2) - effect(n)|), which the
+#: change to twice the steps underestimates (by 2 at first order), at a quarter of its cost (the 3D runs
+#: cost too much to ladder the step at the finest level)
 STEP_FACTOR = 2
 
 
@@ -167,11 +175,17 @@ def _effects_per_cycle(relaxed: dict, reference: dict) -> list:
                                              reference["dissipation_per_cycle"][1:])]
 
 
+def coarse_steps(steps: int) -> int:
+    """The steps per cycle of the time step's check: at most 1 / ``STEP_FACTOR`` of ``steps``, a multiple of
+    4 (the load reversals sampled), at least 8; assumes ``steps`` >= 16 (``Variant.of`` checks it)."""
+    return max(8, 4 * (steps // (4 * STEP_FACTOR)))
+
+
 def _relaxed_member(sv: Scene, pair, levels) -> dict:
     """What relaxing an assumption at the point ``sv`` costs its slip index in the apparatus: ``pair(law,
     loading)`` gives the (relaxed, reference) apparatus runs on one 3D mesh, ``levels`` the (h, mesh
     options) of its ladder. The effect's error bar is its ladder's (``metrics.ladder_error``; two levels:
-    their difference, a spread), plus the change when the coarsest level runs ``STEP_FACTOR`` times the
+    their difference, a spread), plus the change when the coarsest level runs ``STEP_FACTOR`` times fewer
     steps, plus the finest level's settling over its cycles (``common.ladder.settling_error``). The
     apparatus's dissipation settles within a cycle or two."""
     from common.ladder import settling_error
@@ -185,7 +199,7 @@ def _relaxed_member(sv: Scene, pair, levels) -> dict:
         new, ref = pair(law, sv.loading)
         out.append({"h": h, "slip_index": {"relaxed": new["slip_index"], "reference": ref["slip_index"]},
                     "effect": new["slip_index"] - ref["slip_index"], "per_cycle": _effects_per_cycle(new, ref)})
-    new, ref = pair(coarsest, replace(sv, steps=STEP_FACTOR * sv.steps).loading)
+    new, ref = pair(coarsest, replace(sv, steps=coarse_steps(sv.steps)).loading)
     step = abs(new["slip_index"] - ref["slip_index"] - out[0]["effect"])
     lad = metrics.ladder_error([x["h"] for x in out], [x["effect"] for x in out])
     settle = settling_error(out[-1]["per_cycle"], floor=1e-9)  # 1e-9 of the slip index: round-off
