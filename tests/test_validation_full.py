@@ -30,7 +30,7 @@ pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("catalogue")]  # one wor
 
 def test_the_readme_command_writes_the_whole_report_without_warnings(full_run):
     """``python -m validation.compare --jobs 2`` in a fresh process: exit 0, report.md and results.json
-    hold all 27 scenes and the hard cases, every figure the report links exists and is not blank, and
+    hold all 28 scenes and the hard cases, every figure the report links exists and is not blank, and
     the run prints no warning (a user could act on none)."""
     from matplotlib.image import imread
 
@@ -41,7 +41,7 @@ def test_the_readme_command_writes_the_whole_report_without_warnings(full_run):
     assert "Warning" not in proc.stdout + proc.stderr, [ln for ln in (proc.stdout + proc.stderr).splitlines()
                                                         if "Warning" in ln][:5]
     data = json.loads((out / "results.json").read_text())
-    assert set(data["scenes"]) == set(CATALOGUE) and len(CATALOGUE) == 27
+    assert set(data["scenes"]) == set(CATALOGUE) and len(CATALOGUE) == 28
     assert data["hard_cases"] and data["hard_cases_rerun"] is True
     report = (out / "report.md").read_text()
     for name in CATALOGUE:
@@ -491,7 +491,7 @@ def test_the_half_space_shape_at_the_papers_points(full):
 
 def test_the_traction_direction_at_the_papers_points(full):
     """docs/fem3d.md, "At the paper's points": in the apparatus the free traction moves no slip index of
-    the 23 points by more than 1e-4 with its error bar (asserted: 3e-4); on the sphere of Figs. 4-5 it
+    the 23 points by more than 1.1e-4 with its error bar (asserted: 3e-4); on the sphere of Figs. 4-5 it
     raises it (4-8e-5), where under force control it lowers the dissipation (-0.49 %); the faces of
     b = 0.6 and 1 mm hardly slip partially: below 1e-6 (asserted: 3e-6)."""
     _, _, scenes = full
@@ -516,7 +516,7 @@ def test_the_tilt_at_the_papers_points(full):
     for r in rows:
         assert r["effect"] is not None and r["contact_vertices"] >= 10, r
         if r["b"] >= 50e-6 and r["kx"] != 0.3e6:
-            assert -0.1 < r["effect"] < -0.01 and abs(r["effect"]) > 3 * r["error"], r
+            assert -0.1 < r["effect"] < -0.01 and abs(r["effect"]) > 2 * r["error"], r  # measured >= 4
         else:
             assert abs(r["effect"]) + r["error"] < 3e-3, r
     # Fig. 6's point against the same experiment run on its own by tests/test_punch3d.py (FEContact3D and

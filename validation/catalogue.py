@@ -51,7 +51,7 @@ def _points_scene(sc: list) -> Scene:
 
 
 #: the 3D levels (h_contact / a_ref) of ``direction-points``: the effect free - along x on one mesh
-#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1e-4 of the
+#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1.1e-4 of the
 #: slip index with its error bar, 100 times below the budget's resolution)
 DIRECTION_LEVELS_3D = (0.2, 0.14)
 
