@@ -72,20 +72,32 @@ def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
     unresolved = {**row, "effect": None, "error": None, "contact_vertices": 4}
     c = C.tilt_cell(p, {"tilt-points": {"points": [unresolved]}}.get, PAPER)
     assert c["effect"] is None and "not resolved (4 contact vertices)" in c["note"]
-    tiny = Point(b=1e-6, kx=1e6)  # Fig. 8's 1 um face: a fifth of an element, not tilted
+    tiny = Point(b=1e-6, kx=1e6)  # Fig. 8's 1 um face: a quarter of an element, not tilted
     assert not any(tiny.matches(v.scene(s)) for v in s.typed_variants)
     assert C.tilt_cell(tiny, {"tilt-points": {"points": [row]}}.get, PAPER)["effect"] is None
+    # a scene that also tilts the point by another angle: the row at the stated bound is read
+    other = replace(s, variants=s.variants + ({**s.variants[i], "tilt": 2 * TILT_BOUND},))
+    rows = [{**row, "variant": len(s.variants), "effect": -0.09}, row]
+    c = C.tilt_cell(p, {"tilt-points": {"points": rows}}.get, replace(PAPER, scenes=tuple(
+        other if x.name == "tilt-points" else x for x in PAPER.scenes)))
+    assert c["effect"] == -0.03, c
+    # no scene tilts any face (a rig whose faces are all below two elements): no number, and no command to
+    # run that could give one
+    bare = replace(PAPER, scenes=tuple(x for x in PAPER.scenes if x.name != "tilt-points"))
+    c = C.tilt_cell(p, lambda name: None, bare)
+    assert c["effect"] is None and "not tilted" in c["note"] and "--scenes" not in c["source"], c
 
 
 def test_every_point_but_the_softest_apparatus_slides():
-    """The paper's points in their apparatus (MDR): every point of its results slides (its tangential force
-    amplitude beyond mu1 (F0 - dF), up to mu1 (F0 + dF) = 1.5 of it) but Fig. 9's at k_x = 0.3 N/um, which
-    stay in partial slip (about half of it). Truth: the friction limit."""
-    from validation.paper_points import results, tangential_share
+    """The paper's points in their apparatus (MDR): every point of its results slides as a whole for part
+    of its cycle (its tangential force reaches the friction limit mu1 F_N) but Fig. 9's at k_x = 0.3 N/um,
+    which stay in partial slip. Truth: Coulomb's limit, |F_x| <= mu1 F_N."""
+    from validation.paper_points import friction_share, results
 
     for p in (p for r in results() for p in r.points):
-        share = tangential_share(p)
-        assert (0.3 < share < 0.75) if p.kx == 0.3e6 else (1.0 < share <= 1.5 * (1 + 1e-3)), (p, share)
+        share = friction_share(p)
+        assert share <= 1 + 1e-9, (p, share)
+        assert (share < 0.9) if p.kx == 0.3e6 else (share > 1 - 1e-6), (p, share)
 
 
 def test_the_fillet_costs_less_as_it_narrows_and_nothing_on_the_wide_face():

@@ -174,7 +174,7 @@ def test_the_errors_do_not_fall_with_the_mesh_so_no_size_only_bar_is_sharp_at_ev
     """The docs' reason why no bar is within about 5 times the error at every level: on the closed-form
     anchor the a/28 mesh puts the contact edge on a node and the finer a/34 mesh does not, so the contact
     radius's error against Hertz is far larger on the finer mesh (measured 99 times: 3.2e-5 a against
-    3.2e-3 a; asserted 25). A bar that does not shrink as the mesh coarsens is then at least that many
+    3.2e-3 a; asserted 40). A bar that does not shrink as the mesh coarsens is then at least that many
     times the a/28 error. Both errors are far above round-off and within the calibrated bound (plus the
     bodies' own size effect, at most 1e-4 a: ``test_the_anchor_bounds_contain_the_closed_forms``)."""
     from validation.catalogue import CATALOGUE
@@ -183,6 +183,6 @@ def test_the_errors_do_not_fall_with_the_mesh_so_no_size_only_bar_is_sharp_at_ev
     s = CATALOGUE["sphere-md"]
     a = closed_forms(s)["contact_radius"]
     err = {n: abs(run_fe(s, 1 / n)[0]["contact_radius"] - a) / a for n in (28, 34)}
-    assert err[34] > 25 * err[28] and err[28] > 1e-6, err
+    assert err[34] > 40 * err[28] and err[28] > 1e-6, err
     for n, e in err.items():
         assert e <= em.bound("fem", "contact_radius", "smooth")(1 / n) + 1e-4, (n, e)

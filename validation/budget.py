@@ -35,7 +35,7 @@ Where the cells come from (``COLUMNS``; the paper's scenes named, a rig's are ``
   force-control row of ``assumptions-3d``;
 - *coupling*: exactly 0 for one material (Dundurs' beta = 0, the paper's steel on steel); a dissimilar
   pair's from the 3D model with and without the coupling (a rig's ``<name>-coupling``);
-- *tilt*: the face tilted by the stated bound (``tilt``); a bound, since the bound is an inequality
+- *tilt*: the face tilted by the stated bound at each point in the apparatus (``tilt-points``); a bound, since the bound is an inequality
   ("less than pi/3600"); the sphere exactly 0 (a tilted sphere is the same sphere displaced);
 - *roughness* and *plates*: computed here (``validation.budget_readings``): ranges over the readings of
   the paper's stated rms values (``validation.spectra``) and of its brass plates that the paper's own

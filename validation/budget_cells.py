@@ -192,12 +192,17 @@ def size_cell(p: Point, store, inp: Inputs) -> dict:
     return cell(-e, 0.0, "bound", name, f"{where}: bounded by {how}")
 
 
-def _row_at(p: Point, s, res):
+def _row_at(p: Point, s, res, tilt: float | None = None):
     """The row of a stored result ``res`` of the ``points`` scene ``s`` whose variant runs the point
-    ``p`` (``validation.families.points.Variant``), or None."""
+    ``p`` (``validation.families.points.Variant``) with the face tilted by ``tilt`` (rad; None: not
+    tilted, the traction direction's or the half-space's rows), or None."""
     for r in (res or {}).get("points", []):
         i = r.get("variant")
-        if isinstance(i, int) and 0 <= i < len(s.variants) and p.matches(s.typed_variants[i].scene(s)):
+        if not (isinstance(i, int) and 0 <= i < len(s.variants)):
+            continue
+        v = s.typed_variants[i]
+        ok = v.tilt is None if tilt is None else v.tilt is not None and abs(v.tilt - tilt) <= 1e-3 * tilt
+        if ok and p.matches(v.scene(s)):
             return r
     return None
 
@@ -268,10 +273,10 @@ def _assumption_row(p: Point, store, inp: Inputs, relax: str):
 
 def _relaxing(inp: Inputs, what: str) -> tuple:
     """The 3D ``points`` scenes of ``inp`` that measure ``what`` (``families.points.measures``: "direction",
-    "tilt") at their points in the apparatus."""
+    "tilt") at their points in the apparatus (each of their points, ``_row_at``, with a tilt or without)."""
     from .families.points import measures
 
-    return tuple(s for s in inp.of_family("points", "3d") if measures(s.as_dict()) == what)
+    return tuple(s for s in inp.of_family("points", "3d") if what in measures(s.as_dict()))
 
 
 def direction_cell(p: Point, store, inp: Inputs) -> dict:
@@ -335,8 +340,8 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
         res = store(s.name)
         if res is None:
             return missing(s.name, inp=inp)
-        r = _row_at(p, s, res)
-        if r is None or r.get("tilt") is None or abs(r["tilt"] - inp.tilt) > 1e-3 * inp.tilt:
+        r = _row_at(p, s, res, tilt=inp.tilt)
+        if r is None:
             continue
         why = "" if r.get("effect") is not None else (
             f": not resolved ({r.get('contact_vertices')} contact vertices)" if r.get("contact_vertices") is not None
@@ -344,11 +349,9 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
         return cell(r.get("effect"), r.get("error"), "bound", s.name,
                     f"3D, tilted - aligned at the point, b = {p.b * 1e6:g} um (aligned slip index "
                     f"{num(r.get('slip_index'), '.2g')}){why}")
-    if not scenes:
-        return missing("tilt-points", "no 3D scene tilts the point", inp)
-    return cell(None, None, "bound", scenes[0].name,
+    return cell(None, None, "bound", scenes[0].name if scenes else "the rig",
                 f"b = {p.b * 1e6:g} um at {inp.tilt:.3g} rad not measured (a face below "
-                "two elements of the 3D mesh)")
+                "two elements of the 3D mesh is not tilted)")
 
 
 # ------------------------------------------------------------------ cells computed with MDR

@@ -158,18 +158,18 @@ def difference_with_grid(fun, n=(100, 400)):
 ROUND_OFF = 16 * float(np.finfo(float).eps)
 
 
-def tangential_share(p: Point, n: int = 100, setup: Setup = PAPER) -> float:
-    """The point's tangential force amplitude in its apparatus (MDR, the sharp profile: half the last
-    cycle's peak-to-peak F_x) over its smallest friction limit mu1 (F0 - dF). Above 1 the contact slides
-    for part of the cycle (the limit mu1 F_N follows the normal force up to mu1 (F0 + dF))."""
+def friction_share(p: Point, n: int = 100, setup: Setup = PAPER) -> float:
+    """The largest share of the friction limit the point's tangential force takes in its apparatus over
+    the last cycle (MDR, the sharp profile): max |F_x| / (mu1 F_N), 1 where the contact slides as a whole
+    (the limit follows the normal force)."""
     from mdr.profiles import TruncatedSphere
     from studies.paper import RES, _slip_index
 
     _, out = _slip_index(TruncatedSphere(setup.R, p.b), p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
                          res={**RES, "n": n}, app_kw=setup.app_kw or None, materials=setup.materials)
-    Fx = np.asarray(out["Fx"], dtype=float).ravel()
-    last = Fx[Fx.size - Fx.size // RES["cycles"]:]
-    return float(0.5 * (last.max() - last.min()) / (p.mu1 * (p.F0 - p.dF)))
+    Fx, FN = (np.asarray(out[k], dtype=float).ravel() for k in ("Fx", "FN"))
+    last = slice(Fx.size - Fx.size // RES["cycles"], Fx.size)
+    return float(np.max(np.abs(Fx[last]) / (p.mu1 * FN[last])))
 
 
 def point_slip_index(p: Point, n: int = 400, setup: Setup = PAPER) -> float:

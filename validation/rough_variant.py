@@ -91,6 +91,8 @@ class RoughVariant:
             if isinstance(maps, str) or not isinstance(maps, (list, tuple)):
                 raise ValueError("a list of at least 2 height-map files (one realisation is no answer)")
             read = load_realisations(maps, v.get("pixel"))
+        except InputError:  # a file that cannot be read, or no pixel size: its own line
+            raise
         except ValueError as e:
             raise bad("maps", str(e)) from None
         n_map = read[0].h.shape[0]

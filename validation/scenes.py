@@ -87,7 +87,7 @@ TILT_REFINE_PUNCH = tuple((-1.0, h / 2, 0.8) for h in TILT_LEVELS_3D)
 TILT_BAND_LEVELS = (0.3, 0.3)
 TILT_BAND = ((0.03, 0.06, 0.45, 1.0), (0.02, 0.06, 0.45, 1.0))
 #: the smallest face a tilted point in the apparatus resolves (``validation.families.points.tilt_member``),
-#: in elements of the finest 3D level over the contact radius (the 1 um faces of Fig. 8 are a fifth of
+#: in elements of the finest 3D level over the contact radius (the 1 um faces of Fig. 8 are a quarter of
 #: one: not measured)
 TILT_MIN_FACE_ELEMENTS = 2.0
 MDR_CELLS = (25, 100, 400, 1600)

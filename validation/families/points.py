@@ -86,7 +86,11 @@ class Variant:
             if scene.fe_model != "3d" or not (v.get("b", scene.b) or 0) > 0:
                 raise bad("tilt", "only on a face (b > 0) of a scene with fe_model '3d'")
             out = replace(out, tilt=number(v, "tilt", lambda x: 0 < x < 0.5 * math.pi, bad, "in (0, pi/2) (rad)"))
-        out.scene(scene)  # the point's scene checked whole (dF below F0, the drive's ranges)
+        sv = out.scene(scene)  # the point's scene checked whole (dF below F0, the drive's ranges)
+        if out.tilt is not None:
+            from .tilt import Variant as TiltVariant, edge_variant
+
+            TiltVariant.of(edge_variant(sv, out.tilt), sv, force=False)  # its meshes, checked before any run
         return out
 
     def given(self) -> dict:
@@ -160,10 +164,11 @@ def _rounded(x):
 
 
 #: the 3D time step: the effect at the coarsest level again with at most this many times fewer steps
-#: (``coarse_steps``); the change joins the effect's error bar. For a step error of order p >= 1 it bounds
-#: the error of the scene's steps (e(n) <= (2^p - 1) e(n) = |effect(n / 2) - effect(n)|), which the
-#: change to twice the steps underestimates (by 2 at first order), at a quarter of its cost (the 3D runs
-#: cost too much to ladder the step at the finest level)
+#: (``coarse_steps``); the change joins the effect's error bar. In the asymptotic range of a step error of
+#: order p >= 1, with r = steps / coarse steps >= 2, it bounds the error of the scene's steps:
+#: |effect(n / r) - effect(n)| = (r^p - 1) e(n) >= e(n), where the change to twice the steps,
+#: (1 - 2^-p) e(n), underestimates it (by 2 at first order), at a quarter of its cost (the 3D runs cost too
+#: much to ladder the step at the finest level)
 STEP_FACTOR = 2
 
 
@@ -244,7 +249,7 @@ def tilt_member(sv: Scene, tilt: float) -> dict:
         return tuple(apparatus_result(x, app, loading) for x in (tilted, law))
 
     out = _relaxed_member(replace(sv, fe_levels=hs), pair, [(h, var.mesh_options(j)) for j, h in enumerate(hs)])
-    fine = vertices[len(hs) - 1]  # the levels in turn, then the coarsest with its steps doubled
+    fine = vertices[len(hs) - 1]  # the levels in turn, then the coarsest with fewer steps
     resolved = fine >= TILT_MIN_VERTICES
     return {**out, "measures": "tilt", "tilt": tilt, "contact_vertices": fine, "resolved": resolved,
             **({} if resolved else {"effect": None, "error": None})}
@@ -293,7 +298,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
                                 lambda k, task, m: f"  point {task['variant']}: {m['runtime_s']:.0f} s")
     reduce = _relaxed_row if s.fe_model == "3d" else _row
     rows = [reduce(s, m) for m in sorted(members, key=lambda m: m["variant"])]
-    what = WHAT[measures(s.as_dict())][0]
+    what = WHAT[measures(s.as_dict()).split(", ")[-1]][0]
     for r in rows:
         log(f"  b = {num(r['b'], 'g', 1e6)} um, k_x = {num(r['kx'], 'g', 1e-6)} N/um: slip index {what} "
             f"{num(r['effect'], '+.2g')} +- {num(r['error'], '.2g')}: {r['grade']}")
@@ -310,14 +315,16 @@ WHAT = {"shape": ("FE - MDR", "The half-space's shape at the paper's points (FE 
 
 def measures(scene: dict) -> str:
     """What the points scene (its data) measures: the half-space's shape (axisymmetric), the face's tilt (a
-    3D scene whose points carry a tilt) or Mindlin's traction direction (the other 3D scenes)."""
+    3D scene whose points carry a tilt), Mindlin's traction direction (a 3D scene whose points carry none)
+    or both ("direction, tilt": each point what it carries; the table and figure name the tilt's)."""
     if scene.get("fe_model") != "3d":
         return "shape"
-    return "tilt" if any("tilt" in v for v in scene.get("variants") or ()) else "direction"
+    tilted = ["tilt" in v for v in scene.get("variants") or ()]
+    return "tilt" if all(tilted) and tilted else "direction, tilt" if any(tilted) else "direction"
 
 
 def table(res) -> list:
-    what = measures(res.get("scene") or {})
+    what = measures(res.get("scene") or {}).split(", ")[-1]
     if what != "shape":
         return _relaxed_table(res, what)
     lines = ["The paper's points in its apparatus (Table 2's load; b and k_x of Figs. 8-9 and Table 2 that no "
@@ -339,11 +346,13 @@ def table(res) -> list:
 def _relaxed_table(res, what: str) -> list:
     """The table of a 3D points scene: per point the change of the slip index when the traction's direction
     is freed or the face tilted, its error bar and status."""
+    from .tilt import TILT_MIN_VERTICES
+
     head = ("the 3D model with a traction of free direction minus the same mesh with the traction along x "
             "(Mindlin's assumption, MDR's and the axisymmetric model's)" if what == "direction" else
             "the 3D model with the face tilted about y (its loaded edge refined where the face is the whole "
-            "contact) minus the aligned face on the same mesh; a tilted contact of fewer than 10 vertices at "
-            "F0 - dF resolves nothing (undetermined)")
+            f"contact) minus the aligned face on the same mesh; a tilted contact of fewer than {TILT_MIN_VERTICES} "
+            "vertices at F0 - dF resolves nothing (undetermined)")
     ref = "along x" if what == "direction" else "aligned"
     lines = [f"The paper's points in its apparatus (every point of the budget's results, at its own load): {head}, "
              "the change of the slip index, with its error bar (the effect's 3D ladder, its time step, its "
@@ -364,7 +373,7 @@ def figure(result: dict, out_dir) -> dict:
     against the budget's resolution (0.01 of the slip index), right zoomed to the measured values."""
     from ..figures import plt, save
 
-    label, title, file = WHAT[measures(result.get("scene") or {})]
+    label, title, file = WHAT[measures(result.get("scene") or {}).split(", ")[-1]]
     rows = [r for r in result[KEY] if all(isinstance(r.get(k), (int, float)) and math.isfinite(r[k])
                                           for k in ("b", "kx", "effect"))]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
