@@ -85,7 +85,7 @@ def test_the_tilt_of_a_face_is_a_bound_that_never_matters():
     # run that could give one
     bare = replace(PAPER, scenes=tuple(x for x in PAPER.scenes if x.name != "tilt-points"))
     c = C.tilt_cell(p, lambda name: None, bare)
-    assert c["effect"] is None and "not tilted" in c["note"] and "--scenes" not in c["source"], c
+    assert c["effect"] is None and "not measured" in c["note"] and "--scenes" not in c["source"], c
 
 
 def test_every_point_but_the_softest_apparatus_slides():

@@ -351,7 +351,7 @@ def tilt_cell(p: Point, store, inp: Inputs) -> dict:
                     f"{num(r.get('slip_index'), '.2g')}){why}")
     return cell(None, None, "bound", scenes[0].name if scenes else "the rig",
                 f"b = {p.b * 1e6:g} um at {inp.tilt:.3g} rad not measured (a face below "
-                "two elements of the 3D mesh is not tilted)")
+                "two elements of the 3D mesh)")
 
 
 # ------------------------------------------------------------------ cells computed with MDR
