@@ -51,7 +51,7 @@ def _points_scene(sc: list) -> Scene:
 
 
 #: the 3D levels (h_contact / a_ref) of ``direction-points``: the effect free - along x on one mesh
-#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1.1e-4 of the
+#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1e-4 of the
 #: slip index with its error bar, 100 times below the budget's resolution)
 DIRECTION_LEVELS_3D = (0.2, 0.14)
 
@@ -71,7 +71,7 @@ def _direction_points_scene() -> Scene:
                  notes="Every point of the error budget's results (Figs. 4-7 at their loads; Figs. 8-9 and Table 2 "
                        "at Table 2's), steel on steel, R = 6 mm, in the apparatus: the 3D model twice on each mesh, "
                        "the traction of free direction and along x (Mindlin's q_y = 0, as MDR), 3 cycles of 60 "
-                       "steps; the effect on the slip index with the error bar of its two-level ladder, of half "
+                       "steps; the effect on the slip index with the error bar of its two-level ladder, of twice "
                        "the steps on the coarser mesh and of its settling. The error budget reads it.")
 
 
@@ -93,7 +93,7 @@ def _tilt_points_scene() -> Scene:
                        "model twice on each mesh, the face tilted about y by the paper's bound pi/3600 and aligned, "
                        "3 cycles of 40 steps; a face that is the whole contact on the tilt family's meshes (its "
                        "loaded edge refined: a ball, or a band along the rim arc far beyond theta_c). The effect on "
-                       "the slip index with the error bar of its two-level ladder, of half the steps on the "
+                       "the slip index with the error bar of its two-level ladder, of twice the steps on the "
                        "coarser mesh and of its settling. The error budget reads it.")
 
 
