@@ -16,10 +16,10 @@ from mdr.paper import B_TABLE1, DF_OVER_F0, KX_TABLE1, UA_TABLE2
 from rough.normal import HARDNESS_X5CRNI18_10
 from studies.study import LOOP_CASES
 
-from .scenes import (FE_LEVELS, FE_LEVELS_3D, FE_LEVELS_FINE, ROUGH_FACE_GRIDS, ROUGH_FACE_PAPER_RMS, ROUGH_FACE_PERIOD,
+from .scenes import (DIRECTION_LEVELS_3D, FE_LEVELS, FE_LEVELS_3D, FE_LEVELS_FINE, ROUGH_FACE_GRIDS, ROUGH_FACE_PAPER_RMS, ROUGH_FACE_PERIOD,
                      ROUGH_FACE_SHORT, ROUGH_FACES_B, ROUGH_FACES_B_PLASTIC, ROUGH_PRELOAD, ROUGH_SPHERE_PAPER_GRIDS,
                      ROUGH_SPHERE_PAPER_RMS, ROUGH_SPHERE_PAPER_SHORT, TILT_BAND, TILT_BAND_LEVELS, TILT_BOUND,
-                     TILT_LEVELS_3D, TILT_MIN_FACE_ELEMENTS, TILT_REFINE_PUNCH, Scene, tilt_sweep)
+                     TILT_LEVELS_3D, TILT_REFINE_PUNCH, Scene, tilt_sweep)
 
 
 def _um(x):
@@ -50,12 +50,6 @@ def _points_scene(sc: list) -> Scene:
                          "a/R); the error budget reads it.")
 
 
-#: the 3D levels (h_contact / a_ref) of ``direction-points``: the effect free - along x on one mesh
-#: cancels the error the two runs share, so two coarse levels resolve it (measured: at most 1e-4 of the
-#: slip index with its error bar, 100 times below the budget's resolution)
-DIRECTION_LEVELS_3D = (0.2, 0.14)
-
-
 def _direction_points_scene() -> Scene:
     """The scene ``direction-points``: every point of the paper's results (``validation.paper_points``) in the
     3D model, the traction free against along x, each variant the point's own fields."""
@@ -77,13 +71,12 @@ def _direction_points_scene() -> Scene:
 
 def _tilt_points_scene() -> Scene:
     """The scene ``tilt-points``: every face of the paper's results in the 3D model tilted by the bound
-    pi/3600 against aligned, in its apparatus (the faces of at least ``TILT_MIN_FACE_ELEMENTS`` elements)."""
+    pi/3600 against aligned, in its apparatus (the faces it resolves, ``paper_points.tiltable``)."""
     from dataclasses import asdict
 
-    from .paper_points import contact_radius, results
+    from .paper_points import results, tiltable
 
-    points = [p for p in dict.fromkeys(p for r in results() for p in r.points)
-              if p.b >= TILT_MIN_FACE_ELEMENTS * DIRECTION_LEVELS_3D[-1] * contact_radius(p)]
+    points = [p for p in dict.fromkeys(p for r in results() for p in r.points) if tiltable(p)]
     return Scene("tilt-points", "The face tilted by pi/3600 at the paper's points: 3D in the apparatus",
                  "truncated", b=B_TABLE1, drive="apparatus", amplitude=UA_TABLE2, kx=KX_TABLE1, cycles=3, steps=40,
                  fe_model="3d", fe_levels=DIRECTION_LEVELS_3D, family="points", group="3d",

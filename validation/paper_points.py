@@ -133,14 +133,17 @@ def results() -> tuple:
 def slip_indices(profiles, points, app_kw=None, n=100, setup: Setup = PAPER):
     """The apparatus slip index of each (profile, point) (``studies.paper._slip_index``), the setup's
     materials and apparatus (``app_kw`` changes its fields)."""
+    return [float(np.asarray(_apparatus_run(prof, p, n, setup, app_kw)["slip_index"]).ravel()[0])
+            for prof, p in zip(profiles, points)]
+
+
+def _apparatus_run(profile, p: Point, n: int, setup: Setup, app_kw=None) -> dict:
+    """MDR's run of ``profile`` at the point in the setup's apparatus (``studies.paper._slip_index``; n
+    cells; ``app_kw`` changes the apparatus's fields): its result's arrays."""
     from studies.paper import RES, _slip_index
 
-    out = []
-    kw = {**setup.app_kw, **(app_kw or {})} or None
-    for prof, p in zip(profiles, points):
-        si, _ = _slip_index(prof, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                            res={**RES, "n": n}, app_kw=kw, materials=setup.materials)
-        out.append(float(np.asarray(si).ravel()[0]))
+    _, out = _slip_index(profile, p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua, res={**RES, "n": n},
+                         app_kw={**setup.app_kw, **(app_kw or {})} or None, materials=setup.materials)
     return out
 
 
@@ -158,15 +161,22 @@ def difference_with_grid(fun, n=(100, 400)):
 ROUND_OFF = 16 * float(np.finfo(float).eps)
 
 
+def tiltable(p: Point, setup: Setup = PAPER) -> bool:
+    """Whether the 3D points scenes tilt the point: a face of at least ``scenes.TILT_MIN_FACE_ELEMENTS``
+    elements of their finest level (``scenes.DIRECTION_LEVELS_3D``, in units of its contact radius)."""
+    from .scenes import DIRECTION_LEVELS_3D, TILT_MIN_FACE_ELEMENTS
+
+    return p.b >= TILT_MIN_FACE_ELEMENTS * DIRECTION_LEVELS_3D[-1] * contact_radius(p, setup)
+
+
 def friction_share(p: Point, n: int = 100, setup: Setup = PAPER) -> float:
     """The largest share of the friction limit the point's tangential force takes in its apparatus over
     the last cycle (MDR, the sharp profile): max |F_x| / (mu1 F_N), 1 where the contact slides as a whole
     (the limit follows the normal force)."""
     from mdr.profiles import TruncatedSphere
-    from studies.paper import RES, _slip_index
+    from studies.paper import RES
 
-    _, out = _slip_index(TruncatedSphere(setup.R, p.b), p.kx, mu1=p.mu1, mu2=p.mu2, F0=p.F0, dF=p.dF, ua=p.ua,
-                         res={**RES, "n": n}, app_kw=setup.app_kw or None, materials=setup.materials)
+    out = _apparatus_run(TruncatedSphere(setup.R, p.b), p, n, setup)
     Fx, FN = (np.asarray(out[k], dtype=float).ravel() for k in ("Fx", "FN"))
     last = slice(Fx.size - Fx.size // RES["cycles"], Fx.size)
     return float(np.max(np.abs(Fx[last]) / (p.mu1 * FN[last])))

@@ -37,11 +37,9 @@ from dataclasses import asdict
 from common.errors import InputError
 
 from .budget_cells import Inputs
-from .paper_points import Setup, contact_radius
-from .scenes import FE_LEVELS_3D, TILT_MIN_FACE_ELEMENTS, Scene
+from .paper_points import Setup, contact_radius, tiltable
+from .scenes import DIRECTION_LEVELS_3D, FE_LEVELS_3D, Scene
 
-#: the 3D levels of the direction's points scene (as the catalogue's ``direction-points``)
-DIRECTION_LEVELS_3D = (0.2, 0.14)
 
 
 def setup_of(rig) -> Setup:
@@ -141,22 +139,20 @@ def scenes(rig) -> tuple:
                      **apparatus, cycles=3, steps=60, fe_model="3d", fe_levels=DIRECTION_LEVELS_3D,
                      variants=variants, group="3d",
                      notes="Every point of the rig in its apparatus: the 3D model, traction free against along x."))
-    loads = sorted({(p.F0, p.dF, p.mu1) for p in points})
-    for k, (F0, dF, mu1) in enumerate(loads):
-        here = [p for p in points if (p.F0, p.dF, p.mu1) == (F0, dF, mu1)]
+    loads = sorted({(p.F0, p.dF, p.mu1) for p in points}) if abs(rig.materials.dundurs_beta) >= 1e-12 else []
+    for k, (F0, dF, mu1) in enumerate(loads):  # the coupling of a dissimilar pair, per load
         tag = "" if len(loads) == 1 else f"-{k + 1}"
         at = {**base, "F0": F0, "dF": dF, "mu": mu1}
         load = dict(drive="force", amplitude=SHARE_3D * mu1 * (F0 - dF), fe_model="3d", group="3d")
         where = f"force control at F0 = {F0:g} N, dF = {dF:g} N, mu1 = {mu1:g}"
-        bs = sorted({p.b for p in here})
-        if abs(rig.materials.dundurs_beta) >= 1e-12:
-            out.append(Scene(f"{name}-coupling{tag}", f"{rig.title or name}: the normal-tangential coupling",
-                             **{**at, "profile": "sphere", "b": 0.0}, **load, fe_levels=FE_LEVELS_3D, cycles=4,
-                             steps=60, family="assumptions3d",
-                             variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
-                             notes="The 3D model with the coupling of the rig's pair against without, on the same "
-                                   f"mesh, {where}, per face radius of its points there."))
-    faces = [p for p in points if p.b >= TILT_MIN_FACE_ELEMENTS * DIRECTION_LEVELS_3D[-1] * contact_radius(p, setup)]
+        bs = sorted({p.b for p in points if (p.F0, p.dF, p.mu1) == (F0, dF, mu1)})
+        out.append(Scene(f"{name}-coupling{tag}", f"{rig.title or name}: the normal-tangential coupling",
+                         **{**at, "profile": "sphere", "b": 0.0}, **load, fe_levels=FE_LEVELS_3D, cycles=4,
+                         steps=60, family="assumptions3d",
+                         variants=tuple({"relax": "coupling", **({"b": b} if b else {})} for b in bs),
+                         notes="The 3D model with the coupling of the rig's pair against without, on the same "
+                               f"mesh, {where}, per face radius of its points there."))
+    faces = [p for p in points if tiltable(p, setup)]
     if rig.tilt and faces:
         out.append(Scene(f"{name}-tilt", f"{rig.title or name}: the face tilted by its bound at the points", **base,
                          **apparatus, cycles=3, steps=40, fe_model="3d", fe_levels=DIRECTION_LEVELS_3D,

@@ -118,8 +118,8 @@ def member(s: Scene, task: dict) -> dict:
 
     t0 = time.perf_counter()
     i = int(task["variant"])
-    sv = s.typed_variants[i].scene(s)
     v = s.typed_variants[i]
+    sv = v.scene(s)
     try:
         if s.fe_model == "3d":
             return {"variant": i, "b": sv.b, "kx": sv.kx,
@@ -286,7 +286,7 @@ def run(s: Scene, out_dir=None, *, fields: bool = True, log=None, members: list 
                                 lambda k, task, m: f"  point {task['variant']}: {m['runtime_s']:.0f} s")
     reduce = _relaxed_row if s.fe_model == "3d" else _row
     rows = [reduce(s, m) for m in sorted(members, key=lambda m: m["variant"])]
-    what = WHAT[measures(s.as_dict()).split(", ")[-1]][0]
+    what = WHAT[measures(s.as_dict())[-1]][0]
     for r in rows:
         log(f"  b = {num(r['b'], 'g', 1e6)} um, k_x = {num(r['kx'], 'g', 1e-6)} N/um: slip index {what} "
             f"{num(r['effect'], '+.2g')} +- {num(r['error'], '.2g')}: {r['grade']}")
@@ -301,18 +301,18 @@ WHAT = {"shape": ("FE - MDR", "The half-space's shape at the paper's points (FE 
         "tilt": ("tilted - aligned", "The face tilted at the paper's points (3D, in the apparatus)", "tilts.png")}
 
 
-def measures(scene: dict) -> str:
-    """What the points scene (its data) measures: the half-space's shape (axisymmetric), the face's tilt (a
-    3D scene whose points carry a tilt), Mindlin's traction direction (a 3D scene whose points carry none)
-    or both ("direction, tilt": each point what it carries; the table and figure name the tilt's)."""
+def measures(scene: dict) -> tuple:
+    """What the points scene (its data) measures: ("shape",) the half-space's shape (axisymmetric); of a 3D
+    scene ("direction",) Mindlin's traction direction at points without a tilt, ("tilt",) the face's tilt
+    at points with one, both where it has both kinds (the table and figure name the last)."""
     if scene.get("fe_model") != "3d":
-        return "shape"
-    tilted = ["tilt" in v for v in scene.get("variants") or ()]
-    return "tilt" if all(tilted) and tilted else "direction, tilt" if any(tilted) else "direction"
+        return ("shape",)
+    tilted = {"tilt" in v for v in scene.get("variants") or ()}
+    return tuple(w for w, t in (("direction", False), ("tilt", True)) if t in tilted)
 
 
 def table(res) -> list:
-    what = measures(res.get("scene") or {}).split(", ")[-1]
+    what = measures(res.get("scene") or {})[-1]
     if what != "shape":
         return _relaxed_table(res, what)
     lines = ["The paper's points in its apparatus (Table 2's load; b and k_x of Figs. 8-9 and Table 2 that no "
@@ -361,7 +361,7 @@ def figure(result: dict, out_dir) -> dict:
     against the budget's resolution (0.01 of the slip index), right zoomed to the measured values."""
     from ..figures import plt, save
 
-    label, title, file = WHAT[measures(result.get("scene") or {}).split(", ")[-1]]
+    label, title, file = WHAT[measures(result.get("scene") or {})[-1]]
     rows = [r for r in result[KEY] if all(isinstance(r.get(k), (int, float)) and math.isfinite(r[k])
                                           for k in ("b", "kx", "effect"))]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
